@@ -1,0 +1,37 @@
+// A floating-point image with named channels ("R", "G", "B", "depth.Z", "normal.X", ...).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace meso {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::string> channels;
+  std::vector<float> pixels;  // row-major, top row first, channels interleaved
+
+  Image() = default;
+  Image(int w, int h, std::vector<std::string> names)
+      : width(w), height(h), channels(std::move(names)),
+        pixels(static_cast<size_t>(w) * h * channels.size(), 0.0f) {}
+
+  int numChannels() const { return static_cast<int>(channels.size()); }
+  float& at(int x, int y, int c) {
+    return pixels[(static_cast<size_t>(y) * width + x) * channels.size() + c];
+  }
+  float at(int x, int y, int c) const {
+    return pixels[(static_cast<size_t>(y) * width + x) * channels.size() + c];
+  }
+  // Index of a named channel, or -1.
+  int channelIndex(const std::string& name) const {
+    for (size_t i = 0; i < channels.size(); ++i)
+      if (channels[i] == name) return static_cast<int>(i);
+    return -1;
+  }
+  // True when no pixel value is NaN or Inf.
+  bool allFinite() const;
+};
+
+}  // namespace meso

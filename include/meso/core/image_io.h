@@ -1,0 +1,19 @@
+// Image files through OpenImageIO. Writers never leave a half-written file under the final name.
+#pragma once
+
+#include "meso/core/image.h"
+
+#include <filesystem>
+
+namespace meso {
+
+// Reads any format OpenImageIO knows, all channels, as float. Throws meso::Error("FILE: ...").
+Image readImage(const std::filesystem::path& file);
+
+// Writes all channels to an OpenEXR file (half or float per channel as stored: float here).
+void writeExr(const std::filesystem::path& file, const Image& image);
+
+// Writes an 8-bit sRGB PNG preview of channels R, G, B (clamped to [0, 1], gamma-encoded).
+void writePngPreview(const std::filesystem::path& file, const Image& image);
+
+}  // namespace meso

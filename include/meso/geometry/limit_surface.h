@@ -1,0 +1,47 @@
+// The limit surface of a control mesh (OpenSubdiv Far + Bfr), evaluated per base face.
+#pragma once
+
+#include "meso/core/math.h"
+#include "meso/geometry/control_mesh.h"
+
+#include <memory>
+
+namespace meso {
+
+// A point of the limit surface with its first derivatives. Pu, Pv are the derivatives with respect
+// to the texture coordinates (u, v) when the mesh has them, otherwise with respect to the face's own
+// patch coordinates (s, t). N = normalize(Pu x Pv), never a facet normal (Chan 2002).
+struct SurfacePoint {
+  Vec3 P{0.0f};
+  Vec3 Pu{0.0f};
+  Vec3 Pv{0.0f};
+  Vec3 N{0.0f, 0.0f, 1.0f};
+  Vec2 uv{0.0f};  // texture coordinates (face-varying if present, else the patch coordinates)
+};
+
+class LimitSurface {
+ public:
+  // Throws meso::Error if OpenSubdiv rejects the topology.
+  LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme);
+  ~LimitSurface();
+  LimitSurface(LimitSurface&&) noexcept;
+  LimitSurface& operator=(LimitSurface&&) noexcept;
+
+  int numFaces() const;
+  // False for faces that have no limit surface (holes, some non-manifold configurations).
+  bool hasLimitSurface(int face) const;
+  // Number of patch-coordinate parameterization edges of the face (4 for quads, 3 for triangles
+  // under Loop, N for an N-gon).
+  int faceSize(int face) const;
+  // Evaluates the limit surface of base face `face` at patch coordinates st. Allocation-free and
+  // thread-safe: everything it needs is prepared in the constructor.
+  SurfacePoint evaluate(int face, Vec2 st) const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace meso

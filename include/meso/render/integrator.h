@@ -1,0 +1,27 @@
+// Renders a prepared frame: stratified samples per pixel, TBB over tiles, deterministic per seed.
+#pragma once
+
+#include "meso/core/image.h"
+#include "meso/render/render_context.h"
+
+#include <atomic>
+#include <cstdint>
+
+namespace meso {
+
+struct RenderOptions {
+  int spp = 4;
+  uint64_t seed = 0;
+  bool progress = true;  // progress bar on stderr (drawn only when stderr is a terminal)
+};
+
+struct RenderCounters {
+  std::atomic<int64_t> rays{0};
+};
+
+// The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that hit
+// a surface, 0 where none did) and normal.X/Y/Z (mean shading normal over hits, 0 where none).
+// Every pixel depends only on (seed, pixel, sample index), so any thread count gives the same bits.
+Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters);
+
+}  // namespace meso

@@ -1,0 +1,86 @@
+// What a scene file describes: camera, lights, materials, objects and render settings.
+#pragma once
+
+#include "meso/core/error.h"
+#include "meso/core/math.h"
+#include "meso/geometry/control_mesh.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace meso {
+
+struct CameraSettings {
+  Vec3 position{0.0f, 0.0f, 5.0f};
+  Vec3 lookAt{0.0f};
+  Vec3 up{0.0f, 1.0f, 0.0f};
+  float fovY = 40.0f;  // vertical field of view, degrees, in (0, 180)
+  int width = 640;
+  int height = 360;
+  int spp = 4;  // samples per pixel; rounded up to a square number of strata by the renderer
+};
+
+enum class LightType { Directional, Point };
+
+struct Light {
+  LightType type = LightType::Directional;
+  Vec3 direction{0.0f, 0.0f, -1.0f};  // directional: the direction the light travels (normalized)
+  Vec3 position{0.0f};                // point: where the light is
+  float intensity = 1.0f;             // directional: irradiance at normal incidence; point: at distance 1
+  Vec3 colour{1.0f};
+};
+
+// One relief level as declared in the scene (used by the relief and appearance work).
+struct ReliefLevelDecl {
+  FileLoc loc;
+  std::filesystem::path height;  // image file, empty for procedural noise
+  std::string source = "image";  // "image" or "noise"
+  float amplitude = 0.0f;        // world units
+  float scale = 1.0f;            // tiling scale S: the height table repeats every 1/S in u and v
+  float freq = 0.0f;             // highest frequency, cycles per unit of u (0: measured or known)
+  // Procedural noise parameters.
+  int octaves = 4;
+  float lacunarity = 2.0f;
+  float gain = 0.5f;
+  uint64_t seed = 0;
+  bool periodic = true;
+};
+
+struct Material {
+  std::string name;
+  FileLoc loc;
+  Vec3 ka{0.0f};
+  Vec3 kd{0.8f};
+  Vec3 ks{0.0f};
+  float phong = 20.0f;  // exponent n of (H.N)^n
+  std::vector<ReliefLevelDecl> relief;
+};
+
+struct Object {
+  FileLoc loc;
+  std::filesystem::path mesh;  // resolved against the scene file's folder
+  SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
+  Mat4 transform{1.0f};
+  int material = 0;  // index into Scene::materials
+};
+
+struct RenderSettings {
+  std::string algorithm = "auto";  // auto | brdf | bump | redistribution | displacement
+  uint64_t seed = 0;
+  int threads = 0;          // 0: all cores
+  int tessellationRate = 8; // uniform Bfr rate (segments per base-face edge)
+  Vec3 background{0.0f};
+};
+
+struct Scene {
+  std::filesystem::path file;  // the scene file, for messages
+  CameraSettings camera;
+  std::vector<Light> lights;
+  std::vector<Material> materials;
+  std::vector<Object> objects;
+  RenderSettings render;
+};
+
+}  // namespace meso

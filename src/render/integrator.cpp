@@ -1,0 +1,90 @@
+#include "meso/render/integrator.h"
+
+#include "meso/core/progress.h"
+#include "meso/core/rng.h"
+#include "meso/render/shading.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace meso {
+namespace {
+
+constexpr int kTileSize = 16;
+
+struct PixelSum {
+  Vec3 colour{0.0f};
+  Vec3 normal{0.0f};
+  float depth = 0.0f;
+  int hits = 0;
+};
+
+// Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
+// coordinates, never from the triangle (Chan 2002).
+void traceSample(const RenderContext& ctx, const Ray& ray, PixelSum& sum) {
+  RayHit hit;
+  if (!ctx.rays->intersect(ray, hit)) {
+    sum.colour += ctx.scene->render.background;
+    return;
+  }
+  const PreparedObject& object = ctx.objects[hit.mesh];
+  const int face = object.mesh.triangleFace[hit.triangle];
+  const SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
+  const Vec3 V = -ray.direction;
+  // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
+  const Vec3 N = glm::dot(sp.N, V) < 0.0f ? -sp.N : sp.N;
+  sum.colour += shadeLocal(ctx.scene->materials[object.material], ctx.scene->lights, sp.P, N, V);
+  sum.normal += N;
+  sum.depth += hit.t;
+  sum.hits += 1;
+}
+
+void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, int y, Image& film,
+                 int64_t& rays) {
+  const int spp = options.spp;
+  const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
+  const int rows = (spp + cols - 1) / cols;
+  const uint64_t pixelIndex = static_cast<uint64_t>(y) * film.width + x;
+  Rng rng(options.seed, pixelIndex);
+  PixelSum sum;
+  for (int i = 0; i < spp; ++i) {
+    // Jittered stratum (i % cols, i / cols) of a cols x rows grid over the pixel.
+    const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
+    const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
+    traceSample(ctx, ctx.camera.generateRay(static_cast<float>(x) + fx, static_cast<float>(y) + fy), sum);
+  }
+  rays += spp;
+  const float inv = 1.0f / static_cast<float>(spp);
+  const float invHits = sum.hits > 0 ? 1.0f / static_cast<float>(sum.hits) : 0.0f;
+  const float values[7] = {sum.colour.r * inv, sum.colour.g * inv, sum.colour.b * inv, sum.depth * invHits,
+                           sum.normal.x * invHits, sum.normal.y * invHits, sum.normal.z * invHits};
+  for (int c = 0; c < 7; ++c) film.at(x, y, c) = values[c];
+}
+
+}  // namespace
+
+Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters) {
+  const CameraSettings& cam = ctx.camera.settings();
+  Image film(cam.width, cam.height, {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z"});
+  const int tilesX = (cam.width + kTileSize - 1) / kTileSize;
+  const int tilesY = (cam.height + kTileSize - 1) / kTileSize;
+  ProgressBar progress("render", static_cast<int64_t>(tilesX) * tilesY, options.progress);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
+    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
+      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+        int64_t rays = 0;
+        for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
+          for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
+            renderPixel(ctx, options, x, y, film, rays);
+        counters.rays.fetch_add(rays, std::memory_order_relaxed);
+        progress.advance();
+      }
+    }
+  });
+  progress.finish();
+  return film;
+}
+
+}  // namespace meso

@@ -1,0 +1,95 @@
+#include "meso/core/error.h"
+#include "meso/core/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ImageIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("meso_image_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+Image testImage() {
+  Image img(5, 3, {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z"});
+  for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = 0.37f * static_cast<float>(i) - 3.1f;
+  return img;
+}
+
+TEST_F(ImageIoTest, ExrRoundTripKeepsEveryLayerBitExact) {
+  const Image img = testImage();
+  writeExr(dir_ / "a.exr", img);
+  const Image back = readImage(dir_ / "a.exr");
+  ASSERT_EQ(back.width, img.width);
+  ASSERT_EQ(back.height, img.height);
+  ASSERT_EQ(back.numChannels(), img.numChannels());
+  for (int c = 0; c < img.numChannels(); ++c) {
+    const int bc = back.channelIndex(img.channels[c]);
+    ASSERT_GE(bc, 0) << img.channels[c];
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) EXPECT_EQ(back.at(x, y, bc), img.at(x, y, c));
+  }
+}
+
+TEST_F(ImageIoTest, PngPreviewIsSrgbEncoded) {
+  Image img(4, 1, {"R", "G", "B"});
+  const float linear[4] = {0.0f, 0.2140f, 0.5f, 2.0f};
+  for (int x = 0; x < 4; ++x)
+    for (int c = 0; c < 3; ++c) img.at(x, 0, c) = linear[x];
+  writePngPreview(dir_ / "a.png", img);
+  const Image back = readImage(dir_ / "a.png");
+  ASSERT_EQ(back.numChannels(), 3);
+  // sRGB(0.214) = 0.5; sRGB(0.5) = 0.7354; values above 1 clamp to 1.
+  EXPECT_NEAR(back.at(0, 0, 0), 0.0f, 1e-6f);
+  EXPECT_NEAR(back.at(1, 0, 1), 0.5f, 1.0f / 255.0f);
+  EXPECT_NEAR(back.at(2, 0, 2), 0.7354f, 1.0f / 255.0f);
+  EXPECT_NEAR(back.at(3, 0, 0), 1.0f, 1e-6f);
+}
+
+TEST_F(ImageIoTest, NoTemporaryFileIsLeftBehind) {
+  writeExr(dir_ / "a.exr", testImage());
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    ++files;
+    EXPECT_EQ(e.path().filename(), "a.exr");
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST_F(ImageIoTest, FailedWriteLeavesNoFile) {
+  const fs::path target = dir_ / "missing_folder" / "a.exr";
+  EXPECT_THROW(writeExr(target, testImage()), Error);
+  EXPECT_FALSE(fs::exists(target));
+}
+
+TEST_F(ImageIoTest, MissingAndCorruptFilesAreClearErrors) {
+  try {
+    readImage(dir_ / "nope.png");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("nope.png: no such file"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir_ / "garbage.png") << "this is not a png";
+  EXPECT_THROW(readImage(dir_ / "garbage.png"), Error);
+  // A truncated EXR: the header survives, the pixels do not.
+  writeExr(dir_ / "t.exr", testImage());
+  fs::resize_file(dir_ / "t.exr", fs::file_size(dir_ / "t.exr") / 2);
+  EXPECT_THROW(readImage(dir_ / "t.exr"), Error);
+}
+
+}  // namespace
+}  // namespace meso
