@@ -1,0 +1,61 @@
+// Becker & Max 1993, section 2.1: distr[theta_V][theta_N][phi_{N-V}], the distribution of visible
+// normals of the displaced relief seen from polar angle theta_V (DESIGN.md section 4).
+#pragma once
+
+#include <span>
+#include <vector>
+
+namespace meso {
+
+struct HistogramResolution {
+  int thetaV = 16;   // view slices, theta_V = k * thetaVMax / (thetaV - 1)
+  int thetaN = 32;   // normal polar bins, uniform in theta_N over [0, pi/2]
+  int phi = 32;      // azimuth bins of phi_{N-V} = phi_N - phi_V, uniform over [-pi, pi)
+};
+
+// A normal as angles relative to the view: theta_N from the macro normal, phi = phi_N - phi_V.
+struct NormalAngles {
+  float thetaN = 0.0f;
+  float phi = 0.0f;
+};
+
+// Probability masses per bin: each theta_V slice sums to 1 after normalize(). Slice 0 (theta_V = 0)
+// is the bump distribution f. The phi axis is relative to the view azimuth and averaged over many
+// phi_V, i.e. the relief is treated as isotropic in the tables (the paper's assumption).
+class VisibleNormalHistogram {
+ public:
+  // thetaVMax < pi/2: exactly grazing rays see only silhouettes, so the last slice is taken just
+  // above the horizon and lookups beyond it clamp to it.
+  explicit VisibleNormalHistogram(HistogramResolution res, float thetaVMax = 1.5533430f /* 89 deg */);
+
+  const HistogramResolution& resolution() const { return res_; }
+  float thetaVMax() const { return thetaVMax_; }
+  float thetaV(int k) const;           // view angle of slice k
+  float thetaNWidth() const;           // bin width in theta_N
+  float phiWidth() const;              // bin width in phi
+  float thetaNCentre(int i) const;
+  float phiCentre(int j) const;
+  int thetaNBin(float thetaN) const;   // clamped into range
+  int phiBin(float phi) const;         // phi wrapped into [-pi, pi)
+  float solidAngle(int i) const;       // of one (theta_N bin i, phi bin) cell
+
+  float& mass(int k, int i, int j) { return data_[index(k, i, j)]; }
+  float mass(int k, int i, int j) const { return data_[index(k, i, j)]; }
+  std::span<const float> slice(int k) const;
+  void add(int k, NormalAngles n, float weight = 1.0f);
+  // Scales each slice to sum 1; an empty slice gets all its mass in the theta_N = 0 bins (flat).
+  void normalize();
+
+ private:
+  size_t index(int k, int i, int j) const {
+    return (static_cast<size_t>(k) * res_.thetaN + i) * res_.phi + j;
+  }
+  HistogramResolution res_;
+  float thetaVMax_;
+  std::vector<float> data_;
+};
+
+// Wraps an angle into [-pi, pi).
+float wrapPi(float a);
+
+}  // namespace meso

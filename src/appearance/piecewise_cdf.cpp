@@ -1,0 +1,53 @@
+#include "meso/appearance/piecewise_cdf.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+
+std::vector<float> cumulativeFromMasses(std::span<const float> masses) {
+  const size_t n = masses.size();
+  std::vector<double> c(n + 1, 0.0);
+  for (size_t i = 0; i < n; ++i) c[i + 1] = c[i] + std::max(0.0f, masses[i]);
+  std::vector<float> out(n + 1);
+  for (size_t i = 0; i <= n; ++i)
+    out[i] = c[n] > 0.0 ? static_cast<float>(c[i] / c[n]) : static_cast<float>(i) / static_cast<float>(n);
+  out[n] = 1.0f;
+  return out;
+}
+
+namespace {
+inline float mixAt(std::span<const float> a, std::span<const float> b, float w, size_t i) {
+  return w == 0.0f ? a[i] : (1.0f - w) * a[i] + w * b[i];
+}
+}  // namespace
+
+float cdfForward(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
+                 float x) {
+  const size_t n = a.size() - 1;
+  const float t = (x - lo) / width;
+  if (!(t > 0.0f)) return 0.0f;  // also catches NaN
+  if (t >= static_cast<float>(n)) return 1.0f;
+  const size_t i = std::min(static_cast<size_t>(t), n - 1);
+  const float f = t - static_cast<float>(i);
+  const float c0 = mixAt(a, b, w, i), c1 = mixAt(a, b, w, i + 1);
+  return c0 + f * (c1 - c0);
+}
+
+float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
+                 float p) {
+  const size_t n = a.size() - 1;
+  p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f);
+  // Largest edge i with C(i) < p (first edge where the CDF reaches p is i + 1), so zero-mass bins
+  // before the answer are skipped.
+  size_t loI = 0, hiI = n;
+  while (hiI - loI > 1) {
+    const size_t mid = (loI + hiI) / 2;
+    if (mixAt(a, b, w, mid) < p) loI = mid; else hiI = mid;
+  }
+  const float c0 = mixAt(a, b, w, loI), c1 = mixAt(a, b, w, loI + 1);
+  const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
+  return lo + (static_cast<float>(loI) + f) * width;
+}
+
+}  // namespace meso

@@ -1,0 +1,73 @@
+// Becker & Max 1993, section 2.1: the table of visible-normal distributions.
+#include "meso/appearance/visible_normal_histogram.h"
+
+#include "meso/core/math.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace meso {
+
+float wrapPi(float a) {
+  if (!std::isfinite(a)) return 0.0f;
+  a = std::fmod(a + kPi, 2.0f * kPi);
+  if (a < 0.0f) a += 2.0f * kPi;
+  a -= kPi;
+  return a >= kPi ? -kPi : a;
+}
+
+VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float thetaVMax)
+    : res_(res), thetaVMax_(thetaVMax) {
+  res_.thetaV = std::max(res_.thetaV, 2);
+  res_.thetaN = std::max(res_.thetaN, 1);
+  res_.phi = std::max(res_.phi, 1);
+  data_.assign(static_cast<size_t>(res_.thetaV) * res_.thetaN * res_.phi, 0.0f);
+}
+
+float VisibleNormalHistogram::thetaV(int k) const {
+  return thetaVMax_ * static_cast<float>(k) / static_cast<float>(res_.thetaV - 1);
+}
+float VisibleNormalHistogram::thetaNWidth() const { return 0.5f * kPi / static_cast<float>(res_.thetaN); }
+float VisibleNormalHistogram::phiWidth() const { return 2.0f * kPi / static_cast<float>(res_.phi); }
+float VisibleNormalHistogram::thetaNCentre(int i) const { return (static_cast<float>(i) + 0.5f) * thetaNWidth(); }
+float VisibleNormalHistogram::phiCentre(int j) const { return -kPi + (static_cast<float>(j) + 0.5f) * phiWidth(); }
+
+int VisibleNormalHistogram::thetaNBin(float thetaN) const {
+  const int i = static_cast<int>(std::floor(thetaN / thetaNWidth()));
+  return std::clamp(i, 0, res_.thetaN - 1);
+}
+
+int VisibleNormalHistogram::phiBin(float phi) const {
+  const int j = static_cast<int>(std::floor((wrapPi(phi) + kPi) / phiWidth()));
+  return std::clamp(j, 0, res_.phi - 1);
+}
+
+float VisibleNormalHistogram::solidAngle(int i) const {
+  const float a = static_cast<float>(i) * thetaNWidth();
+  return (std::cos(a) - std::cos(a + thetaNWidth())) * phiWidth();
+}
+
+std::span<const float> VisibleNormalHistogram::slice(int k) const {
+  const size_t n = static_cast<size_t>(res_.thetaN) * res_.phi;
+  return {data_.data() + k * n, n};
+}
+
+void VisibleNormalHistogram::add(int k, NormalAngles n, float weight) {
+  mass(k, thetaNBin(n.thetaN), phiBin(n.phi)) += weight;
+}
+
+void VisibleNormalHistogram::normalize() {
+  const size_t n = static_cast<size_t>(res_.thetaN) * res_.phi;
+  for (int k = 0; k < res_.thetaV; ++k) {
+    float* s = data_.data() + k * n;
+    const double sum = std::accumulate(s, s + n, 0.0);
+    if (sum > 0.0) {
+      for (size_t i = 0; i < n; ++i) s[i] = static_cast<float>(s[i] / sum);
+    } else {
+      for (int j = 0; j < res_.phi; ++j) s[j] = 1.0f / static_cast<float>(res_.phi);
+    }
+  }
+}
+
+}  // namespace meso
