@@ -23,6 +23,26 @@ VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float th
   res_.thetaN = std::max(res_.thetaN, 1);
   res_.phi = std::max(res_.phi, 1);
   data_.assign(static_cast<size_t>(res_.thetaV) * res_.thetaN * res_.phi, 0.0f);
+  normalSums_.assign(data_.size(), Vec3(0.0f));
+}
+
+NormalAngles anglesOf(const Vec3& n) {
+  const float z = std::clamp(n.z, -1.0f, 1.0f);
+  return {std::acos(z), (n.x == 0.0f && n.y == 0.0f) ? 0.0f : std::atan2(n.y, n.x)};
+}
+
+Vec3 normalOf(NormalAngles a) {
+  const float s = std::sin(a.thetaN);
+  return {s * std::cos(a.phi), s * std::sin(a.phi), std::cos(a.thetaN)};
+}
+
+Vec3 VisibleNormalHistogram::binDirection(int i, int j) const {
+  return normalOf({thetaNCentre(i), phiCentre(j)});
+}
+
+Vec3 VisibleNormalHistogram::meanNormal(int k, int i, int j) const {
+  const Vec3& s = normalSums_[index(k, i, j)];
+  return s == Vec3(0.0f) ? binDirection(i, j) : s;
 }
 
 float VisibleNormalHistogram::thetaV(int k) const {
@@ -53,8 +73,11 @@ std::span<const float> VisibleNormalHistogram::slice(int k) const {
   return {data_.data() + k * n, n};
 }
 
-void VisibleNormalHistogram::add(int k, NormalAngles n, float weight) {
-  mass(k, thetaNBin(n.thetaN), phiBin(n.phi)) += weight;
+void VisibleNormalHistogram::add(int k, const Vec3& normal, float weight) {
+  const NormalAngles a = anglesOf(normal);
+  const size_t b = index(k, thetaNBin(a.thetaN), phiBin(a.phi));
+  data_[b] += weight;
+  normalSums_[b] += weight * normal;
 }
 
 void VisibleNormalHistogram::normalize() {
@@ -63,7 +86,11 @@ void VisibleNormalHistogram::normalize() {
     float* s = data_.data() + k * n;
     const double sum = std::accumulate(s, s + n, 0.0);
     if (sum > 0.0) {
-      for (size_t i = 0; i < n; ++i) s[i] = static_cast<float>(s[i] / sum);
+      for (size_t i = 0; i < n; ++i) {
+        Vec3& ns = normalSums_[k * n + i];
+        if (s[i] > 0.0f) ns /= s[i];
+        s[i] = static_cast<float>(s[i] / sum);
+      }
     } else {
       for (int j = 0; j < res_.phi; ++j) s[j] = 1.0f / static_cast<float>(res_.phi);
     }

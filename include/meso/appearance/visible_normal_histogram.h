@@ -2,6 +2,8 @@
 // normals of the displaced relief seen from polar angle theta_V (DESIGN.md section 4).
 #pragma once
 
+#include "meso/core/math.h"
+
 #include <span>
 #include <vector>
 
@@ -42,9 +44,17 @@ class VisibleNormalHistogram {
   float& mass(int k, int i, int j) { return data_[index(k, i, j)]; }
   float mass(int k, int i, int j) const { return data_[index(k, i, j)]; }
   std::span<const float> slice(int k) const;
-  void add(int k, NormalAngles n, float weight = 1.0f);
-  // Scales each slice to sum 1; an empty slice gets all its mass in the theta_N = 0 bins (flat).
+  // Counts one visible normal (weight = its share of projected area). `normal` is the unit normal in
+  // the view-aligned frame (view azimuth along +x, macro normal +z); its angles pick the bin.
+  void add(int k, const Vec3& normal, float weight = 1.0f);
+  // Scales each slice to sum 1 and turns the normal sums into per-bin means; an empty slice gets all
+  // its mass in the theta_N = 0 bins (flat).
   void normalize();
+  // Mean of the normals counted in a bin (not renormalized: sum of mass * meanNormal is exactly the
+  // mean visible normal). A bin that received mass by mass() only returns its centre direction.
+  Vec3 meanNormal(int k, int i, int j) const;
+  // Unit direction of a bin centre in the view-aligned frame (theta_N = 0 bin: its centre too).
+  Vec3 binDirection(int i, int j) const;
 
  private:
   size_t index(int k, int i, int j) const {
@@ -53,7 +63,13 @@ class VisibleNormalHistogram {
   HistogramResolution res_;
   float thetaVMax_;
   std::vector<float> data_;
+  std::vector<Vec3> normalSums_;  // per bin; after normalize(), per-bin mean normals
 };
+
+// The angles of a unit normal in the view-aligned frame.
+NormalAngles anglesOf(const Vec3& n);
+// The unit normal of given angles in the view-aligned frame.
+Vec3 normalOf(NormalAngles a);
 
 // Wraps an angle into [-pi, pi).
 float wrapPi(float a);

@@ -1,0 +1,55 @@
+// Becker & Max 1993, section 2.1 and Figure 2: BRDF_diff and BRDF_spec[theta_V][theta_L][phi_{V-L}]
+// built from visible-normal distributions, looked up trilinearly.
+#pragma once
+
+#include "meso/appearance/visible_normal_histogram.h"
+
+#include <vector>
+
+namespace meso {
+
+struct BrdfResolution {
+  int thetaL = 16;  // nodes over [0, pi/2], both ends included
+  int phi = 16;     // nodes of |phi_{V-L}| over [0, pi], both ends included (isotropic relief)
+};
+
+// Each entry is the area-averaged reflectance of the relief seen from V and lit from L, per unit
+// kd (diffuse) or ks (specular): the shaded intensity of a pixel is ka + kd * diffuse + ks * specular
+// (times the light), which is what bump and displacement give when averaged over the same area.
+class BrdfTable {
+ public:
+  BrdfTable() = default;
+  // The finest level (Figure 2, first branch): (L.N) and (H.N)^phong over the visible normals.
+  static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong);
+  // A coarser level (Figure 2, second branch): the finer level's table at the primed angles of
+  // eq. (1), averaged over this level's visible normals.
+  static BrdfTable fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
+                                  const BrdfTable& finer);
+
+  struct Value {
+    float diffuse = 0.0f;
+    float specular = 0.0f;
+  };
+  // Trilinear lookup; angles are clamped to the table (theta_V beyond the last slice uses it).
+  Value lookup(float thetaV, float thetaL, float phiVL) const;
+
+  int numThetaV() const { return static_cast<int>(thetaV_.size()); }
+  const BrdfResolution& resolution() const { return res_; }
+  float thetaV(int k) const { return thetaV_[k]; }
+  float thetaL(int i) const;
+  float phi(int j) const;
+  Value entry(int k, int i, int j) const;
+  // Raw storage for the cache and for checks (diffuse then specular, k-major).
+  const std::vector<float>& data() const { return data_; }
+  static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data);
+
+ private:
+  size_t index(int k, int i, int j) const {
+    return (static_cast<size_t>(k) * res_.thetaL + i) * res_.phi + j;
+  }
+  std::vector<float> thetaV_;
+  BrdfResolution res_;
+  std::vector<float> data_;  // 2 * thetaV * thetaL * phi
+};
+
+}  // namespace meso
