@@ -98,3 +98,23 @@ void VisibleNormalHistogram::normalize() {
 }
 
 }  // namespace meso
+
+namespace meso {
+
+std::vector<float> VisibleNormalHistogram::toData() const {
+  std::vector<float> out(data_);
+  for (const Vec3& n : normalSums_) out.insert(out.end(), {n.x, n.y, n.z});
+  return out;
+}
+
+bool VisibleNormalHistogram::fromData(std::span<const float> data) {
+  if (data.size() != 4 * data_.size()) return false;
+  std::copy(data.begin(), data.begin() + data_.size(), data_.begin());
+  for (size_t i = 0; i < normalSums_.size(); ++i) {
+    const float* p = data.data() + data_.size() + 3 * i;
+    normalSums_[i] = Vec3(p[0], p[1], p[2]);
+  }
+  return true;
+}
+
+}  // namespace meso

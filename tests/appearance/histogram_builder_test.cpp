@@ -17,6 +17,7 @@ struct SineRelief : PeriodicRelief {
   float height(float x, float y) const override {
     return a * std::sin(2 * kPi * x) * std::sin(2 * kPi * y);
   }
+  uint64_t fingerprint() const override { return static_cast<uint64_t>(a * 1e6f); }
   Vec2 gradient(float x, float y) const override {
     return {a * 2 * kPi * std::cos(2 * kPi * x) * std::sin(2 * kPi * y),
             a * 2 * kPi * std::sin(2 * kPi * x) * std::cos(2 * kPi * y)};

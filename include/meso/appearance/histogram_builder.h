@@ -18,6 +18,8 @@ class PeriodicRelief {
   virtual ~PeriodicRelief() = default;
   virtual float height(float x, float y) const = 0;
   virtual Vec2 gradient(float x, float y) const = 0;
+  // Identifies the relief for the table cache: a hash of everything that shapes height().
+  virtual uint64_t fingerprint() const = 0;
 };
 
 struct HistogramSettings {

@@ -53,6 +53,10 @@ class VisibleNormalHistogram {
   // Mean of the normals counted in a bin (not renormalized: sum of mass * meanNormal is exactly the
   // mean visible normal). A bin that received mass by mass() only returns its centre direction.
   Vec3 meanNormal(int k, int i, int j) const;
+  // Masses then mean normals as one float array (for the table cache), and back. fromData returns
+  // false (leaving the histogram unchanged) if the size does not match the resolution.
+  std::vector<float> toData() const;
+  bool fromData(std::span<const float> data);
   // Unit direction of a bin centre in the view-aligned frame (theta_N = 0 bin: its centre too).
   Vec3 binDirection(int i, int j) const;
 

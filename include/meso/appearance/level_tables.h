@@ -1,0 +1,38 @@
+// All appearance tables of one relief level (DESIGN.md section 4): built once, cached on disk, and
+// only for levels a scene uses.
+#pragma once
+
+#include "meso/appearance/brdf_table.h"
+#include "meso/appearance/histogram_builder.h"
+#include "meso/appearance/redistribution.h"
+#include "meso/appearance/table_cache.h"
+
+#include <string>
+#include <vector>
+
+namespace meso {
+
+struct TableSettings {
+  HistogramSettings histogram;
+  BrdfResolution brdf;
+  RedistributionVariant variant = RedistributionVariant::Separable;
+};
+
+struct LevelTables {
+  VisibleNormalHistogram distr;
+  Redistribution redistribution;
+  BrdfTable brdf;
+  uint64_t key = 0;         // cache key (also shapes the keys of coarser levels built over this one)
+  bool fromCache = false;
+  double seconds = 0.0;     // build or load time
+  size_t bytes = 0;         // size of the cached payload
+};
+
+// Builds (or loads) the tables of a level. `finer` is the next finer level's tables, or nullptr for
+// the finest level, whose BRDF uses (L.N) and (H.N)^phong. Warnings (a corrupt cache file that was
+// rebuilt, an unwritable cache) are appended to *warnings.
+LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
+                             const LevelTables* finer, const TableCache& cache,
+                             std::vector<std::string>* warnings);
+
+}  // namespace meso

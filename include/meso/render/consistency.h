@@ -1,0 +1,36 @@
+// Becker & Max 1993, section 5.1 and Figure 6: the area-averaged intensity of a flat periodic patch,
+// seen orthographically at theta_V and lit by a directional light at theta_L, for each renderer.
+#pragma once
+
+#include "meso/appearance/level_tables.h"
+#include "meso/appearance/periodic_tile.h"
+
+#include <cstdint>
+
+namespace meso {
+
+enum class Component { Diffuse, Specular, Both };
+
+struct ConsistencySettings {
+  float thetaL = 0.7853982f;   // light polar angle (radians)
+  float phi = 0.0f;            // phi_V - phi_L (radians)
+  Component component = Component::Diffuse;
+  float phong = 20.0f;         // exponent for the specular component
+  int azimuths = 64;           // view azimuths averaged (the tables are azimuth averages too)
+  int samplesPerAzimuth = 4096;
+  uint64_t seed = 1;
+};
+
+struct ConsistencyRow {
+  float thetaV = 0.0f;
+  double bump = 0.0;            // plain Blinn bump mapping
+  double redistribution = 0.0;  // bump normals mapped by R_thetaV
+  double brdf = 0.0;            // the level's BRDF table
+  double displacement = 0.0;    // rays at the displaced periodic relief, shaded with Blinn normals
+};
+
+// Unit white directional light, kd = 1 and/or ks = 1, ka = 0. Deterministic for a seed.
+ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                  const LevelTables& tables, float thetaV, const ConsistencySettings& s);
+
+}  // namespace meso

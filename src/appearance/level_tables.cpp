@@ -1,0 +1,65 @@
+#include "meso/appearance/level_tables.h"
+
+#include "meso/core/timer.h"
+
+namespace meso {
+namespace {
+
+uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s, const LevelTables* finer) {
+  const HistogramSettings& h = s.histogram;
+  Hasher hash;
+  hash.value(kTableFormatVersion).value(relief.fingerprint());
+  hash.value(h.resolution.thetaV).value(h.resolution.thetaN).value(h.resolution.phi);
+  hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
+  hash.value(s.brdf.thetaL).value(s.brdf.phi);
+  // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
+  if (finer) hash.value(finer->key); else hash.value(phong);
+  return hash.digest();
+}
+
+BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s, const LevelTables* finer) {
+  return finer ? BrdfTable::fromFinerLevel(distr, s.brdf, finer->brdf)
+               : BrdfTable::fromDistribution(distr, s.brdf, phong);
+}
+
+}  // namespace
+
+LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
+                             const LevelTables* finer, const TableCache& cache,
+                             std::vector<std::string>* warnings) {
+  Timer timer;
+  const uint64_t key = tableKey(relief, phong, settings, finer);
+  VisibleNormalHistogram distr(settings.histogram.resolution);
+  std::string warning;
+  std::optional<std::vector<float>> cached = cache.load(key, &warning);
+  if (!warning.empty() && warnings) warnings->push_back(warning);
+  const size_t histogramSize = distr.toData().size();
+  bool fromCache = false;
+  std::vector<float> brdfData;
+  if (cached && cached->size() > histogramSize &&
+      distr.fromData(std::span<const float>(*cached).first(histogramSize))) {
+    brdfData.assign(cached->begin() + static_cast<std::ptrdiff_t>(histogramSize), cached->end());
+    fromCache = true;
+  } else {
+    distr = buildVisibleNormalHistogram(relief, settings.histogram);
+  }
+  std::vector<float> thetaV(distr.resolution().thetaV);
+  for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
+  const size_t brdfSize = 2 * thetaV.size() * settings.brdf.thetaL * settings.brdf.phi;
+  BrdfTable brdf = fromCache && brdfData.size() == brdfSize
+                       ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData))
+                       : brdfFor(distr, phong, settings, finer);
+  fromCache = fromCache && brdf.data().size() == brdfSize;
+  std::vector<float> payload = distr.toData();
+  payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());
+  if (!fromCache) {
+    warning.clear();
+    cache.store(key, payload, &warning);
+    if (!warning.empty() && warnings) warnings->push_back(warning);
+  }
+  Redistribution redistribution(distr, settings.variant);
+  return LevelTables{std::move(distr), std::move(redistribution), std::move(brdf), key, fromCache,
+                     timer.seconds(), payload.size() * sizeof(float)};
+}
+
+}  // namespace meso

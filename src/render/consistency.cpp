@@ -1,0 +1,82 @@
+// Becker & Max 1993, Figure 6: area-averaged intensities of the four renderers on one relief.
+#include "meso/render/consistency.h"
+
+#include "meso/core/rng.h"
+#include "meso/render/level_shading.h"
+#include "meso/render/shading.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <vector>
+
+namespace meso {
+namespace {
+
+Vec3 polar(float theta, float phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+Material materialFor(const ConsistencySettings& s) {
+  Material m;
+  m.ka = Vec3(0.0f);
+  m.kd = Vec3(s.component == Component::Specular ? 0.0f : 1.0f);
+  m.ks = Vec3(s.component == Component::Diffuse ? 0.0f : 1.0f);
+  m.phong = s.phong;
+  return m;
+}
+
+Vec3 blinnNormal(const PeriodicRelief& relief, Vec2 xy) {
+  const Vec2 g = relief.gradient(xy.x, xy.y);
+  return glm::normalize(Vec3(-g.x, -g.y, 1.0f));
+}
+
+}  // namespace
+
+ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                  const LevelTables& tables, float thetaV, const ConsistencySettings& s) {
+  const Material material = materialFor(s);
+  std::vector<ConsistencyRow> perAzimuth(s.azimuths);
+  tbb::parallel_for(0, s.azimuths, [&](int a) {
+    Rng rng(s.seed, static_cast<uint64_t>(a));
+    const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
+    const Vec3 V = polar(thetaV, phiV);
+    Light light;
+    light.direction = -polar(s.thetaL, phiV - s.phi);
+    const Light lights[] = {light};
+    const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
+    const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
+    ConsistencyRow& row = perAzimuth[a];
+    int hits = 0;
+    for (int i = 0; i < side * side; ++i) {
+      // Jittered strata over the tile: the area average of the smooth renderers.
+      const Vec2 xy((static_cast<float>(i % side) + rng.uniform()) / side,
+                    (static_cast<float>(i / side) + rng.uniform()) / side);
+      const Vec3 P(xy, 0.0f);
+      const Vec3 n = blinnNormal(relief, xy);
+      row.bump += shadeLocal(material, lights, P, n, V).x;
+      row.redistribution += shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n), V).x;
+      // The displaced relief, projected-area weighted: uniform origins above it along -V.
+      Vec2 hit;
+      if (tile.trace(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
+        row.displacement += shadeLocal(material, lights, Vec3(hit, 0.0f), blinnNormal(relief, hit), V).x;
+        ++hits;
+      }
+    }
+    row.bump /= side * side;
+    row.redistribution /= side * side;
+    row.displacement /= std::max(hits, 1);
+    row.brdf = shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
+  });
+  ConsistencyRow total;
+  total.thetaV = thetaV;
+  for (const ConsistencyRow& r : perAzimuth) {
+    total.bump += r.bump / s.azimuths;
+    total.redistribution += r.redistribution / s.azimuths;
+    total.brdf += r.brdf / s.azimuths;
+    total.displacement += r.displacement / s.azimuths;
+  }
+  return total;
+}
+
+}  // namespace meso

@@ -1,0 +1,56 @@
+// Becker & Max 1993, sections 2.1 (BRDF lookup), 3 (redistribution) and 4.1 (theta_W).
+#include "meso/render/level_shading.h"
+
+#include "meso/render/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+namespace {
+
+Vec3 perpendicularTo(const Vec3& n) {
+  const Vec3 a = std::abs(n.x) < 0.9f ? Vec3(1.0f, 0.0f, 0.0f) : Vec3(0.0f, 1.0f, 0.0f);
+  return glm::normalize(a - glm::dot(a, n) * n);
+}
+
+}  // namespace
+
+ViewFrame makeViewFrame(const Vec3& N, const Vec3& V, const Vec3& tangentHint) {
+  ViewFrame f;
+  f.N = N;
+  const float c = std::clamp(glm::dot(V, N), 0.0f, 1.0f);
+  f.thetaV = std::acos(c);
+  Vec3 t = V - glm::dot(V, N) * N;
+  float len = glm::length(t);
+  if (len < 1e-6f) {
+    t = tangentHint - glm::dot(tangentHint, N) * N;
+    len = glm::length(t);
+  }
+  f.T = len > 1e-6f && std::isfinite(len) ? t / len : perpendicularTo(N);
+  f.B = glm::cross(f.N, f.T);
+  return f;
+}
+
+Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp, const Vec3& nBump) {
+  const NormalAngles in = anglesOf(toFrame(f, nBump));
+  const NormalAngles out = r.partial(f.thetaV, disp, in);
+  return fromFrame(f, normalOf(out));
+}
+
+Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
+               const ViewFrame& f, const BrdfTable& brdf) {
+  Vec3 I = material.ka;
+  for (const Light& light : lights) {
+    const LightSample s = sampleLight(light, P);
+    const Vec3 l = toFrame(f, s.L);
+    if (l.z <= 0.0f) continue;
+    const float thetaL = std::acos(std::min(l.z, 1.0f));
+    const float phiVL = std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
+    const BrdfTable::Value v = brdf.lookup(f.thetaV, thetaL, phiVL);
+    I += s.radiance * (material.kd * v.diffuse + material.ks * v.specular);
+  }
+  return I;
+}
+
+}  // namespace meso
