@@ -7,7 +7,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace meso {
@@ -77,6 +79,35 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
     total.displacement += r.displacement / s.azimuths;
   }
   return total;
+}
+
+double worstPairwiseDifference(const ConsistencyRow& r) {
+  const double v[3] = {r.redistribution, r.brdf, r.displacement};
+  double worst = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j && v[j] != 0.0) worst = std::max(worst, std::abs(v[i] - v[j]) / std::abs(v[j]));
+  return worst;
+}
+
+std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format, double normalizeTo) {
+  const double scale = normalizeTo > 0.0 && !rows.empty() && rows.front().bump > 0.0 ? normalizeTo / rows.front().bump : 1.0;
+  std::string out = format == TableFormat::Csv
+                        ? "theta_v,bump,redistribution,brdf,displacement\n"
+                        : "| theta_V | bump | redistribution | brdf | displacement | worst pair |\n|---|---|---|---|---|---|\n";
+  char line[256];
+  for (const ConsistencyRow& r : rows) {
+    const double deg = r.thetaV * 180.0 / kPi;
+    if (format == TableFormat::Csv)
+      std::snprintf(line, sizeof line, "%.6g,%.6f,%.6f,%.6f,%.6f\n", deg, r.bump * scale,
+                    r.redistribution * scale, r.brdf * scale, r.displacement * scale);
+    else
+      std::snprintf(line, sizeof line, "| %.4g | %.4f | %.4f | %.4f | %.4f | %.2f%% |\n", deg, r.bump * scale,
+                    r.redistribution * scale, r.brdf * scale, r.displacement * scale,
+                    100.0 * worstPairwiseDifference(r));
+    out += line;
+  }
+  return out;
 }
 
 }  // namespace meso

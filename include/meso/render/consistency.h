@@ -6,6 +6,8 @@
 #include "meso/appearance/periodic_tile.h"
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace meso {
 
@@ -28,6 +30,17 @@ struct ConsistencyRow {
   double brdf = 0.0;            // the level's BRDF table
   double displacement = 0.0;    // rays at the displaced periodic relief, shaded with Blinn normals
 };
+
+enum class TableFormat { Csv, Markdown };
+
+// The table of rows: CSV with the header exactly `theta_v,bump,redistribution,brdf,displacement`
+// (theta_v in degrees), or a Markdown table with the largest pairwise difference of redistribution,
+// brdf and displacement per row. normalizeTo > 0 scales every value so that bump at the first row
+// (theta_V = 0 when asked first) equals it, like the paper's Figure 6 (128).
+std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format, double normalizeTo);
+
+// Largest |a - b| / b over the pairs of redistribution, brdf and displacement, as a fraction.
+double worstPairwiseDifference(const ConsistencyRow& r);
 
 // Unit white directional light, kd = 1 and/or ks = 1, ka = 0. Deterministic for a seed.
 ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
