@@ -80,7 +80,9 @@ TEST(HistogramBuilder, VisibleNormalsLeanTowardsTheViewer) {
     Vec3 mean(0.0f);
     for (int i = 0; i < 16; ++i)
       for (int j = 0; j < 16; ++j) mean += h.mass(k, i, j) * h.meanNormal(k, i, j);
-    if (k == 0) EXPECT_NEAR(mean.x, 0.0f, 0.01f);
+    if (k == 0) {
+      EXPECT_NEAR(mean.x, 0.0f, 0.01f);
+    }
     EXPECT_GT(mean.x, previous);
     previous = mean.x;
   }

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <filesystem>
+#include <cstring>
 #include <fstream>
 
 namespace meso {

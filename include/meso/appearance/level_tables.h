@@ -15,7 +15,10 @@ namespace meso {
 struct TableSettings {
   HistogramSettings histogram;
   BrdfResolution brdf;
-  RedistributionVariant variant = RedistributionVariant::Separable;
+  // Conditional by default: on the consistency test (Figure 6) the separable maps lose the coupling
+  // between tilt and azimuth of visible normals and miss displacement by up to 5% at 60 degrees,
+  // the conditional maps by under 0.4% (measured on two reliefs, tests/render/consistency_test.cpp).
+  RedistributionVariant variant = RedistributionVariant::Conditional;
 };
 
 struct LevelTables {

@@ -10,8 +10,9 @@
 namespace meso {
 
 enum class RedistributionVariant {
-  Separable,    // theta_N and phi mapped by their marginals, independently (default)
+  Separable,    // theta_N and phi mapped by their marginals, independently (the paper's maps)
   Conditional,  // phi by its marginal first, then theta_N by its distribution in that phi bin
+                // (meso's default: see TableSettings)
 };
 
 class Redistribution {
