@@ -1,1 +1,338 @@
-// placeholder, being written
+// The limit surface of a subdivision control mesh through OpenSubdiv 3.5 Bfr (Surface per base
+// face, evaluated from prepared patch points): P, P_u, P_v and N of shared/DESIGN.md section 5.
+#include "meso/geometry/limit_surface.h"
+
+#include "limit_surface_impl.h"
+#include "meso/core/error.h"
+
+#include <opensubdiv/bfr/limits.h>
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace meso {
+namespace {
+
+using OpenSubdiv::Bfr::Parameterization;
+using Descriptor = OpenSubdiv::Far::TopologyDescriptor;
+using RefinerFactory = OpenSubdiv::Far::TopologyRefinerFactory<Descriptor>;
+using PointDesc = OpenSubdiv::Bfr::Surface<float>::PointDescriptor;
+
+OpenSubdiv::Sdc::SchemeType toSdc(SubdivisionScheme scheme) {
+  switch (scheme) {
+    case SubdivisionScheme::Loop:
+      return OpenSubdiv::Sdc::SCHEME_LOOP;
+    case SubdivisionScheme::Bilinear:
+      return OpenSubdiv::Sdc::SCHEME_BILINEAR;
+    case SubdivisionScheme::CatmullClark:
+      break;
+  }
+  return OpenSubdiv::Sdc::SCHEME_CATMARK;
+}
+
+// OpenSubdiv reads out of bounds (or exits) on malformed input, so everything it assumes is checked
+// here first.
+void validate(const ControlMesh& mesh, SubdivisionScheme scheme) {
+  const int numVertices = static_cast<int>(mesh.positions.size());
+  if (mesh.numFaces() == 0) throw Error("control mesh has no faces");
+  size_t corners = 0;
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    const int n = mesh.faceSizes[f];
+    if (n < 3 || n > OpenSubdiv::Bfr::Limits::MaxFaceSize())
+      throw Error("control mesh face " + std::to_string(f) + " has " + std::to_string(n) +
+                  " vertices (3 to " + std::to_string(OpenSubdiv::Bfr::Limits::MaxFaceSize()) +
+                  " supported)");
+    if (scheme == SubdivisionScheme::Loop && n != 3)
+      throw Error("Loop subdivision needs an all-triangle mesh, but face " + std::to_string(f) +
+                  " has " + std::to_string(n) + " vertices");
+    corners += static_cast<size_t>(n);
+  }
+  if (corners != mesh.faceVertices.size())
+    throw Error("control mesh face sizes add up to " + std::to_string(corners) + " corners, but " +
+                std::to_string(mesh.faceVertices.size()) + " vertex indices are given");
+  for (int v : mesh.faceVertices)
+    if (v < 0 || v >= numVertices)
+      throw Error("control mesh vertex index " + std::to_string(v) + " out of range [0, " +
+                  std::to_string(numVertices) + ")");
+  if (!mesh.hasUvs()) return;
+  if (mesh.uvIndices.size() != mesh.faceVertices.size())
+    throw Error("control mesh has " + std::to_string(mesh.uvIndices.size()) + " uv indices for " +
+                std::to_string(corners) + " face corners");
+  for (int t : mesh.uvIndices)
+    if (t < 0 || t >= static_cast<int>(mesh.uvs.size()))
+      throw Error("control mesh uv index " + std::to_string(t) + " out of range [0, " +
+                  std::to_string(mesh.uvs.size()) + ")");
+}
+
+std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> createRefiner(const ControlMesh& mesh,
+                                                                SubdivisionScheme scheme) {
+  OpenSubdiv::Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(OpenSubdiv::Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  // Texture coordinates are interpolated linearly, so (u, v) stays the artist's map on every face.
+  options.SetFVarLinearInterpolation(OpenSubdiv::Sdc::Options::FVAR_LINEAR_ALL);
+
+  Descriptor desc;
+  desc.numVertices = static_cast<int>(mesh.positions.size());
+  desc.numFaces = mesh.numFaces();
+  desc.numVertsPerFace = mesh.faceSizes.data();
+  desc.vertIndicesPerFace = mesh.faceVertices.data();
+  Descriptor::FVarChannel uvChannel;
+  if (mesh.hasUvs()) {
+    uvChannel.numValues = static_cast<int>(mesh.uvs.size());
+    uvChannel.valueIndices = mesh.uvIndices.data();
+    desc.numFVarChannels = 1;
+    desc.fvarChannels = &uvChannel;
+  }
+  std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner(
+      RefinerFactory::Create(desc, RefinerFactory::Options(toSdc(scheme), options)));
+  if (!refiner) throw Error("OpenSubdiv rejected the control mesh topology");
+  return refiner;
+}
+
+// Centroid and Newell normal of the control polygon: the last-resort normal of a degenerate point.
+void setPolygonFrame(const ControlMesh& mesh, size_t first, int size,
+                     LimitSurface::Impl::Face& face) {
+  Vec3 sum(0.0f), newell(0.0f);
+  for (int i = 0; i < size; ++i) {
+    const Vec3& a = mesh.positions[mesh.faceVertices[first + i]];
+    const Vec3& b = mesh.positions[mesh.faceVertices[first + (i + 1) % size]];
+    sum += a;
+    newell += Vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+  }
+  face.centroid = sum / static_cast<float>(size);
+  const float len = glm::length(newell);
+  face.averageNormal = (len > 0.0f && std::isfinite(len)) ? newell / len : Vec3(0.0f, 0.0f, 1.0f);
+}
+
+// Chart vertices of an N-gon face (see limit_surface_impl.h), counter-clockwise, then the centre.
+void appendChart(int n, std::vector<Vec2>& chart) {
+  if (n == 3) {
+    chart.insert(chart.end(), {Vec2(0.0f), Vec2(1.0f, 0.0f), Vec2(0.0f, 1.0f), Vec2(1.0f / 3.0f)});
+    return;
+  }
+  // Edge 0 at the bottom running along +s, as for quads.
+  for (int k = 0; k < n; ++k) {
+    const double theta =
+        -0.5 * std::numbers::pi - std::numbers::pi / n + 2.0 * std::numbers::pi * k / n;
+    chart.emplace_back(0.5 + 0.5 * std::cos(theta), 0.5 + 0.5 * std::sin(theta));
+  }
+  chart.emplace_back(0.5f, 0.5f);
+}
+
+float cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// A tangent frame for points without derivatives, so callers never normalize a zero vector.
+void setTangentFrame(SurfacePoint& sp) {
+  const Vec3 a = std::abs(sp.N.x) < 0.9f ? Vec3(1.0f, 0.0f, 0.0f) : Vec3(0.0f, 1.0f, 0.0f);
+  sp.Pu = glm::normalize(glm::cross(a, sp.N));
+  sp.Pv = glm::cross(sp.N, sp.Pu);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Charts of faces with Bfr sub-faces.
+
+Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) const {
+  const Face& f = faces[face];
+  if (f.chartOffset < 0) {
+    jacobian = glm::mat2(1.0f);
+    if (f.param.GetType() == Parameterization::TRI) {
+      st = glm::max(st, Vec2(0.0f));
+      const float sum = st.x + st.y;
+      return sum > 1.0f ? st / sum : st;
+    }
+    return glm::clamp(st, Vec2(0.0f), Vec2(1.0f));
+  }
+  // The 2N triangles of the fan around the centre split the chart into wedges: pick the wedge
+  // containing st. A point outside the polygon is projected radially onto its boundary, which keeps
+  // the clamp continuous.
+  const int n = f.param.GetFaceSize();
+  const Vec2* v = &chartPoints[f.chartOffset];
+  const Vec2 c = v[n];
+  float best = -1e30f;
+  int bestSub = 0;
+  bool bestLower = true;
+  Vec2 bestLambda(0.0f);
+  glm::mat2 bestInverse(1.0f);
+  for (int i = 0; i < n; ++i) {
+    const Vec2 vi = v[i], mNext = 0.5f * (vi + v[(i + 1) % n]);
+    const Vec2 mPrev = 0.5f * (vi + v[(i + n - 1) % n]);
+    for (bool lower : {true, false}) {
+      // lower: (C, V_i, M_i) <-> (1, 1), (0, 0), (1, 0); upper: (C, M_i-1, V_i) <-> (1, 1), (0, 1),
+      // (0, 0) in the sub-face's normalized coordinates.
+      const glm::mat2 e = lower ? glm::mat2(vi - c, mNext - c) : glm::mat2(mPrev - c, vi - c);
+      const glm::mat2 inv = glm::inverse(e);
+      const Vec2 lambda = inv * (st - c);
+      const float m = std::min(lambda.x, lambda.y);
+      if (m > best)
+        best = m, bestSub = i, bestLower = lower, bestLambda = lambda, bestInverse = inv;
+    }
+  }
+  const float outer = bestLambda.x + bestLambda.y;
+  if (outer > 1.0f) bestLambda /= outer;
+  const glm::mat2 local = bestLower ? glm::mat2(Vec2(-1.0f, -1.0f), Vec2(0.0f, -1.0f))
+                                    : glm::mat2(Vec2(-1.0f, 0.0f), Vec2(-1.0f, -1.0f));
+  const Vec2 ab = glm::clamp(Vec2(1.0f) + local * bestLambda, Vec2(0.0f), Vec2(1.0f));
+  // Normalized sub-face coordinates are twice Bfr's tile coordinates.
+  jacobian = 0.5f * local * bestInverse;
+  Vec2 uv;
+  f.param.ConvertNormalizedSubFaceToCoord(bestSub, &ab.x, &uv.x);
+  return uv;
+}
+
+Vec2 LimitSurface::Impl::bfrToChart(int face, Vec2 bfrUv) const {
+  const Face& f = faces[face];
+  if (f.chartOffset < 0) return bfrUv;
+  const int n = f.param.GetFaceSize();
+  const Vec2* v = &chartPoints[f.chartOffset];
+  Vec2 ab;
+  const int i = f.param.ConvertCoordToNormalizedSubFace(&bfrUv.x, &ab.x);
+  ab = glm::clamp(ab, Vec2(0.0f), Vec2(1.0f));
+  const Vec2 vi = v[i], c = v[n];
+  if (ab.x >= ab.y) {
+    const Vec2 mNext = 0.5f * (vi + v[(i + 1) % n]);
+    return (1.0f - ab.x) * vi + (ab.x - ab.y) * mNext + ab.y * c;
+  }
+  const Vec2 mPrev = 0.5f * (vi + v[(i + n - 1) % n]);
+  return (1.0f - ab.y) * vi + (ab.y - ab.x) * mPrev + ab.x * c;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
+    : impl_(std::make_unique<Impl>()) {
+  validate(mesh, scheme);
+  impl_->refiner = createRefiner(mesh, scheme);
+  OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*impl_->refiner);
+
+  const int numFaces = mesh.numFaces();
+  impl_->faces.resize(numFaces);
+  size_t first = 0;
+  for (int f = 0; f < numFaces; ++f) {
+    Impl::Face& face = impl_->faces[f];
+    const int n = mesh.faceSizes[f];
+    face.param = Parameterization(toSdc(scheme), n);
+    if (face.param.HasSubFaces()) {
+      face.chartOffset = static_cast<int>(impl_->chartPoints.size());
+      appendChart(n, impl_->chartPoints);
+    }
+    setPolygonFrame(mesh, first, n, face);
+    first += static_cast<size_t>(n);
+    if (!factory.InitVertexSurface(f, &face.surface)) continue;  // a hole or non-manifold face
+    face.patchOffset = impl_->patchPoints.size();
+    impl_->patchPoints.resize(face.patchOffset + 3 * face.surface.GetNumPatchPoints());
+    face.surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
+                                    &impl_->patchPoints[face.patchOffset], PointDesc(3));
+    if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &face.uvSurface, 0)) continue;
+    face.uvPatchOffset = impl_->uvPatchPoints.size();
+    impl_->uvPatchPoints.resize(face.uvPatchOffset + 2 * face.uvSurface.GetNumPatchPoints());
+    face.uvSurface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2),
+                                      &impl_->uvPatchPoints[face.uvPatchOffset], PointDesc(2));
+  }
+}
+
+LimitSurface::~LimitSurface() = default;
+LimitSurface::LimitSurface(LimitSurface&&) noexcept = default;
+LimitSurface& LimitSurface::operator=(LimitSurface&&) noexcept = default;
+
+int LimitSurface::numFaces() const { return static_cast<int>(impl_->faces.size()); }
+
+bool LimitSurface::hasLimitSurface(int face) const { return impl_->faces[face].surface.IsValid(); }
+
+int LimitSurface::faceSize(int face) const { return impl_->faces[face].param.GetFaceSize(); }
+
+namespace {
+
+// Derivatives with respect to Bfr's coordinates at c.
+void evaluateDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
+                         Vec3& P, Vec3& dPdc0, Vec3& dPdc1) {
+  f.surface.Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x, &dPdc0.x,
+                     &dPdc1.x);
+}
+
+bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {
+  n = glm::cross(a, b);
+  const float len = glm::length(n);
+  // Relative test: nearly parallel derivatives give a cross product that is mostly rounding error.
+  if (!(len > 1e-6f * glm::length(a) * glm::length(b)) || !(len > 0.0f) || !std::isfinite(len))
+    return false;
+  n /= len;
+  return true;
+}
+
+// N from Bfr's derivatives (their orientation is the mesh's for every face). Where they are
+// degenerate (a collapsed face, some extraordinary corners) the normal slightly inside the face is
+// the limit of the normals around the point; the control polygon's normal is the last resort.
+// The inset moves st towards the chart's centre (or, from the centre, towards corner 0) in meso's
+// chart, where the face is one connected domain.
+Vec3 limitNormal(const LimitSurface::Impl& impl, int face, Vec2 st, const Vec3& dPdc0,
+                 const Vec3& dPdc1) {
+  Vec3 n;
+  if (usableCross(dPdc0, dPdc1, n)) return n;
+  const LimitSurface::Impl::Face& f = impl.faces[face];
+  Vec2 centre(0.5f), corner(0.0f);
+  if (f.chartOffset >= 0) {
+    centre = impl.chartPoints[f.chartOffset + f.param.GetFaceSize()];
+    corner = impl.chartPoints[f.chartOffset];
+  } else if (f.param.GetType() == Parameterization::TRI) {
+    centre = Vec2(1.0f / 3.0f);
+  }
+  const Vec2 target = glm::length(st - centre) > 1e-3f ? centre : corner;
+  for (float inset : {1e-4f, 1e-3f, 1e-2f, 1e-1f}) {
+    glm::mat2 unused;
+    const Vec2 c = impl.chartToBfr(face, st + inset * (target - st), unused);
+    Vec3 P, d0, d1;
+    evaluateDerivatives(impl, f, c, P, d0, d1);
+    if (usableCross(d0, d1, n)) return n;
+  }
+  return f.averageNormal;
+}
+
+// Pu, Pv with respect to texture coordinates: [Pu Pv] = [dP/dc] (d uv / dc)^-1.
+bool textureDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
+                        const Vec3& dPdc0, const Vec3& dPdc1, SurfacePoint& sp) {
+  Vec2 dUv0, dUv1;
+  f.uvSurface.Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2), &sp.uv.x, &dUv0.x,
+                       &dUv1.x);
+  const float det = cross2(dUv0, dUv1);
+  // A folded or collapsed uv map has no inverse; the caller then keeps patch derivatives.
+  if (!(std::abs(det) > 1e-8f * glm::length(dUv0) * glm::length(dUv1)) || !(det != 0.0f))
+    return false;
+  const Vec3 pu = (dPdc0 * dUv1.y - dPdc1 * dUv0.y) / det;
+  const Vec3 pv = (dPdc1 * dUv0.x - dPdc0 * dUv1.x) / det;
+  if (!isFinite(pu) || !isFinite(pv)) return false;
+  sp.Pu = pu;
+  sp.Pv = pv;
+  return true;
+}
+
+}  // namespace
+
+SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
+  const Impl::Face& f = impl_->faces[face];
+  SurfacePoint sp;
+  if (!f.surface.IsValid()) {
+    sp.P = f.centroid;
+    sp.N = f.averageNormal;
+    sp.uv = st;
+    setTangentFrame(sp);
+    return sp;
+  }
+  glm::mat2 dcdst;
+  const Vec2 c = impl_->chartToBfr(face, st, dcdst);
+  Vec3 dPdc0, dPdc1;
+  evaluateDerivatives(*impl_, f, c, sp.P, dPdc0, dPdc1);
+  sp.N = limitNormal(*impl_, face, st, dPdc0, dPdc1);
+  if (f.uvSurface.IsValid() && textureDerivatives(*impl_, f, c, dPdc0, dPdc1, sp)) return sp;
+  if (!f.uvSurface.IsValid()) sp.uv = impl_->bfrToChart(face, c);  // st, clamped into the face
+  // Chain rule through the chart: column k of dcdst is d(Bfr uv)/d(st_k).
+  sp.Pu = dPdc0 * dcdst[0][0] + dPdc1 * dcdst[0][1];
+  sp.Pv = dPdc0 * dcdst[1][0] + dPdc1 * dcdst[1][1];
+  return sp;
+}
+
+}  // namespace meso

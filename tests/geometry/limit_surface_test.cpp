@@ -1,0 +1,328 @@
+#include "meso/geometry/limit_surface.h"
+
+#include "geometry/test_meshes.h"
+#include "meso/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace meso {
+namespace {
+
+// st of corner k of a quad face (Bfr's quad parameterization).
+Vec2 quadCorner(int k) { return Vec2(k == 1 || k == 2 ? 1.0f : 0.0f, k >= 2 ? 1.0f : 0.0f); }
+
+bool finitePoint(const SurfacePoint& sp) {
+  return isFinite(sp.P) && isFinite(sp.Pu) && isFinite(sp.Pv) && isFinite(sp.N) &&
+         std::isfinite(sp.uv.x) && std::isfinite(sp.uv.y) &&
+         std::abs(glm::length(sp.N) - 1.0f) < 1e-4f;
+}
+
+// Samples of the face domain: a grid over the unit square, or over the unit right triangle.
+std::vector<Vec2> domainSamples(int n, bool triangle) {
+  std::vector<Vec2> st;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      if (!triangle || i + j <= n) st.emplace_back(float(i) / n, float(j) / n);
+  return st;
+}
+
+TEST(LimitSurface, FlatGridStaysFlat) {
+  const LimitSurface surface(test::grid(4), SubdivisionScheme::CatmullClark);
+  ASSERT_EQ(surface.numFaces(), 16);
+  for (int f = 0; f < surface.numFaces(); ++f) {
+    ASSERT_TRUE(surface.hasLimitSurface(f));
+    EXPECT_EQ(surface.faceSize(f), 4);
+    for (Vec2 st : domainSamples(8, false)) {
+      const SurfacePoint sp = surface.evaluate(f, st);
+      ASSERT_NEAR(sp.P.z, 0.0f, 1e-6f) << "face " << f << " st " << st.x << "," << st.y;
+      ASSERT_LT(glm::length(sp.N - Vec3(0.0f, 0.0f, 1.0f)), 1e-5f) << "face " << f;
+      EXPECT_EQ(sp.uv, st);
+    }
+  }
+}
+
+// The Catmull-Clark limit position of a vertex of valence n (Halstead et al. 1993):
+// P = (n^2 V + 4 sum(edge neighbours) + sum(diagonal face vertices)) / (n (n + 5)).
+Vec3 valenceLimitPoint(const ControlMesh& mesh, int vertex) {
+  std::set<int> edgeNeighbours;
+  Vec3 diagonal(0.0f);
+  int n = 0, first = 0;
+  for (int f = 0; f < mesh.numFaces(); first += mesh.faceSizes[f], ++f) {
+    const int* v = &mesh.faceVertices[first];
+    for (int k = 0; k < 4; ++k) {
+      if (v[k] != vertex) continue;
+      ++n;
+      edgeNeighbours.insert(v[(k + 1) % 4]);
+      edgeNeighbours.insert(v[(k + 3) % 4]);
+      diagonal += mesh.positions[v[(k + 2) % 4]];
+    }
+  }
+  Vec3 edges(0.0f);
+  for (int e : edgeNeighbours) edges += mesh.positions[e];
+  const float fn = static_cast<float>(n);
+  return (fn * fn * mesh.positions[vertex] + 4.0f * edges + diagonal) / (fn * (fn + 5.0f));
+}
+
+TEST(LimitSurface, CubeCornersMatchValenceFormula) {
+  const ControlMesh mesh = test::cube();
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 4; ++k) {
+      const int vertex = mesh.faceVertices[4 * f + k];
+      const Vec3 expected = valenceLimitPoint(mesh, vertex);
+      EXPECT_NEAR(glm::length(expected), 0.5f * std::sqrt(3.0f), 1e-6f);  // (+-0.5, +-0.5, +-0.5)
+      const SurfacePoint sp = surface.evaluate(f, quadCorner(k));
+      EXPECT_LT(glm::length(sp.P - expected), 1e-5f) << "face " << f << " corner " << k;
+      EXPECT_LT(glm::length(sp.N - glm::normalize(mesh.positions[vertex])), 1e-5f)
+          << "face " << f << " corner " << k;
+    }
+}
+
+TEST(LimitSurface, CubeNormalsPointOutward) {
+  const LimitSurface surface(test::cube(), SubdivisionScheme::CatmullClark);
+  for (int f = 0; f < surface.numFaces(); ++f)
+    for (Vec2 st : domainSamples(6, false)) {
+      const SurfacePoint sp = surface.evaluate(f, st);
+      ASSERT_TRUE(finitePoint(sp));
+      // The limit of a cube is convex and centred on the origin.
+      EXPECT_GT(glm::dot(sp.N, glm::normalize(sp.P)), 0.5f);
+      EXPECT_LT(glm::length(glm::normalize(glm::cross(sp.Pu, sp.Pv)) - sp.N), 1e-4f);
+    }
+}
+
+TEST(LimitSurface, LoopNeedsTriangles) {
+  EXPECT_THROW(LimitSurface(test::cube(), SubdivisionScheme::Loop), Error);
+  ControlMesh tetra;
+  tetra.positions = {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)};
+  test::addFace(tetra, {0, 1, 2});
+  test::addFace(tetra, {0, 2, 3});
+  test::addFace(tetra, {0, 3, 1});
+  test::addFace(tetra, {1, 3, 2});
+  const LimitSurface surface(tetra, SubdivisionScheme::Loop);
+  for (int f = 0; f < 4; ++f) {
+    EXPECT_EQ(surface.faceSize(f), 3);
+    for (Vec2 st : domainSamples(6, true)) {
+      const SurfacePoint sp = surface.evaluate(f, st);
+      ASSERT_TRUE(finitePoint(sp));
+      EXPECT_GT(glm::dot(sp.N, sp.P), 0.0f);  // outward on the convex limit
+    }
+  }
+}
+
+TEST(LimitSurface, MalformedMeshesThrow) {
+  ControlMesh outOfRange = test::grid(1);
+  outOfRange.faceVertices[2] = 17;
+  EXPECT_THROW(LimitSurface(outOfRange, SubdivisionScheme::CatmullClark), Error);
+  ControlMesh twoSided = test::grid(1);
+  twoSided.faceSizes = {2, 2};
+  EXPECT_THROW(LimitSurface(twoSided, SubdivisionScheme::Bilinear), Error);
+  ControlMesh badUvs = test::grid(1);
+  badUvs.uvs = {Vec2(0.0f)};
+  badUvs.uvIndices = {0, 0, 0};
+  EXPECT_THROW(LimitSurface(badUvs, SubdivisionScheme::CatmullClark), Error);
+  EXPECT_THROW(LimitSurface(ControlMesh{}, SubdivisionScheme::CatmullClark), Error);
+}
+
+// uv = A (x, y) + b on a flat grid, so (x, y) = A^-1 (uv - b) and P_u, P_v are A^-1's columns.
+TEST(LimitSurface, TextureDerivativesFollowTheChainRule) {
+  const glm::mat2 a(glm::vec2(1.6f, 1.2f),
+                    glm::vec2(-0.5f, 2.5f));  // columns: scale, rotation, shear
+  const glm::vec2 b(0.3f, -0.7f);
+  ControlMesh plain = test::grid(4);
+  ControlMesh mapped = plain;
+  for (const Vec3& p : mapped.positions) mapped.uvs.push_back(a * Vec2(p) + b);
+  mapped.uvIndices = mapped.faceVertices;
+  const LimitSurface withUv(mapped, SubdivisionScheme::CatmullClark);
+  const LimitSurface withoutUv(plain, SubdivisionScheme::CatmullClark);
+  const glm::mat2 ainv = glm::inverse(a);
+  for (int f = 0; f < withUv.numFaces(); ++f)
+    for (Vec2 st : domainSamples(4, false)) {
+      const SurfacePoint sp = withUv.evaluate(f, st);
+      const SurfacePoint ref = withoutUv.evaluate(f, st);
+      EXPECT_LT(glm::length(sp.uv - (a * Vec2(ref.P) + b)), 1e-5f);
+      EXPECT_LT(glm::length(sp.Pu - Vec3(ainv[0], 0.0f)), 1e-5f);
+      EXPECT_LT(glm::length(sp.Pv - Vec3(ainv[1], 0.0f)), 1e-5f);
+      // Chain rule against the patch derivatives: dP/ds = Pu du/ds + Pv dv/ds.
+      const glm::mat2 duvdst = a * glm::mat2(Vec2(ref.Pu), Vec2(ref.Pv));
+      EXPECT_LT(glm::length(ref.Pu - (sp.Pu * duvdst[0][0] + sp.Pv * duvdst[0][1])), 1e-5f);
+      EXPECT_LT(glm::length(ref.Pv - (sp.Pu * duvdst[1][0] + sp.Pv * duvdst[1][1])), 1e-5f);
+      EXPECT_LT(glm::length(sp.N - Vec3(0.0f, 0.0f, 1.0f)), 1e-5f);
+    }
+}
+
+TEST(LimitSurface, UvScaledByTwoHalvesTheDerivatives) {
+  ControlMesh mesh = test::grid(4);
+  const LimitSurface plain(mesh, SubdivisionScheme::CatmullClark);
+  for (const Vec3& p : mesh.positions) mesh.uvs.push_back(2.0f * Vec2(p));
+  mesh.uvIndices = mesh.faceVertices;
+  const LimitSurface scaled(mesh, SubdivisionScheme::CatmullClark);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (Vec2 st : domainSamples(3, false)) {
+      const SurfacePoint sp = scaled.evaluate(f, st), ref = plain.evaluate(f, st);
+      EXPECT_NEAR(glm::length(sp.Pu), 0.5f * glm::length(ref.Pu), 1e-5f);
+      EXPECT_NEAR(glm::length(sp.Pv), 0.5f * glm::length(ref.Pv), 1e-5f);
+    }
+}
+
+// On a curved surface: Pu is the derivative of P along the direction in st where only u changes.
+// The samples avoid the quarter of the face around each extraordinary corner: Bfr represents those
+// regions by Gregory patches whose derivatives (as in Far) omit the derivative of the rational
+// blending and differ from finite differences of P by about 1%.
+TEST(LimitSurface, TextureDerivativesMatchFiniteDifferencesOnCube) {
+  ControlMesh mesh = test::cube();
+  // Per face a rotated, non-uniformly scaled copy of the unit square: a different uv map per face.
+  for (int f = 0; f < 6; ++f) {
+    const float angle = 0.4f * f, su = 1.0f + 0.3f * f, sv = 0.5f + 0.1f * f;
+    const glm::mat2 m =
+        glm::mat2(std::cos(angle), std::sin(angle), -std::sin(angle), std::cos(angle)) *
+        glm::mat2(su, 0.0f, 0.0f, sv);
+    for (int k = 0; k < 4; ++k) {
+      mesh.uvs.push_back(m * quadCorner(k) + Vec2(float(f)));
+      mesh.uvIndices.push_back(4 * f + k);
+    }
+  }
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const float h = 1e-3f;
+  for (int f = 0; f < 6; ++f)
+    for (Vec2 st : {Vec2(0.5f), Vec2(0.2f, 0.7f), Vec2(0.6f, 0.3f)}) {
+      const SurfacePoint sp = surface.evaluate(f, st);
+      // Finite differences of uv(st) give d(uv)/d(st); its inverse maps a step in u to a step in
+      // st.
+      const Vec2 du =
+          (surface.evaluate(f, st + Vec2(h, 0)).uv - surface.evaluate(f, st - Vec2(h, 0)).uv) /
+          (2 * h);
+      const Vec2 dv =
+          (surface.evaluate(f, st + Vec2(0, h)).uv - surface.evaluate(f, st - Vec2(0, h)).uv) /
+          (2 * h);
+      const glm::mat2 stOfUv = glm::inverse(glm::mat2(du, dv));
+      for (int axis = 0; axis < 2; ++axis) {
+        const Vec2 step = h * stOfUv[axis];
+        const Vec3 fd =
+            (surface.evaluate(f, st + step).P - surface.evaluate(f, st - step).P) / (2 * h);
+        const Vec3 analytic = axis == 0 ? sp.Pu : sp.Pv;
+        EXPECT_LT(glm::length(fd - analytic), 2e-3f * glm::length(analytic))
+            << "face " << f << " axis " << axis;
+      }
+    }
+}
+
+TEST(LimitSurface, CollapsedUvFallsBackToPatchDerivatives) {
+  ControlMesh mesh = test::grid(2);
+  mesh.uvs = {Vec2(0.5f)};
+  mesh.uvIndices.assign(mesh.faceVertices.size(), 0);
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const LimitSurface plain(test::grid(2), SubdivisionScheme::CatmullClark);
+  for (int f = 0; f < 4; ++f) {
+    const SurfacePoint sp = surface.evaluate(f, Vec2(0.3f, 0.6f));
+    ASSERT_TRUE(finitePoint(sp));
+    EXPECT_EQ(sp.uv, Vec2(0.5f));
+    EXPECT_LT(glm::length(sp.Pu - plain.evaluate(f, Vec2(0.3f, 0.6f)).Pu), 1e-6f);
+  }
+}
+
+// Triangles and N-gons under Catmull-Clark have Bfr sub-faces; meso's st is a continuous chart.
+TEST(LimitSurface, PolygonChartIsContinuousAndInterpolatesCorners) {
+  for (int n : {3, 5, 6}) {
+    ControlMesh mesh;
+    for (int k = 0; k < n; ++k) {
+      const float a = 2.0f * kPi * k / n;
+      mesh.positions.emplace_back(std::cos(a), std::sin(a), 0.0f);
+      mesh.faceVertices.push_back(k);
+    }
+    mesh.faceSizes = {n};
+    const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+    ASSERT_EQ(surface.faceSize(0), n);
+    // Boundary corners of valence 2 are interpolated: some st of the chart reaches each corner.
+    // Start at the nearest sample and refine by Gauss-Newton on |P(st) - corner|.
+    const std::vector<Vec2> samples = domainSamples(40, false);
+    for (int k = 0; k < n; ++k) {
+      const Vec3 target = mesh.positions[k];
+      Vec2 st = samples[0];
+      for (Vec2 s : samples)
+        if (glm::length(surface.evaluate(0, s).P - target) <
+            glm::length(surface.evaluate(0, st).P - target))
+          st = s;
+      for (int iter = 0; iter < 30; ++iter) {
+        const SurfacePoint sp = surface.evaluate(0, st);
+        const glm::mat2 j(Vec2(sp.Pu), Vec2(sp.Pv));
+        st += glm::inverse(j) * Vec2(target - sp.P);
+      }
+      EXPECT_LT(glm::length(surface.evaluate(0, st).P - target), 1e-5f) << n << "-gon corner " << k;
+    }
+    // Continuity: neighbouring samples give neighbouring points everywhere, seams included.
+    const std::vector<Vec2> coarse = domainSamples(60, false);
+    for (Vec2 st : coarse) {
+      const SurfacePoint sp = surface.evaluate(0, st);
+      ASSERT_TRUE(finitePoint(sp));
+      EXPECT_NEAR(sp.P.z, 0.0f, 1e-6f);
+      EXPECT_LT(glm::length(sp.N - Vec3(0.0f, 0.0f, 1.0f)), 1e-5f);
+      for (Vec2 d : {Vec2(1e-3f, 0.0f), Vec2(0.0f, 1e-3f)}) {
+        const SurfacePoint q = surface.evaluate(0, st + d);
+        EXPECT_LT(glm::length(q.P - sp.P), 1e-2f) << n << "-gon at " << st.x << "," << st.y;
+      }
+    }
+  }
+}
+
+TEST(LimitSurface, CollapsedFacesGiveNoNan) {
+  ControlMesh collapsed = test::grid(3);
+  for (int v : {5, 6, 9, 10}) collapsed.positions[v] = Vec3(1.5f, 1.5f, 0.0f);  // the middle face
+  ControlMesh point = test::grid(1);
+  for (Vec3& p : point.positions) p = Vec3(0.25f);
+  ControlMesh line = test::grid(2);
+  for (Vec3& p : line.positions) p.y = 0.0f;
+  for (const ControlMesh& mesh : {collapsed, point, line})
+    for (SubdivisionScheme scheme :
+         {SubdivisionScheme::CatmullClark, SubdivisionScheme::Bilinear}) {
+      const LimitSurface surface(mesh, scheme);
+      for (int f = 0; f < surface.numFaces(); ++f)
+        for (Vec2 st : domainSamples(8, false)) {
+          const SurfacePoint sp = surface.evaluate(f, st);
+          ASSERT_TRUE(finitePoint(sp)) << "face " << f << " st " << st.x << "," << st.y;
+        }
+    }
+}
+
+// A bilinear quad with a collapsed edge (corners 2 and 3 coincide): dP/ds vanishes along t = 1,
+// where the normal must still be finite and continue the normals nearby.
+TEST(LimitSurface, DegenerateDerivativesUseTheNearbyNormal) {
+  ControlMesh mesh;
+  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0.8f), Vec3(0.5f, 1, 0), Vec3(0.5f, 1, 0)};
+  test::addFace(mesh, {0, 1, 2, 3});
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  for (float s : {0.0f, 0.3f, 0.5f, 1.0f}) {
+    const SurfacePoint sp = surface.evaluate(0, Vec2(s, 1.0f));
+    ASSERT_TRUE(finitePoint(sp));
+    EXPECT_LT(glm::length(sp.Pu), 1e-6f);  // really degenerate here
+    const Vec3 nearby = surface.evaluate(0, Vec2(s, 0.999f)).N;
+    EXPECT_LT(glm::length(sp.N - nearby), 1e-2f) << "s " << s;
+  }
+}
+
+TEST(LimitSurface, OutOfDomainCoordinatesAreClamped) {
+  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
+  for (int f = 0; f < surface.numFaces(); ++f)
+    for (Vec2 st : {Vec2(-0.5f), Vec2(1.5f), Vec2(-1e-7f, 0.5f), Vec2(2.0f, -3.0f)}) {
+      const SurfacePoint sp = surface.evaluate(f, st);
+      ASSERT_TRUE(finitePoint(sp)) << "face " << f;
+      EXPECT_LT(glm::length(sp.P), 2.0f);
+    }
+}
+
+TEST(LimitSurface, IsMovable) {
+  LimitSurface a(test::cube(), SubdivisionScheme::CatmullClark);
+  const Vec3 p = a.evaluate(2, Vec2(0.3f, 0.4f)).P;
+  LimitSurface b(std::move(a));
+  EXPECT_EQ(b.evaluate(2, Vec2(0.3f, 0.4f)).P, p);
+  LimitSurface c(test::grid(1), SubdivisionScheme::Bilinear);
+  c = std::move(b);
+  EXPECT_EQ(c.evaluate(2, Vec2(0.3f, 0.4f)).P, p);
+}
+
+}  // namespace
+}  // namespace meso
