@@ -105,7 +105,7 @@ void runRender(const RenderCommandOptions& o) {
 
   phase.reset();
   RenderCounters counters;
-  RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet};
+  RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour};
   Image film = renderFrame(ctx, ro, counters);
   const double renderSeconds = phase.seconds();
 

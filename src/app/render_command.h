@@ -18,6 +18,7 @@ struct RenderCommandOptions {
   std::optional<std::string> algorithm;
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
+  bool falseColour = false;
   bool quiet = false;
 };
 

@@ -2,22 +2,33 @@
 
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
-#include "meso/render/shading.h"
+#include "meso/render/surface_shader.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace meso {
 namespace {
 
 constexpr int kTileSize = 16;
+constexpr int kChannels = 11;
+
+// The paper's Figure 4 look: the algorithm colours, shaded by the beauty's brightness so the shapes
+// stay readable.
+Vec3 falseColour(const Vec3& beauty, const Vec3& algorithm) {
+  const float lum = std::min(1.0f, 0.2126f * beauty.r + 0.7152f * beauty.g + 0.0722f * beauty.b);
+  return algorithm * (0.25f + 0.75f * lum);
+}
 
 struct PixelSum {
   Vec3 colour{0.0f};
+  Vec3 algorithm{0.0f};
   Vec3 normal{0.0f};
   float depth = 0.0f;
+  float T = 0.0f;
   int hits = 0;
 };
 
@@ -32,11 +43,11 @@ void traceSample(const RenderContext& ctx, const Ray& ray, PixelSum& sum) {
   const PreparedObject& object = ctx.objects[hit.mesh];
   const int face = object.mesh.triangleFace[hit.triangle];
   const SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
-  const Vec3 V = -ray.direction;
-  // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
-  const Vec3 N = glm::dot(sp.N, V) < 0.0f ? -sp.N : sp.N;
-  sum.colour += shadeLocal(ctx.scene->materials[object.material], ctx.scene->lights, sp.P, N, V);
-  sum.normal += N;
+  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction);
+  sum.colour += r.colour;
+  sum.algorithm += r.algorithm;
+  sum.normal += r.normal;
+  sum.T += r.T;
   sum.depth += hit.t;
   sum.hits += 1;
 }
@@ -58,16 +69,22 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
   rays += spp;
   const float inv = 1.0f / static_cast<float>(spp);
   const float invHits = sum.hits > 0 ? 1.0f / static_cast<float>(sum.hits) : 0.0f;
-  const float values[7] = {sum.colour.r * inv, sum.colour.g * inv, sum.colour.b * inv, sum.depth * invHits,
-                           sum.normal.x * invHits, sum.normal.y * invHits, sum.normal.z * invHits};
-  for (int c = 0; c < 7; ++c) film.at(x, y, c) = values[c];
+  Vec3 beauty = sum.colour * inv;
+  const Vec3 algorithm = sum.algorithm * inv;
+  if (options.falseColour) beauty = falseColour(beauty, algorithm);
+  const float values[kChannels] = {beauty.r, beauty.g, beauty.b, sum.depth * invHits,
+                                   sum.normal.x * invHits, sum.normal.y * invHits, sum.normal.z * invHits,
+                                   algorithm.r, algorithm.g, algorithm.b, sum.T * invHits};
+  for (int c = 0; c < kChannels; ++c) film.at(x, y, c) = values[c];
 }
 
 }  // namespace
 
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters) {
   const CameraSettings& cam = ctx.camera.settings();
-  Image film(cam.width, cam.height, {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z"});
+  Image film(cam.width, cam.height,
+             {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "algorithm.R", "algorithm.G",
+              "algorithm.B", "T.Y"});
   const int tilesX = (cam.width + kTileSize - 1) / kTileSize;
   const int tilesY = (cam.height + kTileSize - 1) / kTileSize;
   ProgressBar progress("render", static_cast<int64_t>(tilesX) * tilesY, options.progress);

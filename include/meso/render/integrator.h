@@ -13,6 +13,7 @@ struct RenderOptions {
   int spp = 4;
   uint64_t seed = 0;
   bool progress = true;  // progress bar on stderr (drawn only when stderr is a terminal)
+  bool falseColour = false;  // beauty = algorithm colours (Figure 4) instead of shading
 };
 
 struct RenderCounters {
@@ -20,7 +21,9 @@ struct RenderCounters {
 };
 
 // The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that hit
-// a surface, 0 where none did) and normal.X/Y/Z (mean shading normal over hits, 0 where none).
+// a surface, 0 where none did), normal.X/Y/Z (mean shading normal over hits, 0 where none),
+// algorithm.R/G/B (the renderer colours of DESIGN.md section 2 mixed by blend weights, averaged over
+// all samples) and T.Y (mean transition parameter of the finest visible level over hits).
 // Every pixel depends only on (seed, pixel, sample index), so any thread count gives the same bits.
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters);
 
