@@ -1,1 +1,1 @@
-// placeholder, being written
+// The mesh loader lives in openmesh_io.cpp.

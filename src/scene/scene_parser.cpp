@@ -1,1 +1,1 @@
-// placeholder, being written
+// The scene parser lives in scene_reader.cpp.

@@ -2,17 +2,10 @@
 // of the renderers it selects (DESIGN.md section 3).
 #pragma once
 
+#include "meso/scene/scene.h"
+
 namespace meso {
 
-// D, eps and the thresholds e1 < e2 < 0 < e3 < e4 of DESIGN.md section 3.
-struct TransitionSettings {
-  float D = 2.0f;     // the speed-for-accuracy knob (the paper's c), in pixels per shortest wavelength
-  float eps = 0.1f;   // keeps T finite at the silhouette (cos theta_V = 0)
-  float e1 = -1.0f;
-  float e2 = -0.3f;
-  float e3 = 0.3f;
-  float e4 = 1.0f;
-};
 
 // Throws meso::Error naming `where` (e.g. "render.thresholds") unless e1 < e2 < 0 < e3 < e4, D >= 0,
 // eps >= 0 and all are finite.

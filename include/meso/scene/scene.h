@@ -66,12 +66,27 @@ struct Object {
   int material = 0;  // index into Scene::materials
 };
 
+// D, eps and the thresholds e1 < e2 < 0 < e3 < e4 of DESIGN.md section 3 (Becker & Max eq. 10).
+struct TransitionSettings {
+  float D = 2.0f;     // the speed-for-accuracy knob (the paper's c), in pixels per shortest wavelength
+  float eps = 0.1f;   // keeps T finite at the silhouette (cos theta_V = 0)
+  float e1 = -1.0f;
+  float e2 = -0.3f;
+  float e3 = 0.3f;
+  float e4 = 1.0f;
+};
+
 struct RenderSettings {
   std::string algorithm = "auto";  // auto | brdf | bump | redistribution | displacement
   uint64_t seed = 0;
   int threads = 0;          // 0: all cores
   int tessellationRate = 8; // uniform Bfr rate (segments per base-face edge)
   Vec3 background{0.0f};
+  TransitionSettings transition;
+  float dicingRate = 1.0f;               // micropolygon edge length in pixels where displaced
+  int64_t maxMicropolygons = 200000000;  // per frame; more coarsens dicing with a warning
+  std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
+  std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
 };
 
 struct Scene {

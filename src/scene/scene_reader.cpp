@@ -1,0 +1,410 @@
+// Reads TOML scenes (docs/scene-format.md) with toml++. Every rejected value names
+// FILE:LINE:COL: key: what was expected.
+#include "meso/scene/scene_parser.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+namespace meso {
+namespace {
+
+std::string describe(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return std::to_string(n.as_integer()->get());
+    case toml::node_type::floating_point: {
+      std::ostringstream s;
+      s << n.as_floating_point()->get();
+      return s.str();
+    }
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    default: return "a date or time";
+  }
+}
+
+// Reads the keys of one TOML table, checking types and ranges, and rejects keys it was not asked for.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string prefix, const std::string& file)
+      : table_(table), prefix_(std::move(prefix)), file_(file) {}
+
+  [[noreturn]] void fail(const toml::node& n, const std::string& key, const std::string& what) const {
+    throw Error(loc(n), prefix_ + key, what);
+  }
+  FileLoc loc(const toml::node& n) const {
+    return {file_, static_cast<int>(n.source().begin.line), static_cast<int>(n.source().begin.column)};
+  }
+  std::string dotted(const std::string& key) const { return prefix_ + key; }
+
+  const toml::node* get(const std::string& key) {
+    allowed_.insert(key);
+    return table_.get(key);
+  }
+
+  double number(const std::string& key, double fallback, double lo, double hi, bool openLo = false,
+                bool openHi = false) {
+    const toml::node* n = get(key);
+    return n ? checkedNumber(*n, key, lo, hi, openLo, openHi) : fallback;
+  }
+
+  double checkedNumber(const toml::node& n, const std::string& key, double lo, double hi, bool openLo,
+                       bool openHi) const {
+    if (!n.is_number()) fail(n, key, "expected a number, got " + describe(n));
+    const double v = n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
+    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + describe(n));
+    if ((openLo ? v <= lo : v < lo) || (openHi ? v >= hi : v > hi)) {
+      std::ostringstream s;
+      s << "expected a number in " << (openLo ? "(" : "[") << lo << ", " << hi << (openHi ? ")" : "]")
+        << ", got " << describe(n);
+      fail(n, key, s.str());
+    }
+    return v;
+  }
+
+  int64_t integer(const std::string& key, int64_t fallback, int64_t lo, int64_t hi) {
+    const toml::node* n = get(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(*n, key, "expected an integer, got " + describe(*n));
+    const int64_t v = n->as_integer()->get();
+    if (v < lo || v > hi)
+      fail(*n, key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                        std::to_string(v));
+    return v;
+  }
+
+  bool boolean(const std::string& key, bool fallback) {
+    const toml::node* n = get(key);
+    if (!n) return fallback;
+    if (!n->is_boolean()) fail(*n, key, "expected true or false, got " + describe(*n));
+    return n->as_boolean()->get();
+  }
+
+  std::optional<std::string> string(const std::string& key) {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_string()) fail(*n, key, "expected a string, got " + describe(*n));
+    return n->as_string()->get();
+  }
+
+  std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) {
+    const std::optional<std::string> v = string(key);
+    if (!v) return fallback;
+    for (const std::string& a : allowed)
+      if (*v == a) return *v;
+    std::string list;
+    for (const std::string& a : allowed) list += (list.empty() ? "" : " | ") + a;
+    fail(*get(key), key, "expected one of " + list + ", got \"" + *v + "\"");
+  }
+
+  // An array of exactly `size` numbers, each within [lo, hi].
+  std::vector<double> numbers(const toml::node& n, const std::string& key, size_t size, double lo, double hi) const {
+    const toml::array* a = n.as_array();
+    if (!a || a->size() != size)
+      fail(n, key, "expected an array of " + std::to_string(size) + " numbers, got " +
+                       (a ? "an array of " + std::to_string(a->size()) : describe(n)));
+    std::vector<double> out;
+    for (const toml::node& e : *a) out.push_back(checkedNumber(e, key, lo, hi, false, false));
+    return out;
+  }
+
+  Vec3 vec3(const std::string& key, Vec3 fallback, double lo = -1e30, double hi = 1e30) {
+    const toml::node* n = get(key);
+    if (!n) return fallback;
+    const std::vector<double> v = numbers(*n, key, 3, lo, hi);
+    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+  }
+
+  // A number (grey) or [r, g, b], each >= 0.
+  Vec3 colour(const std::string& key, Vec3 fallback, double hi = 1e6) {
+    const toml::node* n = get(key);
+    if (!n) return fallback;
+    if (n->is_number()) return Vec3(static_cast<float>(checkedNumber(*n, key, 0.0, hi, false, false)));
+    if (!n->is_array()) fail(*n, key, "expected a number or an array [r, g, b] of numbers >= 0, got " + describe(*n));
+    const std::vector<double> v = numbers(*n, key, 3, 0.0, hi);
+    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+  }
+
+  const toml::table* subtable(const std::string& key) {
+    const toml::node* n = get(key);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(*n, key, "expected a table, got " + describe(*n));
+    return n->as_table();
+  }
+
+  // The tables of an array of tables ([[key]]).
+  std::vector<const toml::table*> tableArray(const std::string& key) {
+    const toml::node* n = get(key);
+    std::vector<const toml::table*> out;
+    if (!n) return out;
+    const toml::array* a = n->as_array();
+    if (!a) fail(*n, key, "expected an array of tables ([[" + dotted(key) + "]]), got " + describe(*n));
+    for (const toml::node& e : *a) {
+      if (!e.is_table()) fail(e, key, "expected a table, got " + describe(e));
+      out.push_back(e.as_table());
+    }
+    return out;
+  }
+
+  // Rejects every key that no reader asked for, naming the allowed ones.
+  void finish() const {
+    for (auto&& [k, v] : table_) {
+      const std::string key(k.str());
+      if (allowed_.count(key)) continue;
+      std::string list;
+      for (const std::string& a : allowed_) list += (list.empty() ? "" : ", ") + a;
+      fail(v, key, "unknown key (allowed here: " + list + ")");
+    }
+  }
+
+  const std::string& file() const { return file_; }
+  const std::string& prefix() const { return prefix_; }
+
+ private:
+  const toml::table& table_;
+  std::string prefix_;
+  const std::string& file_;
+  std::set<std::string> allowed_;
+};
+
+std::filesystem::path readablePath(TableReader& r, const std::string& key, const std::filesystem::path& base) {
+  const std::optional<std::string> s = r.string(key);
+  const toml::node& n = *r.get(key);
+  if (s->empty()) r.fail(n, key, "expected a file name, got an empty string");
+  const std::filesystem::path p = std::filesystem::path(*s).is_absolute() ? std::filesystem::path(*s) : base / *s;
+  std::error_code ec;
+  if (!std::filesystem::exists(p, ec)) r.fail(n, key, "file not found: " + p.string());
+  if (!std::filesystem::is_regular_file(p, ec)) r.fail(n, key, "not a regular file: " + p.string());
+  if (!std::ifstream(p).good()) r.fail(n, key, "cannot read file: " + p.string());
+  return p;
+}
+
+void readCamera(TableReader& r, CameraSettings& c) {
+  c.position = r.vec3("position", c.position);
+  c.lookAt = r.vec3("look_at", c.lookAt);
+  c.up = r.vec3("up", c.up);
+  c.fovY = static_cast<float>(r.number("fov", c.fovY, 0.0, 180.0, true, true));
+  if (const toml::node* n = r.get("resolution")) {
+    const std::vector<double> v = r.numbers(*n, "resolution", 2, 1, 16384);
+    if (v[0] != std::floor(v[0]) || v[1] != std::floor(v[1])) r.fail(*n, "resolution", "expected two integers [width, height]");
+    c.width = static_cast<int>(v[0]);
+    c.height = static_cast<int>(v[1]);
+  }
+  c.spp = static_cast<int>(r.integer("spp", c.spp, 1, 65536));
+  const Vec3 view = c.lookAt - c.position;
+  const toml::node* anchor = r.get("look_at") ? r.get("look_at") : r.get("position");
+  if (glm::length(view) < 1e-12f) {
+    if (anchor) r.fail(*anchor, "look_at", "expected a point different from camera.position");
+    throw Error(FileLoc{r.file()}, "camera.look_at", "expected a point different from camera.position");
+  }
+  if (glm::length(glm::cross(glm::normalize(view), c.up)) < 1e-6f) {
+    const toml::node* up = r.get("up");
+    if (up) r.fail(*up, "up", "expected a direction not parallel to the view direction (and not zero)");
+    throw Error(FileLoc{r.file()}, "camera.up", "the default up (0, 1, 0) is parallel to the view direction: set camera.up");
+  }
+  r.finish();
+}
+
+Light readLight(TableReader& r) {
+  Light l;
+  const std::string type = r.choice("type", "directional", {"directional", "point"});
+  l.type = type == "point" ? LightType::Point : LightType::Directional;
+  if (l.type == LightType::Directional) {
+    l.direction = r.vec3("direction", l.direction);
+    if (glm::length(l.direction) < 1e-12f) r.fail(*r.get("direction"), "direction", "expected a non-zero direction");
+    l.direction = glm::normalize(l.direction);
+  } else {
+    l.position = r.vec3("position", l.position);
+  }
+  l.intensity = static_cast<float>(r.number("intensity", l.intensity, 0.0, 1e12));
+  l.colour = r.colour("colour", l.colour);
+  r.finish();
+  return l;
+}
+
+ReliefLevelDecl readRelief(TableReader& r, const toml::table& t, const std::filesystem::path& base) {
+  ReliefLevelDecl d;
+  d.loc = {r.file(), static_cast<int>(t.source().begin.line), static_cast<int>(t.source().begin.column)};
+  const bool hasHeight = t.contains("height"), hasNoise = t.contains("noise");
+  if (hasHeight == hasNoise)
+    throw Error(d.loc, r.prefix() + "height", "expected exactly one of `height` (an image file) or `noise` (a table)");
+  if (hasHeight) {
+    d.source = "image";
+    d.height = readablePath(r, "height", base);
+    d.periodic = r.choice("wrap", "periodic", {"periodic", "clamp"}) == "periodic";
+  } else {
+    d.source = "noise";
+    TableReader n(*r.subtable("noise"), r.prefix() + "noise.", r.file());
+    d.octaves = static_cast<int>(n.integer("octaves", d.octaves, 1, 16));
+    d.lacunarity = static_cast<float>(n.number("lacunarity", d.lacunarity, 1.0, 16.0));
+    d.gain = static_cast<float>(n.number("gain", d.gain, 0.0, 1.0));
+    d.seed = static_cast<uint64_t>(n.integer("seed", 0, 0, INT64_MAX));
+    d.periodic = n.boolean("periodic", d.periodic);
+    n.finish();
+  }
+  d.amplitude = static_cast<float>(r.number("amplitude", d.amplitude, 0.0, 1e6));
+  d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e6, true));
+  d.freq = static_cast<float>(r.number("freq", d.freq, 0.0, 1e6));
+  r.finish();
+  return d;
+}
+
+Material readMaterial(TableReader& r, const std::filesystem::path& base) {
+  Material m;
+  const std::optional<std::string> name = r.string("name");
+  if (!name || name->empty()) throw Error(FileLoc{r.file()}, r.prefix() + "name", "every material needs a non-empty name");
+  m.name = *name;
+  m.loc = r.loc(*r.get("name"));
+  m.ka = r.colour("ka", m.ka);
+  m.kd = r.colour("kd", m.kd);
+  m.ks = r.colour("ks", m.ks);
+  m.phong = static_cast<float>(r.number("phong", m.phong, 0.0, 10000.0));
+  for (const toml::table* t : r.tableArray("relief")) {
+    TableReader rr(*t, r.prefix() + "relief.", r.file());
+    m.relief.push_back(readRelief(rr, *t, base));
+  }
+  r.finish();
+  return m;
+}
+
+Mat4 readTransform(TableReader& r) {
+  const Vec3 t = r.vec3("translate", Vec3(0.0f));
+  const Vec3 rot = r.vec3("rotate", Vec3(0.0f), -1e6, 1e6);
+  Vec3 s(1.0f);
+  if (const toml::node* n = r.get("scale")) {
+    if (n->is_number()) {
+      s = Vec3(static_cast<float>(r.checkedNumber(*n, "scale", -1e12, 1e12, false, false)));
+    } else {
+      const std::vector<double> v = r.numbers(*n, "scale", 3, -1e12, 1e12);
+      s = Vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+    }
+    if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f) r.fail(*n, "scale", "expected non-zero scale factors");
+  }
+  Mat4 m = glm::translate(Mat4(1.0f), t);
+  m = glm::rotate(m, radians(rot.z), Vec3(0, 0, 1));
+  m = glm::rotate(m, radians(rot.y), Vec3(0, 1, 0));
+  m = glm::rotate(m, radians(rot.x), Vec3(1, 0, 0));
+  return glm::scale(m, s);
+}
+
+Object readObject(TableReader& r, const std::vector<Material>& materials, const std::filesystem::path& base) {
+  Object o;
+  const toml::node* mesh = r.get("mesh");
+  if (!mesh) throw Error(FileLoc{r.file()}, r.prefix() + "mesh", "every object needs a mesh file (OBJ, PLY or OFF)");
+  o.loc = r.loc(*mesh);
+  o.mesh = readablePath(r, "mesh", base);
+  const std::string scheme = r.choice("scheme", "catmull-clark", {"catmull-clark", "loop", "bilinear"});
+  o.scheme = scheme == "loop" ? SubdivisionScheme::Loop
+             : scheme == "bilinear" ? SubdivisionScheme::Bilinear : SubdivisionScheme::CatmullClark;
+  if (const std::optional<std::string> name = r.string("material")) {
+    auto it = std::find_if(materials.begin(), materials.end(), [&](const Material& m) { return m.name == *name; });
+    if (it == materials.end()) r.fail(*r.get("material"), "material", "no material named \"" + *name + "\"");
+    o.material = static_cast<int>(it - materials.begin());
+  } else if (materials.size() > 1) {
+    throw Error(o.loc, r.prefix() + "material", "expected a material name: the scene has more than one material");
+  }
+  o.transform = readTransform(r);
+  r.finish();
+  return o;
+}
+
+void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& base) {
+  s.algorithm = r.choice("algorithm", s.algorithm, {"auto", "brdf", "bump", "redistribution", "displacement"});
+  s.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
+  s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
+  s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 1, 64));
+  s.background = r.colour("background", s.background);
+  s.transition.D = static_cast<float>(r.number("D", s.transition.D, 0.0, 1e6));
+  s.transition.eps = static_cast<float>(r.number("eps", s.transition.eps, 0.0, 1e6));
+  if (const toml::node* n = r.get("thresholds")) {
+    const std::vector<double> v = r.numbers(*n, "thresholds", 4, -1e6, 1e6);
+    if (!(v[0] < v[1] && v[1] < 0.0 && 0.0 < v[2] && v[2] < v[3]))
+      r.fail(*n, "thresholds", "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4");
+    s.transition.e1 = static_cast<float>(v[0]);
+    s.transition.e2 = static_cast<float>(v[1]);
+    s.transition.e3 = static_cast<float>(v[2]);
+    s.transition.e4 = static_cast<float>(v[3]);
+  }
+  s.dicingRate = static_cast<float>(r.number("dicing_rate", s.dicingRate, 0.01, 1000.0));
+  s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
+  s.normals = r.choice("normals", s.normals, {"bump", "facet"});
+  if (const std::optional<std::string> c = r.string("cache_dir"))
+    s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
+  r.finish();
+}
+
+void readTop(const toml::table& top, Scene& scene) {
+  const std::string file = scene.file.string();
+  const std::filesystem::path base = scene.file.parent_path();
+  TableReader r(top, "", file);
+  if (const toml::table* c = r.subtable("camera")) {
+    TableReader cr(*c, "camera.", file);
+    readCamera(cr, scene.camera);
+  }
+  for (const toml::table* t : r.tableArray("lights")) {
+    TableReader lr(*t, "lights.", file);
+    scene.lights.push_back(readLight(lr));
+  }
+  for (const toml::table* t : r.tableArray("materials")) {
+    TableReader mr(*t, "materials.", file);
+    Material m = readMaterial(mr, base);
+    for (const Material& other : scene.materials)
+      if (other.name == m.name) throw Error(m.loc, "materials.name", "duplicate material name \"" + m.name + "\"");
+    scene.materials.push_back(std::move(m));
+  }
+  if (scene.materials.empty()) {
+    Material fallback;
+    fallback.name = "default";
+    scene.materials.push_back(fallback);
+  }
+  for (const toml::table* t : r.tableArray("objects")) {
+    TableReader orr(*t, "objects.", file);
+    scene.objects.push_back(readObject(orr, scene.materials, base));
+  }
+  if (scene.objects.empty()) throw Error(FileLoc{file}, "objects", "expected at least one [[objects]] entry with a mesh");
+  if (const toml::table* t = r.subtable("render")) {
+    TableReader rr(*t, "render.", file);
+    readRender(rr, scene.render, base);
+  }
+  r.finish();
+}
+
+}  // namespace
+
+Scene parseScene(std::string_view text, const std::filesystem::path& file) {
+  Scene scene;
+  scene.file = file;
+  toml::table top;
+  try {
+    top = toml::parse(text, file.string());
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw Error(FileLoc{file.string(), static_cast<int>(b.line), static_cast<int>(b.column)}, "",
+                std::string(e.description()));
+  }
+  readTop(top, scene);
+  return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw Error(file.string() + ": is a folder, expected a scene file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string() + ": cannot open scene file (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parseScene(text.str(), file);
+}
+
+}  // namespace meso
