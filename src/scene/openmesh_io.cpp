@@ -8,6 +8,9 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <sstream>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -34,6 +37,38 @@ void readUvs(const PolyMesh& mesh, ControlMesh& out) {
     }
 }
 
+// OpenMesh's PLY reader loops forever on a header without end_header, and its readers trust the
+// element counts: check the header and the counts against the file size before handing it over.
+void checkHeader(const std::filesystem::path& file, const std::string& ext) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  const uintmax_t size = std::filesystem::file_size(file);
+  if (ext == ".ply") {
+    if (head.rfind("ply", 0) != 0) fail(file, "not a PLY file (no \"ply\" magic)");
+    const size_t end = head.find("end_header");
+    if (end == std::string::npos) fail(file, "truncated or malformed PLY header (no end_header)");
+    std::istringstream lines(head.substr(0, end));
+    std::string line;
+    while (std::getline(lines, line)) {
+      std::istringstream words(line);
+      std::string w, name;
+      uint64_t count = 0;
+      // Every element needs at least one byte, even in binary: counts beyond the file are corrupt.
+      if (words >> w >> name >> count && w == "element" && count > size)
+        fail(file, "PLY header declares " + std::to_string(count) + " " + name + " elements, more than the file can hold");
+    }
+  } else if (ext == ".off") {
+    std::istringstream words(head);
+    std::string magic;
+    uint64_t nv = 0, nf = 0;
+    if (!(words >> magic) || magic.find("OFF") == std::string::npos) fail(file, "not an OFF file (no \"OFF\" magic)");
+    if (!(words >> nv >> nf)) fail(file, "truncated or malformed OFF header (expected vertex and face counts)");
+    if (nv * 6 + nf * 8 > size * 2 + 64) fail(file, "OFF header declares more vertices or faces than the file holds (truncated?)");
+  }
+}
+
 }  // namespace
 
 ControlMesh loadControlMesh(const std::filesystem::path& file) {
@@ -45,6 +80,7 @@ ControlMesh loadControlMesh(const std::filesystem::path& file) {
   if (ext != ".obj" && ext != ".ply" && ext != ".off")
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
   if (std::filesystem::file_size(file, ec) == 0) fail(file, "empty mesh file");
+  checkHeader(file, ext);
 
   PolyMesh mesh;
   mesh.request_halfedge_texcoords2D();
@@ -52,7 +88,15 @@ ControlMesh loadControlMesh(const std::filesystem::path& file) {
   omlog().disable();
   omerr().disable();
   omout().disable();
-  const bool ok = OpenMesh::IO::read_mesh(mesh, file.string(), options);
+  // Some OpenMesh readers write to std::cerr directly: keep their chatter out of meso's output.
+  std::streambuf* cerrBuffer = std::cerr.rdbuf(nullptr);
+  bool ok = false;
+  try {
+    ok = OpenMesh::IO::read_mesh(mesh, file.string(), options);
+  } catch (...) {
+    ok = false;
+  }
+  std::cerr.rdbuf(cerrBuffer);
   if (!ok) fail(file, "cannot read mesh (malformed or truncated " + ext.substr(1) + " file?)");
   if (mesh.n_faces() == 0) fail(file, "mesh has no faces");
 

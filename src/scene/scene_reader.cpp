@@ -164,7 +164,8 @@ class TableReader {
       if (allowed_.count(key)) continue;
       std::string list;
       for (const std::string& a : allowed_) list += (list.empty() ? "" : ", ") + a;
-      fail(v, key, "unknown key (allowed here: " + list + ")");
+      const FileLoc at{file_, static_cast<int>(k.source().begin.line), static_cast<int>(k.source().begin.column)};
+      throw Error(at.line > 0 ? at : loc(v), prefix_ + key, "unknown key (allowed here: " + list + ")");
     }
   }
 

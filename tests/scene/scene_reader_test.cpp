@@ -1,0 +1,234 @@
+// The scene reader: a complete scene, defaults, the transform order, and one test per class of bad
+// input, each checking FILE:LINE:COL: key: in the message.
+#include "meso/core/error.h"
+#include "meso/scene/scene_parser.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneReaderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("meso_scene_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    std::ofstream(dir_ / "bumps.png") << "not really a png, but the reader only checks it is readable";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Scene parse(const std::string& text) { return parseScene(text, dir_ / "scene.toml"); }
+  // The message of the Error that parsing `text` throws.
+  std::string errorOf(const std::string& text) {
+    try {
+      parse(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "no error for:\n" << text;
+    return "";
+  }
+  std::string at(int line, int col, const std::string& key) {
+    return (dir_ / "scene.toml").string() + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + key + ": ";
+  }
+  fs::path dir_;
+};
+
+constexpr const char* kObject = "[[objects]]\nmesh = \"quad.obj\"\n";
+
+TEST_F(SceneReaderTest, CompleteSceneParsesEveryValue) {
+  const Scene s = parse(R"(
+[camera]
+position = [1, 2, 3]
+look_at = [0, 0.5, 0]
+up = [0, 0, 1]
+fov = 30.5
+resolution = [320, 200]
+spp = 9
+
+[[lights]]
+type = "point"
+position = [0, 5, 0]
+intensity = 7
+colour = [1, 0.5, 0.25]
+
+[[lights]]
+direction = [0, 0, -2]
+
+[[materials]]
+name = "a"
+ka = 0.1
+kd = [0.2, 0.3, 0.4]
+ks = 0.5
+phong = 64
+  [[materials.relief]]
+  height = "bumps.png"
+  amplitude = 0.02
+  scale = 4
+  [[materials.relief]]
+  noise = { octaves = 3, lacunarity = 2.5, gain = 0.4, seed = 9, periodic = false }
+  amplitude = 0.001
+  freq = 64
+
+[[materials]]
+name = "b"
+
+[[objects]]
+mesh = "quad.obj"
+scheme = "bilinear"
+material = "b"
+translate = [1, 0, 0]
+scale = 2
+
+[render]
+algorithm = "bump"
+seed = 42
+threads = 2
+tessellation_rate = 5
+background = [0.1, 0.2, 0.3]
+D = 3
+eps = 0.2
+thresholds = [-2, -0.5, 0.5, 2]
+dicing_rate = 0.5
+normals = "facet"
+)");
+  EXPECT_EQ(s.camera.position, Vec3(1, 2, 3));
+  EXPECT_EQ(s.camera.up, Vec3(0, 0, 1));
+  EXPECT_FLOAT_EQ(s.camera.fovY, 30.5f);
+  EXPECT_EQ(s.camera.width, 320);
+  EXPECT_EQ(s.camera.height, 200);
+  EXPECT_EQ(s.camera.spp, 9);
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].type, LightType::Point);
+  EXPECT_EQ(s.lights[0].colour, Vec3(1, 0.5f, 0.25f));
+  EXPECT_EQ(s.lights[1].type, LightType::Directional);
+  EXPECT_EQ(s.lights[1].direction, Vec3(0, 0, -1));  // normalized
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].ka, Vec3(0.1f));
+  EXPECT_EQ(s.materials[0].kd, Vec3(0.2f, 0.3f, 0.4f));
+  EXPECT_FLOAT_EQ(s.materials[0].phong, 64.0f);
+  ASSERT_EQ(s.materials[0].relief.size(), 2u);
+  EXPECT_EQ(s.materials[0].relief[0].source, "image");
+  EXPECT_EQ(s.materials[0].relief[0].height, dir_ / "bumps.png");
+  EXPECT_FLOAT_EQ(s.materials[0].relief[0].scale, 4.0f);
+  EXPECT_EQ(s.materials[0].relief[1].source, "noise");
+  EXPECT_EQ(s.materials[0].relief[1].octaves, 3);
+  EXPECT_EQ(s.materials[0].relief[1].seed, 9u);
+  EXPECT_FALSE(s.materials[0].relief[1].periodic);
+  EXPECT_FLOAT_EQ(s.materials[0].relief[1].freq, 64.0f);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].mesh, dir_ / "quad.obj");
+  EXPECT_EQ(s.objects[0].scheme, SubdivisionScheme::Bilinear);
+  EXPECT_EQ(s.objects[0].material, 1);
+  EXPECT_EQ(s.render.algorithm, "bump");
+  EXPECT_EQ(s.render.seed, 42u);
+  EXPECT_EQ(s.render.threads, 2);
+  EXPECT_EQ(s.render.tessellationRate, 5);
+  EXPECT_FLOAT_EQ(s.render.transition.D, 3.0f);
+  EXPECT_FLOAT_EQ(s.render.transition.e4, 2.0f);
+  EXPECT_FLOAT_EQ(s.render.dicingRate, 0.5f);
+  EXPECT_EQ(s.render.normals, "facet");
+}
+
+TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
+  const Scene s = parse(std::string(kObject) + "translate = [10, 0, 0]\nrotate = [0, 0, 90]\nscale = [2, 1, 1]\n");
+  EXPECT_EQ(s.camera.width, 640);
+  EXPECT_EQ(s.camera.spp, 4);
+  EXPECT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.render.algorithm, "auto");
+  // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2, 0).
+  const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);
+  EXPECT_NEAR(p.x, 10.0f, 1e-5f);
+  EXPECT_NEAR(p.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(p.z, 0.0f, 1e-5f);
+}
+
+TEST_F(SceneReaderTest, UnknownKeysAreRejectedAtEveryLevel) {
+  EXPECT_NE(errorOf(std::string(kObject) + "colour = 1\n").find(at(3, 1, "objects.colour") + "unknown key"), std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nfocal = 3\n") + kObject).find(at(2, 1, "camera.focal")), std::string::npos);
+  EXPECT_NE(errorOf(std::string("lamps = 1\n") + kObject).find(at(1, 1, "lamps") + "unknown key (allowed here:"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "[[materials]]\nname = \"x\"\n[[materials.relief]]\nnoise = { octaves = 2, size = 3 }\n")
+                .find("materials.relief.noise.size: unknown key"),
+            std::string::npos);
+}
+
+TEST_F(SceneReaderTest, WrongTypesAreRejected) {
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = \"wide\"\n") + kObject).find(at(2, 7, "camera.fov") + "expected a number, got a string"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nspp = 2.5\n") + kObject).find(at(2, 7, "camera.spp") + "expected an integer, got 2.5"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nposition = [1, 2]\n") + kObject).find(at(2, 12, "camera.position") + "expected an array of 3 numbers"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("camera = 3\n") + kObject).find(at(1, 10, "camera") + "expected a table"), std::string::npos);
+}
+
+TEST_F(SceneReaderTest, NanInfAndOutOfRangeAreRejected) {
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = nan\n") + kObject).find(at(2, 7, "camera.fov") + "expected a finite number"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[lights]]\nintensity = inf\n") + kObject).find(at(2, 13, "lights.intensity") + "expected a finite number"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = 190\n") + kObject).find(at(2, 7, "camera.fov") + "expected a number in (0, 180), got 190"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nresolution = [0, 10]\n") + kObject).find("camera.resolution: expected a number in [1, 16384]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[render]\nspp = 1\n") + kObject).find("render.spp: unknown key"), std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\nkd = [1, -1, 0]\n") + kObject).find(at(3, 10, "materials.kd") + "expected a number in [0, 1e+06], got -1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "scale = 0\n").find(at(3, 9, "objects.scale") + "expected non-zero"), std::string::npos);
+}
+
+TEST_F(SceneReaderTest, EnumsReferencesAndDuplicatesAreChecked) {
+  EXPECT_NE(errorOf(std::string(kObject) + "scheme = \"doo-sabin\"\n")
+                .find(at(3, 10, "objects.scheme") + "expected one of catmull-clark | loop | bilinear, got \"doo-sabin\""),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "material = \"gold\"\n").find(at(3, 12, "objects.material") + "no material named \"gold\""),
+            std::string::npos);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n" + std::string(kObject))
+                .find(at(4, 8, "materials.name") + "duplicate material name"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[render]\nthresholds = [-1, 0.5, 0.3, 1]\n") + kObject)
+                .find(at(2, 14, "render.thresholds") + "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4"),
+            std::string::npos);
+}
+
+TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
+  EXPECT_NE(errorOf("[[objects]]\nmesh = \"nope.obj\"\n").find(at(2, 8, "objects.mesh") + "file not found: "), std::string::npos);
+  EXPECT_NE(errorOf("[[objects]]\nmesh = \".\"\n").find(at(2, 8, "objects.mesh") + "not a regular file"), std::string::npos);
+  EXPECT_NE(errorOf("[render]\nseed = 1\n").find("objects: expected at least one [[objects]]"), std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n") + kObject)
+                .find(at(4, 10, "materials.relief.height") + "file not found"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 0]\n") + kObject)
+                .find(at(3, 11, "camera.look_at") + "expected a point different"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[camera]\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\n") + kObject).find("camera.up"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[lights]]\ndirection = [0, 0, 0]\n") + kObject).find(at(2, 13, "lights.direction")),
+            std::string::npos);
+}
+
+TEST_F(SceneReaderTest, MalformedTomlNamesLineAndColumn) {
+  const std::string e = errorOf("[camera\nfov = 3\n");
+  EXPECT_EQ(e.rfind((dir_ / "scene.toml").string() + ":1:", 0), 0u) << e;
+}
+
+TEST_F(SceneReaderTest, MissingSceneFile) {
+  try {
+    loadScene(dir_ / "absent.toml");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("absent.toml: cannot open scene file (No such file or directory)"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace meso
