@@ -25,6 +25,10 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
   render->add_flag("--false-colour,--false-color", o.falseColour,
                    "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, displacement red, synthesis magenta)");
+  render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]; default all");
+  render->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)");
+  render->add_flag("--overwrite", o.overwrite, "Re-render frames whose EXR and PNG already exist");
+  render->add_option("--video", o.video, "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
   render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
   render->callback([&o] { meso::app::runRender(o); });
 }
@@ -36,11 +40,15 @@ int main(int argc, char** argv) {
   cli.require_subcommand(1);
   meso::app::RenderCommandOptions renderOptions;
   addRenderCommand(cli, renderOptions);
+  meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int status = cli.exit(e);
     return status == 0 ? 0 : 2;
+  } catch (const meso::app::RenderInterrupted&) {
+    std::fprintf(stderr, "meso: interrupted; complete frames are kept, nothing partial was written\n");
+    return 130;
   } catch (const meso::Error& e) {
     std::fprintf(stderr, "meso: %s\n", e.what());
     return 2;

@@ -6,14 +6,19 @@
 #include "meso/core/timer.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
+#include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 
 namespace meso::app {
 namespace {
@@ -87,6 +92,80 @@ std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
 
 }  // namespace
 
+namespace {
+
+std::atomic<bool> gInterrupted{false};
+
+extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+
+std::filesystem::path frameOutput(const std::filesystem::path& output, int frame, bool animated) {
+  if (!animated) return output;
+  char suffix[32];
+  std::snprintf(suffix, sizeof suffix, "_%04d.exr", frame);
+  return output.parent_path() / (output.stem().string() + suffix);
+}
+
+std::filesystem::path pngBeside(std::filesystem::path exr) { return exr.replace_extension(".png"); }
+
+// Parses "A:B", "A:" or "A" against [0, count).
+std::pair<int, int> parseFrameRange(const std::string& text, int count) {
+  if (text.empty()) return {0, count - 1};
+  const size_t colon = text.find(':');
+  try {
+    const int a = std::stoi(text.substr(0, colon));
+    const int b = colon == std::string::npos ? a : (colon + 1 < text.size() ? std::stoi(text.substr(colon + 1)) : count - 1);
+    if (a < 0 || b < a || b >= count) throw std::out_of_range("range");
+    return {a, b};
+  } catch (const std::logic_error&) {
+    throw Error("--frames: expected A:B with 0 <= A <= B < " + std::to_string(count) + ", got \"" + text + "\"");
+  }
+}
+
+std::pair<int, int> parseShard(const std::string& text) {
+  if (text.empty()) return {0, 1};
+  const size_t slash = text.find('/');
+  try {
+    const int i = std::stoi(text.substr(0, slash)), n = std::stoi(text.substr(slash + 1));
+    if (slash == std::string::npos || n < 1 || i < 0 || i >= n) throw std::out_of_range("shard");
+    return {i, n};
+  } catch (const std::logic_error&) {
+    throw Error("--shard: expected i/n with 0 <= i < n, got \"" + text + "\"");
+  }
+}
+
+std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scene) {
+  const bool animated = !scene.path.keys.empty();
+  if (!animated && (!o.frames.empty() || !o.shard.empty()))
+    throw Error(scene.file.string() + ": path: --frames and --shard need a [path] with keyframes in the scene");
+  const auto [first, last] = parseFrameRange(o.frames, animated ? scene.path.frames : 1);
+  const auto [shard, shards] = parseShard(o.shard);
+  std::vector<int> frames;
+  for (int f = first; f <= last; ++f)
+    if (f % shards == shard) frames.push_back(f);
+  return frames;
+}
+
+void assembleVideo(const std::filesystem::path& video, const std::filesystem::path& output, double fps) {
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
+    throw Error(video.string() + ": --video needs ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
+  const std::filesystem::path tmp = temporarySibling(video);
+  const std::string pattern = (output.parent_path() / (output.stem().string() + "_%04d.png")).string();
+  const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" + pattern +
+                          "' -c:v libx264 -pix_fmt yuv420p '" + tmp.string() + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    std::filesystem::remove(tmp);
+    throw Error(video.string() + ": ffmpeg failed to assemble " + pattern);
+  }
+  std::filesystem::rename(tmp, video);
+}
+
+}  // namespace
+
+void installInterruptHandler() {
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+}
+
 void runRender(const RenderCommandOptions& o) {
   Timer total, phase;
   Scene scene = loadScene(o.scene);
@@ -95,27 +174,55 @@ void runRender(const RenderCommandOptions& o) {
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
     throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");
+  const bool animated = !scene.path.keys.empty();
+  const std::vector<int> frames = framesToRender(o, scene);
+  const std::optional<CameraPath> path = animated ? std::optional<CameraPath>(scene.path.keys) : std::nullopt;
   const double parseSeconds = phase.seconds();
 
   const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  if (!output.parent_path().empty()) std::filesystem::create_directories(output.parent_path());
 
   PrepareTimes prep;
   RenderContext ctx = prepareRenderContext(scene, prep);
-
-  phase.reset();
   RenderCounters counters;
-  RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour};
-  Image film = renderFrame(ctx, ro, counters);
-  const double renderSeconds = phase.seconds();
-
-  phase.reset();
-  if (!output.parent_path().empty()) std::filesystem::create_directories(output.parent_path());
-  std::filesystem::path png = output;
-  png.replace_extension(".png");
-  writeExr(output, film);
-  writePngPreview(png, film);
-  const double writeSeconds = phase.seconds();
+  nlohmann::json perFrame = nlohmann::json::array();
+  double renderSeconds = 0.0, writeSeconds = 0.0;
+  int rendered = 0, skipped = 0;
+  for (int f : frames) {
+    const std::filesystem::path exr = frameOutput(output, f, animated), png = pngBeside(exr);
+    if (animated && !o.overwrite && std::filesystem::exists(exr) && std::filesystem::exists(png)) {
+      ++skipped;
+      continue;
+    }
+    if (path) ctx.camera = Camera(path->frame(f, scene.path.frames, scene.camera));
+    phase.reset();
+    const int64_t raysBefore = counters.rays.load();
+    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour, &gInterrupted};
+    Image film;
+    try {
+      film = renderFrame(ctx, ro, counters);
+    } catch (const Interrupted&) {
+      throw RenderInterrupted();
+    }
+    const double r = phase.seconds();
+    phase.reset();
+    writeExr(exr, film);
+    writePngPreview(png, film);
+    const double w = phase.seconds();
+    renderSeconds += r;
+    writeSeconds += w;
+    ++rendered;
+    perFrame.push_back({{"frame", f}, {"output", exr.string()}, {"rays", counters.rays.load() - raysBefore},
+                        {"seconds", {{"render", r}, {"write", w}}}});
+    if (!o.quiet)
+      std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", exr.string().c_str(),
+                   png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
+    if (gInterrupted.load()) throw RenderInterrupted();
+  }
+  if (!o.quiet && skipped > 0)
+    std::fprintf(stderr, "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n", skipped);
+  if (!o.video.empty()) assembleVideo(o.video, output, scene.path.fps);
 
   if (!o.statsFile.empty()) {
     nlohmann::json stats = {
@@ -124,13 +231,13 @@ void runRender(const RenderCommandOptions& o) {
         {"peak_rss_mib", peakRssMib()},
         {"rays", counters.rays.load()},
         {"triangles", ctx.numTriangles()},
+        {"frames_rendered", rendered},
+        {"frames_skipped", skipped},
+        {"frames", perFrame},
         {"settings", settingsJson(scene, output)}};
     stats["settings"]["threads_used"] = threads;
     writeText(o.statsFile, stats.dump(2));
   }
-  if (!o.quiet)
-    std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", output.string().c_str(),
-                 png.string().c_str(), film.width, film.height, scene.camera.spp, total.seconds());
 }
 
 }  // namespace meso::app

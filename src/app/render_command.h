@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -20,6 +21,16 @@ struct RenderCommandOptions {
   std::optional<int> width, height;
   bool falseColour = false;
   bool quiet = false;
+  std::string frames;            // "A:B" (inclusive) or "A"; empty: every frame of the path
+  std::string shard;             // "i/n": render frames f with f % n == i
+  bool overwrite = false;        // re-render frames already complete on disk
+  std::filesystem::path video;   // assemble the frames' PNGs with ffmpeg
+};
+
+// Set by SIGINT/SIGTERM: the frame in progress stops, nothing partial is written, status 130.
+void installInterruptHandler();
+struct RenderInterrupted : std::exception {
+  const char* what() const noexcept override { return "interrupted"; }
 };
 
 // Renders and writes the EXR, its PNG preview and (optionally) the stats JSON. Throws meso::Error.

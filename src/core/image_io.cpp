@@ -64,6 +64,8 @@ void writeExr(const std::filesystem::path& file, const Image& image) {
   spec.alpha_channel = image.channelIndex("A");
   spec.attribute("compression", "zip");
   spec.attribute("Software", "meso");
+  // OpenEXR otherwise stamps the current time (capDate): the same render must give the same bytes.
+  spec.attribute("DateTime", "");
   writeAtomically(file, [&](const std::filesystem::path& tmp) {
     writeWithOiio(tmp, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
   });

@@ -91,6 +91,7 @@ Image renderFrame(const RenderContext& ctx, const RenderOptions& options, Render
   tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
     for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
       for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+        if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
         int64_t rays = 0;
         for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
           for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
@@ -101,6 +102,7 @@ Image renderFrame(const RenderContext& ctx, const RenderOptions& options, Render
     }
   });
   progress.finish();
+  if (options.cancel && options.cancel->load()) throw Interrupted();
   return film;
 }
 

@@ -345,6 +345,39 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   r.finish();
 }
 
+void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
+  const toml::node* frames = r.get("frames");
+  const toml::node* fps = r.get("fps");
+  for (const toml::table* t : r.tableArray("keys")) {
+    TableReader k(*t, "path.keys.", r.file());
+    CameraKeyframe key;
+    key.time = static_cast<float>(k.number("time", 0.0, -1e9, 1e9));
+    if (!p.keys.empty() && !(key.time > p.keys.back().time))
+      k.fail(*k.get("time"), "time", "expected keyframe times to strictly increase");
+    key.position = k.vec3("position", camera.position);
+    key.lookAt = k.vec3("look_at", camera.lookAt);
+    key.up = k.vec3("up", camera.up);
+    key.fovY = static_cast<float>(k.number("fov", camera.fovY, 0.0, 180.0, true, true));
+    if (glm::length(key.lookAt - key.position) < 1e-12f)
+      throw Error(FileLoc{r.file(), static_cast<int>(t->source().begin.line), 1}, "path.keys.look_at",
+                  "expected a point different from the keyframe's position");
+    k.finish();
+    p.keys.push_back(key);
+  }
+  if (p.keys.empty()) throw Error(FileLoc{r.file()}, "path.keys", "a [path] needs at least one [[path.keys]] keyframe");
+  if (frames && fps) r.fail(*fps, "fps", "give either path.frames or path.fps with path.duration, not both");
+  if (fps) {
+    const double rate = r.number("fps", 24, 0.0, 1000.0, true);
+    p.fps = rate;
+    const double span = r.number("duration", p.keys.back().time - p.keys.front().time, 0.0, 1e6);
+    p.frames = std::max(1, static_cast<int>(std::lround(rate * span)) + 1);
+  } else {
+    p.frames = static_cast<int>(r.integer("frames", 48, 1, 1000000));
+    r.get("duration");
+  }
+  r.finish();
+}
+
 void readTop(const toml::table& top, Scene& scene) {
   const std::string file = scene.file.string();
   const std::filesystem::path base = scene.file.parent_path();
@@ -377,6 +410,10 @@ void readTop(const toml::table& top, Scene& scene) {
   if (const toml::table* t = r.subtable("render")) {
     TableReader rr(*t, "render.", file);
     readRender(rr, scene.render, base);
+  }
+  if (const toml::table* t = r.subtable("path")) {
+    TableReader pr(*t, "path.", file);
+    readPath(pr, scene.path, scene.camera);
   }
   r.finish();
 }

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <exception>
 
 namespace meso {
 
@@ -14,6 +15,13 @@ struct RenderOptions {
   uint64_t seed = 0;
   bool progress = true;  // progress bar on stderr (drawn only when stderr is a terminal)
   bool falseColour = false;  // beauty = algorithm colours (Figure 4) instead of shading
+  // Polled once per tile; when it becomes true the frame stops and renderFrame throws Interrupted.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.
+struct Interrupted : std::exception {
+  const char* what() const noexcept override { return "interrupted"; }
 };
 
 struct RenderCounters {

@@ -9,14 +9,6 @@
 
 namespace meso {
 
-struct CameraKeyframe {
-  float time = 0.0f;  // seconds, strictly increasing along the path
-  Vec3 position{0.0f};
-  Vec3 lookAt{0.0f};
-  Vec3 up{0.0f, 1.0f, 0.0f};
-  float fovY = 40.0f;
-};
-
 class CameraPath {
  public:
   // Throws meso::Error unless there is at least one keyframe and times strictly increase.

@@ -89,6 +89,22 @@ struct RenderSettings {
   std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
 };
 
+// One keyframe of a camera path (see scene/camera_path.h).
+struct CameraKeyframe {
+  float time = 0.0f;  // seconds, strictly increasing along the path
+  Vec3 position{0.0f};
+  Vec3 lookAt{0.0f};
+  Vec3 up{0.0f, 1.0f, 0.0f};
+  float fovY = 40.0f;
+};
+
+// A fly-through: frames spread evenly over the keyframes' time span, ends included.
+struct PathSettings {
+  std::vector<CameraKeyframe> keys;  // empty: a still image from [camera]
+  int frames = 0;
+  double fps = 24.0;                 // for --video
+};
+
 struct Scene {
   std::filesystem::path file;  // the scene file, for messages
   CameraSettings camera;
@@ -96,6 +112,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Object> objects;
   RenderSettings render;
+  PathSettings path;
 };
 
 }  // namespace meso
