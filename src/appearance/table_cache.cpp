@@ -28,12 +28,6 @@ uint64_t checksumOf(std::span<const float> data) {
 
 }  // namespace
 
-Hasher& Hasher::bytes(const void* data, size_t size) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < size; ++i) h_ = (h_ ^ p[i]) * 0x100000001b3ull;
-  return *this;
-}
-
 TableCache::TableCache(std::filesystem::path folder) : folder_(std::move(folder)) {}
 
 std::filesystem::path TableCache::defaultFolder() {

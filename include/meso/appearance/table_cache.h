@@ -2,6 +2,8 @@
 // a stale, truncated or corrupt file is rebuilt, never trusted.
 #pragma once
 
+#include "meso/core/hash.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -14,18 +16,6 @@ namespace meso {
 // Bump this whenever the layout or meaning of any cached table changes: old files become misses.
 inline constexpr uint32_t kTableFormatVersion = 1;
 
-// FNV-1a, 64 bit: incremental hashing of everything that shapes a table.
-class Hasher {
- public:
-  Hasher& bytes(const void* data, size_t size);
-  template <typename T>
-  Hasher& value(const T& v) { return bytes(&v, sizeof v); }
-  Hasher& string(const std::string& s) { return value(s.size()).bytes(s.data(), s.size()); }
-  uint64_t digest() const { return h_; }
-
- private:
-  uint64_t h_ = 0xcbf29ce484222325ull;
-};
 
 class TableCache {
  public:

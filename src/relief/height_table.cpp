@@ -1,0 +1,1 @@
+// Height tables live in height_source.cpp.
