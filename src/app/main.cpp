@@ -1,4 +1,5 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
+#include "consistency_command.h"
 #include "render_command.h"
 
 #include "meso/core/error.h"
@@ -33,6 +34,33 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->callback([&o] { meso::app::runRender(o); });
 }
 
+void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& o) {
+  CLI::App* c = cli.add_subcommand("consistency",
+      "Becker & Max's Figure 6 for any relief: area-averaged intensity of a flat periodic patch for "
+      "bump, redistribution, brdf and displacement at each theta_V");
+  c->add_option("--height", o.height, "Height image (any format OpenImageIO reads); default: procedural fBm noise")
+      ->check(CLI::ExistingFile);
+  c->add_option("--amplitude", o.amplitude, "Relief amplitude in units of one tile (the tile is 1 x 1)")
+      ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
+  c->add_option("--scale", o.scale, "Tiling scale S: the height table repeats S times per tile")->check(CLI::Range(1e-3f, 1e3f))->capture_default_str();
+  c->add_option("--octaves", o.octaves, "Octaves of the procedural noise")->check(CLI::Range(1, 12))->capture_default_str();
+  c->add_option("--seed", o.seed, "Seed of the procedural noise")->capture_default_str();
+  c->add_option("--theta-v", o.thetaV, "View angles in degrees, comma separated")->delimiter(',')->capture_default_str();
+  c->add_option("--theta-l", o.thetaL, "Light polar angle in degrees")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
+  c->add_option("--phi", o.phi, "phi_V - phi_L in degrees")->check(CLI::Range(-360.0f, 360.0f))->capture_default_str();
+  c->add_option("--component", o.component, "diffuse|specular|both")->check(CLI::IsMember({"diffuse", "specular", "both"}))->capture_default_str();
+  c->add_option("--phong", o.phong, "Phong exponent of the specular component")->check(CLI::Range(0.0f, 10000.0f))->capture_default_str();
+  c->add_option("--format", o.format, "csv|markdown")->check(CLI::IsMember({"csv", "markdown"}))->capture_default_str();
+  c->add_option("--normalize", o.normalize, "Scale so that bump at the first theta_V equals this (the paper used 128)");
+  c->add_option("--samples", o.samples, "Samples per view azimuth")->check(CLI::Range(16, 1 << 24))->capture_default_str();
+  c->add_option("--azimuths", o.azimuths, "View azimuths averaged")->check(CLI::Range(1, 4096))->capture_default_str();
+  c->add_option("--variant", o.variant, "Redistribution maps: conditional|separable")
+      ->check(CLI::IsMember({"conditional", "separable"}))->capture_default_str();
+  c->add_option("--cache-dir", o.cacheDir, "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
+  c->add_flag("--no-cache", o.noCache, "Build the tables without reading or writing the cache");
+  c->callback([&o] { meso::app::runConsistency(o); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,6 +68,8 @@ int main(int argc, char** argv) {
   cli.require_subcommand(1);
   meso::app::RenderCommandOptions renderOptions;
   addRenderCommand(cli, renderOptions);
+  meso::app::ConsistencyCommandOptions consistencyOptions;
+  addConsistencyCommand(cli, consistencyOptions);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);

@@ -42,18 +42,12 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.height) scene.camera.height = *o.height;
 }
 
-// Relief rendering (bump, redistribution, BRDF tables, displacement) is not in this version: say so
-// instead of silently rendering something else.
+// The displacement renderer needs the view-dependent micropolygon tessellation of issue 5, which is
+// not wired into this version: say so instead of silently rendering something else.
 void checkAlgorithm(const Scene& scene) {
-  const std::string& a = scene.render.algorithm;
-  if (a != "auto")
-    throw Error(scene.file.string() + ": render.algorithm: '" + a +
-                "' is not available in this version of meso (available: auto)");
-  for (const Material& m : scene.materials)
-    if (!m.relief.empty())
-      std::fprintf(stderr, "meso: warning: %s: material '%s' declares relief levels; this version "
-                           "shades the smooth limit surface only\n",
-                   scene.file.string().c_str(), m.name.c_str());
+  if (scene.render.algorithm == "displacement")
+    throw Error(scene.file.string() + ": render.algorithm: 'displacement' is not available in this version of meso "
+                "(available: auto, brdf, bump, redistribution)");
 }
 
 nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& output) {
@@ -185,6 +179,7 @@ void runRender(const RenderCommandOptions& o) {
 
   PrepareTimes prep;
   RenderContext ctx = prepareRenderContext(scene, prep);
+  for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   RenderCounters counters;
   nlohmann::json perFrame = nlohmann::json::array();
   double renderSeconds = 0.0, writeSeconds = 0.0;
@@ -231,6 +226,9 @@ void runRender(const RenderCommandOptions& o) {
         {"peak_rss_mib", peakRssMib()},
         {"rays", counters.rays.load()},
         {"triangles", ctx.numTriangles()},
+        {"tables_built", prep.tablesBuilt},
+        {"tables_from_cache", prep.tablesFromCache},
+        {"tables_seconds", prep.tables},
         {"frames_rendered", rendered},
         {"frames_skipped", skipped},
         {"frames", perFrame},

@@ -6,7 +6,7 @@
 namespace meso {
 
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times) {
-  RenderContext ctx{&scene, Camera(scene.camera), {}, std::make_unique<RayScene>()};
+  RenderContext ctx{&scene, Camera(scene.camera), {}, std::make_unique<RayScene>(), {}, {}};
   for (const Object& object : scene.objects) {
     Timer load;
     ControlMesh mesh = loadControlMesh(object.mesh);
@@ -26,6 +26,19 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times) {
   Timer bvh;
   ctx.rays->commit();
   times.bvh += bvh.seconds();
+
+  Timer tables;
+  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
+  ctx.reliefs.resize(scene.materials.size());
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const Object& o : scene.objects) used[o.material] = true;
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    if (!used[m] || scene.materials[m].relief.empty()) continue;
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings);
+    times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
+    times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
+  }
+  times.tables += tables.seconds();
   return ctx;
 }
 

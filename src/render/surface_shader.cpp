@@ -1,17 +1,117 @@
+// Becker & Max 1993, sections 2 to 4: per sample and per relief level, the renderer that T picks.
 #include "meso/render/surface_shader.h"
 
+#include "meso/render/level_shading.h"
 #include "meso/render/shading.h"
+#include "meso/render/transition.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace meso {
+namespace {
+
+// The frame a level perturbs: level i+1 rides on level i's surface (section 2.3).
+struct LevelFrame {
+  Vec3 Pu, Pv, N;
+};
+
+struct LevelContext {
+  const RenderContext& ctx;
+  const Material& material;
+  const MaterialRelief& relief;
+  const SurfacePoint& sp;
+  Vec3 V;
+  float distance;
+};
+
+// The level's Blinn normal on frame f and the frame of the next level.
+Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
+  const Vec2 B = level.derivatives(uv);
+  const Vec3 n = blinnNormal(f.Pu, f.Pv, f.N, B.x, B.y);
+  f.Pu += B.x * f.N;
+  f.Pv += B.y * f.N;
+  return n;
+}
+
+float levelT(const LevelContext& c, const ReliefLevel& level, const LevelFrame& f) {
+  const float lengthPerU = std::min(glm::length(c.sp.Pu), glm::length(c.sp.Pv));
+  return transitionParameter(level.wavelength() * lengthPerU, c.ctx.camera.pixelsPerRadian(), c.distance,
+                             glm::dot(f.N, c.V), c.ctx.scene->render.transition);
+}
+
+// Shades levels i.. on frame f (auto mode). Between e1 and e2 the paper blends intensities of the
+// BRDF and of redistribution (which then hands over to the next level); above e3 this version
+// keeps redistribution (the displaced geometry of issue 5 is not wired in yet).
+ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
+  ShadeResult r;
+  if (i == c.relief.levels.size()) {
+    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
+    r.normal = f.N;
+    return r;
+  }
+  const ReliefLevel& level = c.relief.levels[i];
+  const float T = levelT(c, level, f);
+  const TransitionWeights w = transitionWeights(T, c.ctx.scene->render.transition);
+  const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
+  if (w.brdf > 0.0f) {
+    r.colour = w.brdf * shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, vf, c.relief.tables[i].brdf);
+    r.algorithm = w.brdf * algorithm_colour::kBrdf;
+  }
+  r.T = T;
+  r.normal = f.N;
+  if (w.brdf < 1.0f) {
+    LevelFrame next = f;
+    const Vec3 nBump = bumpNormal(level, c.sp.uv, next);
+    next.N = redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump);
+    const ShadeResult finer = shadeAuto(c, i + 1, next);
+    r.colour += (1.0f - w.brdf) * finer.colour;
+    const bool finest = i + 1 == c.relief.levels.size();
+    r.algorithm += (1.0f - w.brdf) * (finest ? algorithm_colour::kRedistribution : finer.algorithm);
+    r.normal = finer.normal;
+    if (!finest && w.brdf == 0.0f) r.T = finer.T;
+  }
+  return r;
+}
+
+ShadeResult shadeFixed(const LevelContext& c, const std::string& algorithm, LevelFrame f) {
+  ShadeResult r;
+  if (algorithm == "brdf") {
+    r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf);
+    r.algorithm = algorithm_colour::kBrdf;
+    r.normal = f.N;
+    return r;
+  }
+  for (size_t i = 0; i < c.relief.levels.size(); ++i) {
+    const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
+    const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
+    f.N = algorithm == "redistribution" ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
+  }
+  r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
+  r.algorithm = algorithm == "redistribution" ? algorithm_colour::kRedistribution : algorithm_colour::kBump;
+  r.normal = f.N;
+  return r;
+}
+
+}  // namespace
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
                          const Vec3& V) {
-  ShadeResult r;
+  const Material& material = ctx.scene->materials[object.material];
+  const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
-  r.normal = glm::dot(sp.N, V) < 0.0f ? -sp.N : sp.N;
-  r.colour = shadeLocal(ctx.scene->materials[object.material], ctx.scene->lights, sp.P, r.normal, V);
-  r.algorithm = algorithm_colour::kSmooth;
-  return r;
+  const bool back = glm::dot(sp.N, V) < 0.0f;
+  LevelFrame frame{sp.Pu, sp.Pv, back ? -sp.N : sp.N};
+  if (relief.levels.empty()) {
+    ShadeResult r;
+    r.normal = frame.N;
+    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V);
+    r.algorithm = algorithm_colour::kSmooth;
+    return r;
+  }
+  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position())};
+  const std::string& algorithm = ctx.scene->render.algorithm;
+  return algorithm == "auto" ? shadeAuto(c, 0, frame) : shadeFixed(c, algorithm, frame);
 }
 
 }  // namespace meso

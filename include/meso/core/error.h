@@ -24,14 +24,15 @@ class Error : public std::runtime_error {
   const FileLoc& where() const { return loc_; }
 
   static std::string format(const FileLoc& loc, const std::string& key, const std::string& message) {
+    // append() rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter.
     std::string s = loc.file;
     if (loc.line > 0) {
-      s += ":" + std::to_string(loc.line);
-      if (loc.column > 0) s += ":" + std::to_string(loc.column);
+      s.append(":").append(std::to_string(loc.line));
+      if (loc.column > 0) s.append(":").append(std::to_string(loc.column));
     }
-    if (!s.empty()) s += ": ";
-    if (!key.empty()) s += key + ": ";
-    return s + message;
+    if (!s.empty()) s.append(": ");
+    if (!key.empty()) s.append(key).append(": ");
+    return s.append(message);
   }
 
  private:

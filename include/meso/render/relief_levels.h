@@ -1,0 +1,67 @@
+// Relief levels at render time (DESIGN.md section 1): a material's height sources with amplitude,
+// tiling scale and highest frequency, and their appearance tables.
+#pragma once
+
+#include "meso/appearance/level_tables.h"
+#include "meso/relief/height_source.h"
+#include "meso/scene/scene.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace meso {
+
+// Level i of a material: height amplitude * h(S u, S v) in world units over the surface's (u, v).
+struct ReliefLevel {
+  std::unique_ptr<HeightSource> source;
+  float amplitude = 0.0f;
+  float scale = 1.0f;
+  float freqPerU = 1.0f;  // highest frequency in cycles per unit of u
+
+  // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
+  float wavelength() const { return 1.0f / freqPerU; }
+  float height(Vec2 uv) const { return amplitude * source->height(scale * uv); }
+  // (B_u, B_v): derivatives of the world height with respect to u and v.
+  Vec2 derivatives(Vec2 uv) const { return (amplitude * scale) * source->gradient(scale * uv); }
+};
+
+// Throws meso::Error naming the level's file and line for unreadable height images.
+std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
+ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
+
+// One period of a level as the table builders see it (histogram_builder.h): the tile is 1/S of u
+// wide, scaled up by S, so heights are S * amplitude * h and slopes are the level's true slopes on
+// a surface whose u has unit length.
+class TileRelief : public PeriodicRelief {
+ public:
+  explicit TileRelief(const ReliefLevel& level) : level_(level) {}
+  float height(float x, float y) const override {
+    return level_.scale * level_.amplitude * level_.source->height({x, y});
+  }
+  Vec2 gradient(float x, float y) const override {
+    return (level_.scale * level_.amplitude) * level_.source->gradient({x, y});
+  }
+  uint64_t fingerprint() const override;
+
+ private:
+  const ReliefLevel& level_;
+};
+
+// A level together with the tile view of it (keeps the level alive for the tile's lifetime).
+std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
+
+// The levels of one material and their tables (tables[i] belongs to levels[i]; coarser tables are
+// built over finer ones as in Figure 2).
+struct MaterialRelief {
+  std::vector<ReliefLevel> levels;
+  std::vector<LevelTables> tables;
+  int tablesBuilt = 0;
+  int tablesFromCache = 0;
+  double tablesSeconds = 0.0;
+};
+
+MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
+                                   std::vector<std::string>* warnings);
+
+}  // namespace meso

@@ -1,0 +1,60 @@
+#include "consistency_command.h"
+
+#include "meso/appearance/table_cache.h"
+#include "meso/core/error.h"
+#include "meso/core/math.h"
+#include "meso/render/consistency.h"
+#include "meso/render/relief_levels.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace meso::app {
+namespace {
+
+ReliefLevelDecl reliefFrom(const ConsistencyCommandOptions& o) {
+  ReliefLevelDecl d;
+  d.loc.file = o.height.empty() ? "<command line>" : o.height.string();
+  d.source = o.height.empty() ? "noise" : "image";
+  d.height = o.height;
+  d.amplitude = o.amplitude;
+  d.scale = o.scale;
+  d.octaves = o.octaves;
+  d.seed = o.seed;
+  return d;
+}
+
+Component componentFrom(const std::string& c) {
+  if (c == "diffuse") return Component::Diffuse;
+  if (c == "specular") return Component::Specular;
+  return Component::Both;
+}
+
+}  // namespace
+
+void runConsistency(const ConsistencyCommandOptions& o) {
+  for (float t : o.thetaV)
+    if (!(t >= 0.0f && t <= 90.0f)) throw Error("--theta-v: expected angles in [0, 90] degrees, got " + std::to_string(t));
+  const ReliefLevelDecl decl = reliefFrom(o);
+  const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
+  TableSettings settings;
+  settings.variant = o.variant == "separable" ? RedistributionVariant::Separable : RedistributionVariant::Conditional;
+  const TableCache cache(o.noCache ? std::filesystem::path() : (o.cacheDir.empty() ? TableCache::defaultFolder() : o.cacheDir));
+  std::vector<std::string> warnings;
+  const LevelTables tables = buildLevelTables(*relief, o.phong, settings, nullptr, cache, &warnings);
+  for (const std::string& w : warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  const PeriodicTile tile(*relief, settings.histogram.meshResolution);
+  ConsistencySettings s;
+  s.thetaL = radians(o.thetaL);
+  s.phi = radians(o.phi);
+  s.component = componentFrom(o.component);
+  s.phong = o.phong;
+  s.samplesPerAzimuth = o.samples;
+  s.azimuths = o.azimuths;
+  std::vector<ConsistencyRow> rows;
+  for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
+  const std::string table = formatConsistency(rows, o.format == "markdown" ? TableFormat::Markdown : TableFormat::Csv, o.normalize);
+  std::fputs(table.c_str(), stdout);
+}
+
+}  // namespace meso::app

@@ -1,0 +1,33 @@
+// `meso consistency`: the paper's Figure 6 for any relief.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace meso::app {
+
+struct ConsistencyCommandOptions {
+  std::filesystem::path height;  // empty: procedural noise
+  float amplitude = 0.05f;
+  float scale = 1.0f;
+  int octaves = 3;
+  unsigned seed = 1;
+  std::vector<float> thetaV{0.0f, 30.0f, 60.0f, 80.0f};  // degrees
+  float thetaL = 45.0f;
+  float phi = 0.0f;
+  std::string component = "diffuse";
+  float phong = 20.0f;
+  std::string format = "csv";
+  double normalize = 0.0;
+  int samples = 4096;
+  int azimuths = 64;
+  std::string variant = "conditional";
+  std::filesystem::path cacheDir;  // empty: the default cache folder
+  bool noCache = false;
+};
+
+// Prints the table on stdout. Throws meso::Error on bad input.
+void runConsistency(const ConsistencyCommandOptions& options);
+
+}  // namespace meso::app

@@ -1,0 +1,69 @@
+#include "meso/render/relief_levels.h"
+
+#include "meso/core/error.h"
+#include "meso/core/hash.h"
+
+namespace meso {
+
+std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
+  if (d.source == "noise")
+    return std::make_unique<FractalNoise>(d.octaves, d.lacunarity, d.gain, d.seed);
+  try {
+    return std::make_unique<HeightTable>(HeightTable::load(d.height, d.periodic));
+  } catch (const Error& e) {
+    if (d.loc.line > 0) throw Error(d.loc, "relief", e.what());
+    throw;
+  }
+}
+
+ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
+  ReliefLevel level;
+  level.source = makeHeightSource(d);
+  level.amplitude = d.amplitude;
+  level.scale = d.scale;
+  level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * d.scale;
+  return level;
+}
+
+uint64_t TileRelief::fingerprint() const {
+  return Hasher().value(level_.source->fingerprint()).value(level_.amplitude).value(level_.scale).digest();
+}
+
+namespace {
+// Owns a level and shows it as a tile.
+class OwningTileRelief : public PeriodicRelief {
+ public:
+  explicit OwningTileRelief(ReliefLevel level) : level_(std::move(level)), tile_(level_) {}
+  float height(float x, float y) const override { return tile_.height(x, y); }
+  Vec2 gradient(float x, float y) const override { return tile_.gradient(x, y); }
+  uint64_t fingerprint() const override { return tile_.fingerprint(); }
+
+ private:
+  ReliefLevel level_;
+  TileRelief tile_;
+};
+}  // namespace
+
+std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
+  return std::make_unique<OwningTileRelief>(makeReliefLevel(decl));
+}
+
+MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
+                                   std::vector<std::string>* warnings) {
+  MaterialRelief r;
+  for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
+  const size_t n = r.levels.size();
+  std::vector<LevelTables> reversed;  // finest first: each coarser BRDF integrates the finer one
+  for (size_t k = 0; k < n; ++k) {
+    const TileRelief tile(r.levels[n - 1 - k]);
+    reversed.push_back(buildLevelTables(tile, material.phong, TableSettings{}, k == 0 ? nullptr : &reversed.back(),
+                                        cache, warnings));
+    const LevelTables& t = reversed.back();
+    (t.fromCache ? r.tablesFromCache : r.tablesBuilt) += 1;
+    r.tablesSeconds += t.seconds;
+  }
+  for (size_t k = 0; k < n; ++k) r.tables.push_back(std::move(reversed[n - 1 - k]));
+  return r;
+}
+
+}  // namespace meso
