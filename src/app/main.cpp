@@ -1,6 +1,7 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
 #include "consistency_command.h"
 #include "render_command.h"
+#include "tables_command.h"
 
 #include "meso/core/error.h"
 
@@ -61,6 +62,16 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
   c->callback([&o] { meso::app::runConsistency(o); });
 }
 
+void addTablesCommand(CLI::App& cli, meso::app::TablesCommandOptions& o) {
+  CLI::App* t = cli.add_subcommand("tables",
+      "Build (or load from the cache) the appearance tables of the scene's relief levels; print build time, "
+      "size and cache hit/miss per level as CSV; plot histograms and BRDF slices as PNG");
+  t->add_option("scene", o.scene, "Scene file")->required();
+  t->add_option("-o,--out-dir", o.outDir, "Folder for the plots")->capture_default_str();
+  t->add_flag("--no-plots", o.noPlots, "Only build and report");
+  t->callback([&o] { meso::app::runTables(o); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +81,8 @@ int main(int argc, char** argv) {
   addRenderCommand(cli, renderOptions);
   meso::app::ConsistencyCommandOptions consistencyOptions;
   addConsistencyCommand(cli, consistencyOptions);
+  meso::app::TablesCommandOptions tablesOptions;
+  addTablesCommand(cli, tablesOptions);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);

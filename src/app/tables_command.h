@@ -1,0 +1,17 @@
+// `meso tables SCENE`: builds the appearance tables of the relief levels the scene uses, reports
+// build time, size and cache hit or miss per level, and writes PNG plots of them.
+#pragma once
+
+#include <filesystem>
+
+namespace meso::app {
+
+struct TablesCommandOptions {
+  std::filesystem::path scene;
+  std::filesystem::path outDir = "out/tables";  // plots: <material>_level<i>_histogram.png, _brdf.png
+  bool noPlots = false;
+};
+
+void runTables(const TablesCommandOptions& options);
+
+}  // namespace meso::app
