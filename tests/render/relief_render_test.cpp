@@ -1,0 +1,126 @@
+// Rendering relief: every algorithm gives finite images at the extremes, the BRDF agrees with
+// redistribution in mean intensity on a flat patch, and auto is continuous across the thresholds.
+#include "meso/render/integrator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path planeObj() {
+  const fs::path file = fs::temp_directory_path() / "meso_relief_plane.obj";
+  std::ofstream out(file);
+  out << "v -50 -50 0\nv 50 -50 0\nv 50 50 0\nv -50 50 0\nvt 0 0\nvt 100 0\nvt 100 100\nvt 0 100\nf 1/1 2/2 3/3 4/4\n";
+  return file;
+}
+
+Scene reliefScene(const std::string& algorithm, float amplitude) {
+  Scene s;
+  s.camera.position = {0.0f, -6.0f, 1.2f};
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.up = {0.0f, 0.0f, 1.0f};
+  s.camera.width = 64;
+  s.camera.height = 48;
+  s.camera.fovY = 50.0f;
+  Light l;
+  l.direction = glm::normalize(Vec3(0.2f, 0.7f, -0.6f));
+  s.lights = {l};
+  Material m;
+  m.kd = Vec3(0.8f);
+  m.ks = Vec3(0.2f);
+  ReliefLevelDecl d;
+  d.source = "noise";
+  d.octaves = 2;
+  d.amplitude = amplitude;
+  d.scale = 1.0f;
+  m.relief = {d};
+  s.materials = {m};
+  Object o;
+  o.mesh = planeObj();
+  o.scheme = SubdivisionScheme::Bilinear;
+  s.objects = {o};
+  s.render.algorithm = algorithm;
+  s.render.tessellationRate = 1;
+  return s;
+}
+
+Image render(const Scene& scene) {
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderCounters counters;
+  return renderFrame(ctx, {scene.camera.spp, 3, false}, counters);
+}
+
+double meanRed(const Image& img, int y0, int y1) {
+  double sum = 0.0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < img.width; ++x) sum += img.at(x, y, 0);
+  return sum / ((y1 - y0) * img.width);
+}
+
+TEST(ReliefRender, EveryAlgorithmIsFiniteAtTheExtremes) {
+  for (const char* algorithm : {"auto", "bump", "redistribution", "brdf"})
+    for (float amplitude : {0.0f, 1e-9f, 0.002f, 0.5f}) {  // zero relief to relief taller than its wavelength
+      Scene s = reliefScene(algorithm, amplitude);
+      for (float height : {1e-4f, 1.2f, 1e4f}) {  // grazing to overhead, near and far
+        s.camera.position = {0.0f, -6.0f, height};
+        const Image img = render(s);
+        EXPECT_TRUE(img.allFinite()) << algorithm << " " << amplitude << " " << height;
+      }
+    }
+}
+
+// Zero relief: every renderer is the smooth surface's shading, to float rounding (BRDF: to the
+// table's trilinear interpolation of cos theta_L).
+TEST(ReliefRender, ZeroReliefMakesAllRenderersAgree) {
+  const Image bump = render(reliefScene("bump", 0.0f));
+  for (const char* algorithm : {"redistribution", "brdf", "auto"}) {
+    const Image other = render(reliefScene(algorithm, 0.0f));
+    double worst = 0.0;
+    for (size_t i = 0; i < bump.pixels.size(); i += bump.numChannels())
+      worst = std::max(worst, static_cast<double>(std::abs(bump.pixels[i] - other.pixels[i])));
+    EXPECT_LT(worst, 0.02) << algorithm;
+  }
+}
+
+// The image is continuous across the brdf / redistribution thresholds: in auto mode, the mean
+// intensity of thin bands of rows on both sides of any row differs by less than 1% (rows run
+// from far to near across the grazing plane, so T sweeps through e1 and e2).
+TEST(ReliefRender, AutoIsContinuousAcrossThresholds) {
+  Scene s = reliefScene("auto", 0.002f);
+  // scale 1: the shortest wavelength is 1/8 unit, so T crosses e1 and e2 inside the image.
+  s.camera.width = 96;
+  s.camera.height = 96;
+  s.camera.spp = 4;
+  const Image img = render(s);
+  int brdfRows = 0, redistRows = 0;
+  for (int y = 0; y < img.height; ++y) {
+    const float yellow = img.at(img.width / 2, y, img.channelIndex("algorithm.G"));
+    const float blue = img.at(img.width / 2, y, img.channelIndex("algorithm.B"));
+    brdfRows += yellow > 0.99f && blue < 0.01f;
+    redistRows += blue > 0.99f;
+  }
+  ASSERT_GT(brdfRows, 3) << "the test scene must show the BRDF region";
+  ASSERT_GT(redistRows, 3) << "the test scene must show the redistribution region";
+  // Bands of 3 rows on both sides of every row where the BRDF weight is strictly between 0 and 1
+  // (the blend region) and of its two ends (the thresholds e1 and e2 themselves).
+  int checked = 0;
+  for (int y = 3; y + 3 < img.height; ++y) {
+    const float w = img.at(img.width / 2, y, img.channelIndex("algorithm.G"));  // brdf weight
+    const float wPrev = img.at(img.width / 2, y - 1, img.channelIndex("algorithm.G"));
+    if (!((w > 0.0f && w < 1.0f) || (wPrev > 0.0f && wPrev < 1.0f))) continue;
+    const double above = meanRed(img, y - 3, y), below = meanRed(img, y, y + 3);
+    EXPECT_LT(std::abs(above - below) / below, 0.01) << "rows " << y - 3 << ".." << y + 3;
+    ++checked;
+  }
+  EXPECT_GT(checked, 2);
+}
+
+}  // namespace
+}  // namespace meso
