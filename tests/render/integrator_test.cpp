@@ -9,13 +9,16 @@
 #include <cstring>
 #include <fstream>
 
+#include <unistd.h>
+
 namespace meso {
 namespace {
 
 namespace fs = std::filesystem;
 
 fs::path writeQuadObj(const std::string& name, float half) {
-  const fs::path file = fs::temp_directory_path() / name;
+  // One file per process: ctest runs tests in parallel processes.
+  const fs::path file = fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
   std::ofstream out(file);
   out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\n"
       << "v " << half << " " << half << " 0\nv " << -half << " " << half << " 0\nf 1 2 3 4\n";

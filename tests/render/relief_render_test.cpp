@@ -8,13 +8,16 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 namespace meso {
 namespace {
 
 namespace fs = std::filesystem;
 
 fs::path planeObj() {
-  const fs::path file = fs::temp_directory_path() / "meso_relief_plane.obj";
+  // One file per process: ctest runs tests in parallel processes.
+  const fs::path file = fs::temp_directory_path() / ("meso_relief_plane_" + std::to_string(::getpid()) + ".obj");
   std::ofstream out(file);
   out << "v -50 -50 0\nv 50 -50 0\nv 50 50 0\nv -50 50 0\nvt 0 0\nvt 100 0\nvt 100 100\nvt 0 100\nf 1/1 2/2 3/3 4/4\n";
   return file;
@@ -46,6 +49,7 @@ Scene reliefScene(const std::string& algorithm, float amplitude) {
   o.scheme = SubdivisionScheme::Bilinear;
   s.objects = {o};
   s.render.algorithm = algorithm;
+  s.render.cacheDir = fs::temp_directory_path() / ("meso_relief_cache_" + std::to_string(::getpid()));
   s.render.tessellationRate = 1;
   return s;
 }
