@@ -1,5 +1,7 @@
 // The meso executable as a user meets it: exit status, messages and output files, for good and bad
 // input. Each bad input must give status 2, a message naming FILE[:LINE:COL]: key, and no output.
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -31,17 +33,13 @@ RunResult run(const std::string& args) {
   return r;
 }
 
-class CliTest : public ::testing::Test {
+class CliTest : public meso::testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_ / "out");
+    meso::testing::TempDirTest::SetUp();
+    std::filesystem::create_directories(dir_ / "out");
     write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
   std::string scene(const std::string& extra, const std::string& mesh = "quad.obj") {
     return "[camera]\nposition = [0, 0, 3]\nresolution = [32, 18]\nspp = 1\n[[lights]]\ndirection = [0, 0, -1]\n"
            "[[objects]]\nmesh = \"" + mesh + "\"\nscheme = \"bilinear\"\n" + extra;
@@ -51,7 +49,6 @@ class CliTest : public ::testing::Test {
     write("scene.toml", sceneText);
     return run("render " + (dir_ / "scene.toml").string() + " -o " + (dir_ / "out/img.exr").string() + " -q " + extraArgs);
   }
-  fs::path dir_;
 };
 
 TEST_F(CliTest, ValidSceneWritesExrPngAndStats) {

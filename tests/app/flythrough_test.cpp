@@ -1,5 +1,7 @@
 // Fly-throughs as a farm would run them: shards give exactly the frames of one run, complete
 // frames are skipped on a rerun, and an interrupt leaves no partial frame (tested with a real signal).
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -27,21 +29,13 @@ std::string readAll(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-class FlythroughTest : public ::testing::Test {
+class FlythroughTest : public meso::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_fly_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string args(const std::string& out, const std::string& extra,
                    const std::string& quality = "--width 48 --height 27 --spp 2") const {
     return "render " + std::string(MESO_SOURCE_DIR) + "/scenes/flythrough.toml -o " + (dir_ / out).string() + " " +
            quality + " -q " + extra;
   }
-  fs::path dir_;
 };
 
 TEST_F(FlythroughTest, ShardsGiveTheFramesOfOneRunBitForBit) {

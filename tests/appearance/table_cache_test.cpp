@@ -1,5 +1,7 @@
 #include "meso/appearance/table_cache.h"
 
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -9,15 +11,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TableCacheTest : public ::testing::Test {
+class TableCacheTest : public meso::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_cache_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
   std::vector<float> data_{1.0f, 2.5f, -3.0f, 1e-7f};
 };
 

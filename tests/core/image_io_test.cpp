@@ -1,6 +1,8 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,16 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ImageIoTest : public ::testing::Test {
+class ImageIoTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_image_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
 };
 
 Image testImage() {

@@ -1,6 +1,8 @@
 #include "meso/core/error.h"
 #include "meso/scene/mesh_io.h"
 
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,19 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class MeshIoTest : public ::testing::Test {
+class MeshIoTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_mesh_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
   std::string errorOf(const fs::path& p) {
     try {
       loadControlMesh(p);
@@ -32,7 +23,6 @@ class MeshIoTest : public ::testing::Test {
     }
     return "no error";
   }
-  fs::path dir_;
 };
 
 TEST_F(MeshIoTest, ObjWithFaceVaryingUvs) {

@@ -3,6 +3,8 @@
 #include "meso/core/error.h"
 #include "meso/scene/scene_parser.h"
 
+#include "support/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,17 +15,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SceneReaderTest : public ::testing::Test {
+class SceneReaderTest : public testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("meso_scene_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-    std::ofstream(dir_ / "bumps.png") << "not really a png, but the reader only checks it is readable";
+    TempDirTest::SetUp();
+    write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    write("bumps.png", "not really a png, but the reader only checks it is readable");
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   Scene parse(const std::string& text) { return parseScene(text, dir_ / "scene.toml"); }
   // The message of the Error that parsing `text` throws.
@@ -39,7 +37,6 @@ class SceneReaderTest : public ::testing::Test {
   std::string at(int line, int col, const std::string& key) {
     return (dir_ / "scene.toml").string() + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + key + ": ";
   }
-  fs::path dir_;
 };
 
 constexpr const char* kObject = "[[objects]]\nmesh = \"quad.obj\"\n";
