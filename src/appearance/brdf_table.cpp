@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace meso {
 namespace {
 
@@ -36,7 +38,8 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
   for (int k = 0; k < h.thetaV; ++k) thetaV[k] = distr.thetaV(k);
   std::vector<float> data(2 * static_cast<size_t>(h.thetaV) * res.thetaL * res.phi, 0.0f);
   const size_t half = data.size() / 2;
-  for (int k = 0; k < h.thetaV; ++k) {
+  // Slices are independent: parallel, and the same bits for any thread count.
+  tbb::parallel_for(0, h.thetaV, [&](int k) {
     const Vec3 V = direction(thetaV[k], 0.0f);
     for (int i = 0; i < res.thetaL; ++i)
       for (int j = 0; j < res.phi; ++j) {
@@ -56,7 +59,7 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
         data[idx] = static_cast<float>(diff);
         data[half + idx] = static_cast<float>(spec);
       }
-  }
+  });
   return BrdfTable::fromData(std::move(thetaV), res, std::move(data));
 }
 

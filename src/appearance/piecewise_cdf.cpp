@@ -17,25 +17,43 @@ std::vector<float> cumulativeFromMasses(std::span<const float> masses) {
 }
 
 namespace {
+
 inline float mixAt(std::span<const float> a, std::span<const float> b, float w, size_t i) {
   return w == 0.0f ? a[i] : (1.0f - w) * a[i] + w * b[i];
 }
+
+
+// Fraction of bin i below x, and its inverse, for the bin shape.
+float fractionIn(size_t i, float lo, float width, float x, BinShape shape) {
+  const float x0 = lo + static_cast<float>(i) * width;
+  if (shape == BinShape::Uniform) return (x - x0) / width;
+  const float c0 = std::cos(x0), c1 = std::cos(x0 + width);
+  return std::clamp((c0 - std::cos(x)) / (c0 - c1), 0.0f, 1.0f);
+}
+
+float positionIn(size_t i, float lo, float width, float f, BinShape shape) {
+  const float x0 = lo + static_cast<float>(i) * width;
+  if (shape == BinShape::Uniform) return x0 + f * width;
+  const float c0 = std::cos(x0), c1 = std::cos(x0 + width);
+  return std::acos(std::clamp(c0 - f * (c0 - c1), -1.0f, 1.0f));
+}
+
 }  // namespace
 
 float cdfForward(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
-                 float x) {
+                 float x, BinShape shape) {
   const size_t n = a.size() - 1;
   const float t = (x - lo) / width;
   if (!(t > 0.0f)) return 0.0f;  // also catches NaN
   if (t >= static_cast<float>(n)) return 1.0f;
   const size_t i = std::min(static_cast<size_t>(t), n - 1);
-  const float f = t - static_cast<float>(i);
+  const float f = fractionIn(i, lo, width, x, shape);
   const float c0 = mixAt(a, b, w, i), c1 = mixAt(a, b, w, i + 1);
   return c0 + f * (c1 - c0);
 }
 
 float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
-                 float p) {
+                 float p, BinShape shape) {
   const size_t n = a.size() - 1;
   p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f);
   // Largest edge i with C(i) < p (first edge where the CDF reaches p is i + 1), so zero-mass bins
@@ -47,7 +65,7 @@ float cdfInverse(std::span<const float> a, std::span<const float> b, float w, fl
   }
   const float c0 = mixAt(a, b, w, loI), c1 = mixAt(a, b, w, loI + 1);
   const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
-  return lo + (static_cast<float>(loI) + f) * width;
+  return positionIn(loI, lo, width, f, shape);
 }
 
 }  // namespace meso

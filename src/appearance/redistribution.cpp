@@ -9,6 +9,9 @@
 
 namespace meso {
 
+// theta_N bins hold their mass evenly in solid angle ("solid-angle aware" bins).
+constexpr BinShape kTheta = BinShape::SolidAngle;
+
 float thetaW(float thetaV, float disp) {
   disp = std::clamp(std::isfinite(disp) ? disp : 0.0f, 0.0f, 1.0f);
   return std::atan2(disp * std::sin(thetaV), std::max(std::cos(thetaV), 0.0f));
@@ -69,8 +72,8 @@ NormalAngles Redistribution::toVisible(float thetaV, NormalAngles n) const {
   const float p = cdfForward(phiCdf(0), phiCdf(0), 0.0f, -kPi, pw, wrapPi(n.phi));
   out.phi = cdfInverse(phiCdf(s.k0), phiCdf(s.k1), s.w, -kPi, pw, p);
   const int binIn = phiBinOf(n.phi), binOut = phiBinOf(out.phi);
-  const float q = cdfForward(thetaCdf(0, binIn), thetaCdf(0, binIn), 0.0f, 0.0f, tw, n.thetaN);
-  out.thetaN = cdfInverse(thetaCdf(s.k0, binOut), thetaCdf(s.k1, binOut), s.w, 0.0f, tw, q);
+  const float q = cdfForward(thetaCdf(0, binIn), thetaCdf(0, binIn), 0.0f, 0.0f, tw, n.thetaN, kTheta);
+  out.thetaN = cdfInverse(thetaCdf(s.k0, binOut), thetaCdf(s.k1, binOut), s.w, 0.0f, tw, q, kTheta);
   return out;
 }
 
@@ -81,8 +84,8 @@ NormalAngles Redistribution::toBump(float thetaV, NormalAngles n) const {
   const float p = cdfForward(phiCdf(s.k0), phiCdf(s.k1), s.w, -kPi, pw, wrapPi(n.phi));
   out.phi = cdfInverse(phiCdf(0), phiCdf(0), 0.0f, -kPi, pw, p);
   const int binIn = phiBinOf(n.phi), binOut = phiBinOf(out.phi);
-  const float q = cdfForward(thetaCdf(s.k0, binIn), thetaCdf(s.k1, binIn), s.w, 0.0f, tw, n.thetaN);
-  out.thetaN = cdfInverse(thetaCdf(0, binOut), thetaCdf(0, binOut), 0.0f, 0.0f, tw, q);
+  const float q = cdfForward(thetaCdf(s.k0, binIn), thetaCdf(s.k1, binIn), s.w, 0.0f, tw, n.thetaN, kTheta);
+  out.thetaN = cdfInverse(thetaCdf(0, binOut), thetaCdf(0, binOut), 0.0f, 0.0f, tw, q, kTheta);
   return out;
 }
 

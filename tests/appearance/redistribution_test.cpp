@@ -33,15 +33,16 @@ VisibleNormalHistogram syntheticHistogram(bool coupled) {
   return h;
 }
 
-// Draws a normal from slice k: a bin by its mass, then uniform inside it.
+// Draws a normal from slice k: a bin by its mass, then uniform inside it in solid angle (the bin
+// model of the redistribution tables: even in cos theta_N, even in phi).
 NormalAngles sampleSlice(const VisibleNormalHistogram& h, int k, Rng& rng) {
   float u = rng.uniform();
   const auto s = h.slice(k);
   size_t b = 0;
   for (; b + 1 < s.size() && u >= s[b]; ++b) u -= s[b];
   const int i = static_cast<int>(b) / kRes.phi, j = static_cast<int>(b) % kRes.phi;
-  return {(static_cast<float>(i) + rng.uniform()) * h.thetaNWidth(),
-          -kPi + (static_cast<float>(j) + rng.uniform()) * h.phiWidth()};
+  const float c0 = std::cos(i * h.thetaNWidth()), c1 = std::cos((i + 1) * h.thetaNWidth());
+  return {std::acos(c0 - rng.uniform() * (c0 - c1)), -kPi + (static_cast<float>(j) + rng.uniform()) * h.phiWidth()};
 }
 
 TEST(Redistribution, IdentityAtNormalIncidence) {

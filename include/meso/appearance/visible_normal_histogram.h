@@ -11,7 +11,8 @@ namespace meso {
 
 struct HistogramResolution {
   int thetaV = 16;   // view slices, theta_V = k * thetaVMax / (thetaV - 1)
-  int thetaN = 32;   // normal polar bins, uniform in theta_N over [0, pi/2]
+  int thetaN = 96;   // normal polar bins, uniform in theta_N over [0, pi/2]; fine, because the
+                     // redistribution CDFs need the tails of steep reliefs (measured by chi-square)
   int phi = 32;      // azimuth bins of phi_{N-V} = phi_N - phi_V, uniform over [-pi, pi)
 };
 
