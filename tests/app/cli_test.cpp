@@ -40,9 +40,10 @@ class CliTest : public meso::testing::TempDirTest {
     std::filesystem::create_directories(dir_ / "out");
     write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
   }
-  std::string scene(const std::string& extra, const std::string& mesh = "quad.obj") {
-    return "[camera]\nposition = [0, 0, 3]\nresolution = [32, 18]\nspp = 1\n[[lights]]\ndirection = [0, 0, -1]\n"
-           "[[objects]]\nmesh = \"" + mesh + "\"\nscheme = \"bilinear\"\n" + extra;
+  // A valid scene; `top` goes before every table, `camera` into [camera], `extra` at the end.
+  std::string scene(const std::string& extra, const std::string& top = "", const std::string& camera = "") {
+    return top + "[camera]\nposition = [0, 0, 3]\n" + (camera.empty() ? "resolution = [32, 18]\nspp = 1\n" : camera) +
+           "[[lights]]\ndirection = [0, 0, -1]\n[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n" + extra;
   }
   bool outputFolderEmpty() const { return fs::is_empty(dir_ / "out"); }
   RunResult render(const std::string& sceneText, const std::string& extraArgs = "") {
@@ -69,6 +70,8 @@ struct BadInput {
   const char* name;
   std::string sceneExtra;  // appended to a valid scene
   std::string expected;    // substring of the message; {S} stands for the scene file's path
+  std::string top = "";    // before every table of the scene
+  std::string camera = ""; // replaces the keys of [camera]
 };
 
 TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
@@ -91,13 +94,31 @@ TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
       {"mesh without faces", "[[objects]]\nmesh = \"nofaces.obj\"\n", "nofaces.obj: mesh has no faces"},
       {"garbage mesh", "[[objects]]\nmesh = \"garbage.obj\"\n", "garbage.obj: "},
       {"unknown mesh format", "[[objects]]\nmesh = \"mesh.stl\"\n", "mesh.stl: unknown mesh format \".stl\""},
-      {"absurd resolution", "[camera]\nresolution = [100000, 10]\n", "camera"},
+      {"absurd resolution", "", "camera.resolution: expected a number in [1, 16384]", "", "resolution = [100000, 10]\n"},
+      {"absurd spp", "", "camera.spp: expected an integer in [1, 65536]", "", "spp = 10000000\n"},
+      {"fractional resolution", "", "camera.resolution: expected two integers", "", "resolution = [32.5, 18]\n"},
+      {"zero fov", "", "camera.fov: expected a number in (0, 180), got 0", "", "fov = 0\n"},
+      {"negative intensity", "[[lights]]\nintensity = -1\n", "lights.intensity: expected a number in [0, 1e+12], got -1"},
+      {"unknown light type", "[[lights]]\ntype = \"spot\"\n", "lights.type: expected one of directional | point"},
+      {"zero light direction", "[[lights]]\ndirection = [0, 0, 0]\n", "lights.direction: expected a non-zero direction"},
+      {"duplicate material", "[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n", "materials.name: duplicate material name"},
+      {"unknown material", "material = \"gold\"\n", "objects.material: no material named \"gold\""},
+      {"missing height image", "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n",
+       "materials.relief.height: file not found"},
+      {"relief with both sources", "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"quad.obj\"\nnoise = {}\n",
+       "materials.relief.height: expected exactly one of"},
+      {"bad scale", "[[objects]]\nmesh = \"quad.obj\"\nscale = [1, 0, 1]\n", "objects.scale: expected non-zero scale factors"},
+      {"bad dicing rate", "[render]\ndicing_rate = 0\n", "render.dicing_rate: expected a number in [0.01, 1000], got 0"},
+      {"path without keys", "[path]\nframes = 3\n", "path.keys: a [path] needs at least one"},
+      {"path times out of order", "[path]\n[[path.keys]]\ntime = 1\n[[path.keys]]\ntime = 0\n",
+       "path.keys.time: expected keyframe times to strictly increase"},
+      {"string where table", "", "{S}:1:10: render: expected a table, got a string", "render = \"fast\"\n"},
   };
   const std::string scenePath = (dir_ / "scene.toml").string();
   for (const BadInput& c : cases) {
     std::string expected = c.expected;
     if (expected.rfind("{S}", 0) == 0) expected = scenePath + expected.substr(3);
-    const RunResult r = render(scene(c.sceneExtra));
+    const RunResult r = render(scene(c.sceneExtra, c.top, c.camera));
     EXPECT_EQ(r.status, 2) << c.name << ": " << r.output;
     EXPECT_NE(r.output.find(expected), std::string::npos) << c.name << ": expected \"" << expected << "\" in\n" << r.output;
     EXPECT_TRUE(outputFolderEmpty()) << c.name;
