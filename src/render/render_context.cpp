@@ -5,8 +5,17 @@
 
 namespace meso {
 
+Algorithm parseAlgorithm(const std::string& name) {
+  if (name == "brdf") return Algorithm::Brdf;
+  if (name == "bump") return Algorithm::Bump;
+  if (name == "redistribution") return Algorithm::Redistribution;
+  if (name == "displacement") return Algorithm::Displacement;
+  return Algorithm::Auto;
+}
+
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times) {
-  RenderContext ctx{&scene, Camera(scene.camera), {}, std::make_unique<RayScene>(), {}, {}};
+  RenderContext ctx{&scene, Camera(scene.camera), {}, std::make_unique<RayScene>(), {}, {},
+                    parseAlgorithm(scene.render.algorithm)};
   for (const Object& object : scene.objects) {
     Timer load;
     ControlMesh mesh = loadControlMesh(object.mesh);

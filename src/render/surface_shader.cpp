@@ -74,9 +74,9 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   return r;
 }
 
-ShadeResult shadeFixed(const LevelContext& c, const std::string& algorithm, LevelFrame f) {
+ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f) {
   ShadeResult r;
-  if (algorithm == "brdf") {
+  if (algorithm == Algorithm::Brdf) {
     r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf);
     r.algorithm = algorithm_colour::kBrdf;
     r.normal = f.N;
@@ -85,10 +85,10 @@ ShadeResult shadeFixed(const LevelContext& c, const std::string& algorithm, Leve
   for (size_t i = 0; i < c.relief.levels.size(); ++i) {
     const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
-    f.N = algorithm == "redistribution" ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
+    f.N = algorithm == Algorithm::Redistribution ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
   }
   r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
-  r.algorithm = algorithm == "redistribution" ? algorithm_colour::kRedistribution : algorithm_colour::kBump;
+  r.algorithm = algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution : algorithm_colour::kBump;
   r.normal = f.N;
   return r;
 }
@@ -110,8 +110,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     return r;
   }
   const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position())};
-  const std::string& algorithm = ctx.scene->render.algorithm;
-  return algorithm == "auto" ? shadeAuto(c, 0, frame) : shadeFixed(c, algorithm, frame);
+  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 
 }  // namespace meso

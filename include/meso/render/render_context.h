@@ -30,6 +30,10 @@ struct PrepareTimes {
   double bvh = 0.0;         // Embree build
 };
 
+// render.algorithm, parsed once so the per-sample path compares no strings.
+enum class Algorithm { Auto, Brdf, Bump, Redistribution, Displacement };
+Algorithm parseAlgorithm(const std::string& name);
+
 // The per-frame state passed down to the renderers (no global mutable state).
 struct RenderContext {
   const Scene* scene = nullptr;
@@ -38,6 +42,7 @@ struct RenderContext {
   std::unique_ptr<RayScene> rays;
   std::vector<MaterialRelief> reliefs;  // per material; empty levels for materials no object uses
   std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
+  Algorithm algorithm = Algorithm::Auto;
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
 };

@@ -1,1 +1,0 @@
-// Height tables live in height_source.cpp.

@@ -1,1 +1,0 @@
-// The mesh loader lives in openmesh_io.cpp.

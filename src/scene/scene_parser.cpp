@@ -1,1 +1,0 @@
-// The scene parser lives in scene_reader.cpp.
