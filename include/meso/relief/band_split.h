@@ -1,0 +1,28 @@
+// Becker & Max 1993, section 4.3: one height map broken up into band-limited levels.
+#pragma once
+
+#include "meso/relief/height_table.h"
+
+#include <vector>
+
+namespace meso {
+
+// One band-limited level, low to high frequency. table.highestFrequency() == freq.
+struct HeightBand {
+  HeightTable table;
+  float freq;     // measured highest frequency, cycles per tile (Spectral estimate)
+  float lowCut;   // crossover to the band below, cycles per tile (0 for the lowest band)
+  float highCut;  // crossover to the band above (the Nyquist frequency for the highest band)
+};
+
+// Differences of nested low-passes: L_0 = the table, L_k = the table low-passed at the crossover
+// f_k = nyquist^((n - k) / n) cycles per tile (geometric crossovers between 1 cycle and the
+// Nyquist frequency min(W, H) / 2). Band 1 is L_{n-1}, band m is L_{n-m} - L_{n-m+1}, so the bands
+// sum to the table within float rounding, and band 1 keeps the mean. The low-pass is radial in the
+// frequency domain: 1 below f_k / sqrt(2), 0 above f_k sqrt(2), cos^2 in log2(f) between (half
+// amplitude at f_k). Periodic tables are transformed as they are; clamped ones are mirrored to
+// 2W x 2H first so that their edges do not ring. Every band keeps the table's size and options,
+// with a Spectral frequency estimate. Throws meso::Error for numLevels < 1 or > 16.
+std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels);
+
+}  // namespace meso

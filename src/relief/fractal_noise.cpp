@@ -1,0 +1,136 @@
+// Becker & Max 1993, section 2.2 (Perlin's noise as heights): fBm with analytic gradients.
+#include "meso/relief/fractal_noise.h"
+
+#include "meso/core/error.h"
+#include "meso/core/hash.h"
+#include "meso/core/rng.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace meso {
+namespace {
+
+inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+inline float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+
+// Lattice cell (wrapped when periodic) and fraction of a point along one axis.
+inline void lattice(float p, double frequency, int period, int64_t& cell, float& t) {
+  double x = static_cast<double>(p) * frequency;
+  if (!(std::abs(x) < 1e9))  // huge or not finite: keep the cell index in range (the hash wraps)
+    x = std::isfinite(x) ? std::fmod(x, period > 0 ? period : 4294967296.0) : 0.0;
+  if (period > 0) x -= period * std::floor(x / period);  // exact on the lattice: tiles bit for bit
+  const double f = std::floor(x);
+  cell = static_cast<int64_t>(f);
+  t = static_cast<float>(x - f);
+}
+
+// 1024 unit gradients evenly spread in angle: a table lookup instead of a sincos per corner.
+const std::array<Vec2, 1024>& gradientTable() {
+  static const std::array<Vec2, 1024> table = [] {
+    std::array<Vec2, 1024> t;
+    for (size_t k = 0; k < t.size(); ++k) {
+      const double a = 2.0 * std::numbers::pi * (static_cast<double>(k) + 0.5) / t.size();
+      t[k] = Vec2(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)));
+    }
+    return t;
+  }();
+  return table;
+}
+
+inline int64_t wrapCell(int64_t c, int period) {
+  return period > 0 && c >= period ? c - period : c;
+}
+
+}  // namespace
+
+FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(options) {
+  if (options.octaves < 1 || options.octaves > 24 || !(options.lacunarity > 0.0f) ||
+      !std::isfinite(options.gain) || !(options.baseFrequency > 0.0f) ||
+      !std::isfinite(options.lacunarity * options.baseFrequency))
+    throw Error(
+        "fractal noise: need 1..24 octaves and positive finite lacunarity and base frequency "
+        "(got " +
+        std::to_string(options.octaves) + " octaves, lacunarity " +
+        std::to_string(options.lacunarity) + ", base frequency " +
+        std::to_string(options.baseFrequency) + ")");
+  double f = options.baseFrequency, a = 1.0;
+  for (int o = 0; o < options.octaves; ++o) {
+    Octave oct;
+    oct.period = options.periodic ? static_cast<int>(std::clamp(std::round(f), 1.0, 1e8)) : 0;
+    oct.frequency = options.periodic ? oct.period : f;
+    oct.weight = static_cast<float>(a);
+    oct.salt = static_cast<uint64_t>(o);
+    octaves_.push_back(oct);
+    f *= options.lacunarity;
+    a *= options.gain;
+  }
+}
+
+FractalNoise::FractalNoise(int octaves, float lacunarity, float gain, uint64_t seed,
+                           int baseFrequency)
+    : FractalNoise(FractalNoiseOptions{std::max(octaves, 1), lacunarity, gain, seed,
+                                       static_cast<float>(baseFrequency), true}) {}
+
+// Perlin gradient noise: corner c contributes g_c . (p - corner_c), blended by the quintic fade.
+float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
+  int64_t ix, iy;
+  float u, v;
+  lattice(p.x, o.frequency, o.period, ix, u);
+  lattice(p.y, o.frequency, o.period, iy, v);
+  const std::array<Vec2, 1024>& gradients = gradientTable();
+  float n[4];
+  Vec2 g[4];
+  for (int c = 0; c < 4; ++c) {
+    const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
+    const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
+    const uint64_t h = mix64(options_.seed ^ mix64(o.salt ^ (cx << 32 | cy)));
+    g[c] = gradients[h >> 54];
+    n[c] = glm::dot(g[c], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
+  }
+  const float su = fade(u), sv = fade(v), dsu = fadeDerivative(u), dsv = fadeDerivative(v);
+  const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);
+  // Product rule on the bilinear blend of the corner ramps (each ramp's own gradient is g[c]).
+  const Vec2 gx0 = g[0] + su * (g[1] - g[0]) + Vec2(dsu * (n[1] - n[0]), 0.0f);
+  const Vec2 gx1 = g[2] + su * (g[3] - g[2]) + Vec2(dsu * (n[3] - n[2]), 0.0f);
+  grad = (gx0 + sv * (gx1 - gx0) + Vec2(0.0f, dsv * (nx1 - nx0))) * static_cast<float>(o.frequency);
+  return nx0 + sv * (nx1 - nx0);
+}
+
+float FractalNoise::heightAndGradient(Vec2 p, Vec2& gradient) const {
+  float h = 0.0f;
+  gradient = Vec2(0.0f);
+  for (const Octave& o : octaves_) {
+    Vec2 g;
+    h += o.weight * octave(o, p, g);
+    gradient += o.weight * g;
+  }
+  return h;
+}
+
+float FractalNoise::height(Vec2 p) const {
+  Vec2 g;
+  return heightAndGradient(p, g);
+}
+
+Vec2 FractalNoise::gradient(Vec2 p) const {
+  Vec2 g;
+  heightAndGradient(p, g);
+  return g;
+}
+
+float FractalNoise::highestFrequency() const {
+  return static_cast<float>(octaves_.back().frequency);
+}
+
+uint64_t FractalNoise::fingerprint() const {
+  Hasher h;
+  h.string("FractalNoise").value(options_.seed);
+  for (const Octave& o : octaves_) h.value(o.frequency).value(o.period).value(o.weight);
+  return h.digest();
+}
+
+}  // namespace meso

@@ -1,0 +1,115 @@
+// Height tables from images: conventions, luminance, frequency, and bad files as clear errors.
+#include "meso/relief/height_table.h"
+#include "meso/core/error.h"
+#include "meso/core/image_io.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+using HeightTableFiles = testing::TempDirTest;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+TEST(HeightTable, TexelCentresRowsAndLuminance) {
+  Image img(3, 2, {"R", "G", "B", "A"});
+  img.at(1, 0, 0) = 1.0f;  // top row, middle: R only
+  img.at(2, 1, 1) = 1.0f;  // bottom row, right: G only
+  const HeightTable t(img, "rgba.png");
+  // Image row 0 is the top: table row 1 (v grows upwards).
+  EXPECT_NEAR(t.texel(1, 1), 0.2126f, 1e-6f);
+  EXPECT_NEAR(t.texel(2, 0), 0.7152f, 1e-6f);
+  // Texel (i, j) is centred at ((i + 0.5) / W, (j + 0.5) / H).
+  EXPECT_NEAR(t.height({1.5f / 3, 1.5f / 2}), 0.2126f, 1e-6f);
+  EXPECT_NEAR(t.height({2.5f / 3, 0.5f / 2}), 0.7152f, 1e-6f);
+  // Periodic: the last column blends with the first.
+  EXPECT_NEAR(t.height({0.0f, 0.25f}), 0.5f * (t.texel(2, 0) + t.texel(0, 0)), 1e-6f);
+  EXPECT_NEAR(t.height({1.0f + 2.5f / 3, 0.25f - 3.0f}), 0.7152f, 1e-5f);
+  // Clamp-to-edge: the edge texel, no wrap.
+  const HeightTable c(img, "rgba.png", HeightTableOptions{false});
+  EXPECT_NEAR(c.height({0.999f, 0.25f}), 0.7152f, 1e-6f);
+  EXPECT_NEAR(c.height({-5.0f, 0.25f}), 0.0f, 1e-6f);
+}
+
+TEST(HeightTable, HighestFrequency) {
+  const int w = 64, h = 32;
+  std::vector<float> t(w * h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      t[j * w + i] =
+          std::sin(2 * kPi * 5 * (i + 0.5f) / w) + 0.5f * std::cos(2 * kPi * 3 * (j + 0.5f) / h);
+  EXPECT_EQ(HeightTable(w, h, t).highestFrequency(), 5.0f);
+  HeightTableOptions nyquist;
+  nyquist.frequency = FrequencyEstimate::Nyquist;
+  EXPECT_EQ(HeightTable(w, h, t, nyquist).highestFrequency(), 32.0f);
+  EXPECT_EQ(HeightTable(4, 4, std::vector<float>(16, 2.0f)).highestFrequency(), 1.0f);  // flat
+}
+
+TEST_F(HeightTableFiles, LoadsExrAndPng) {
+  Image img(4, 2, {"Y"});
+  for (int x = 0; x < 4; ++x) img.at(x, 0, 0) = 0.25f * x;
+  writeExr(dir_ / "h.exr", img);
+  const HeightTable t = loadHeightTable(dir_ / "h.exr");
+  EXPECT_EQ(t.width(), 4);
+  EXPECT_EQ(t.heightTexels(), 2);
+  EXPECT_FLOAT_EQ(t.texel(3, 1), 0.75f);
+  Image rgb(2, 2, {"R", "G", "B"});
+  for (float& v : rgb.pixels) v = 1.0f;
+  writePngPreview(dir_ / "h.png", rgb);  // 8-bit: read back normalized to [0, 1]
+  EXPECT_NEAR(loadHeightTable(dir_ / "h.png").texel(0, 0), 1.0f, 1e-6f);
+}
+
+TEST_F(HeightTableFiles, BadImagesNameTheFileAndTheProblem) {
+  const fs::path missing = dir_ / "missing.png";
+  EXPECT_HAS(errorOf([&] { loadHeightTable(missing); }), missing.string() + ": no such file");
+
+  Image ok(64, 64, {"Y"});
+  for (size_t i = 0; i < ok.pixels.size(); ++i) ok.pixels[i] = std::sin(0.37f * i);
+  writeExr(dir_ / "cut.exr", ok);
+  fs::resize_file(dir_ / "cut.exr", fs::file_size(dir_ / "cut.exr") / 2);
+  EXPECT_HAS(errorOf([&] { loadHeightTable(dir_ / "cut.exr"); }),
+             (dir_ / "cut.exr").string() + ": ");
+
+  std::ofstream(dir_ / "junk.png") << "not an image at all";
+  EXPECT_HAS(errorOf([&] { loadHeightTable(dir_ / "junk.png"); }),
+             (dir_ / "junk.png").string() + ": ");
+
+  Image empty(0, 4, {"Y"});
+  EXPECT_HAS(errorOf([&] { HeightTable(empty, "zero.png"); }),
+             "zero.png: height image has zero size (0x4)");
+
+  Image two(4, 4, {"Y", "A"});
+  writeExr(dir_ / "two.exr", two);
+  const std::string e2 = errorOf([&] { loadHeightTable(dir_ / "two.exr"); });
+  EXPECT_HAS(e2, (dir_ / "two.exr").string() + ": height image has 2 channels");
+  EXPECT_HAS(e2, "expected 1 (height), 3 (RGB) or 4 (RGBA)");
+  Image five(2, 2, {"R", "G", "B", "A", "Z"});
+  EXPECT_HAS(errorOf([&] { HeightTable(five, "five.exr"); }),
+             "five.exr: height image has 5 channels");
+
+  Image nan(2, 2, {"Y"});
+  nan.at(1, 0, 0) = NAN;
+  EXPECT_HAS(errorOf([&] { HeightTable(nan, "nan.exr"); }),
+             "nan.exr: height image has a NaN or infinite texel at (1, 0)");
+}
+
+}  // namespace
+}  // namespace meso
