@@ -1,12 +1,15 @@
-// Private to src/geometry: what LimitSurface prepares per base face, shared with the tessellator.
+// Private to src/geometry: what LimitSurface prepares per base face, shared with the tessellators.
 #pragma once
 
 #include "meso/geometry/limit_surface.h"
+#include "meso/geometry/tessellation.h"
 
 #include <opensubdiv/bfr/parameterization.h>
 #include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
 #include <opensubdiv/far/topologyRefiner.h>
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -45,6 +48,83 @@ struct LimitSurface::Impl {
   Vec2 chartToBfr(int face, Vec2 st, glm::mat2& jacobian) const;
   // meso's st of a point given in Bfr coordinates.
   Vec2 bfrToChart(int face, Vec2 bfrUv) const;
+  // meso's st of corner `corner` of the face: the edge from corner i to corner i + 1 is the straight
+  // st segment between them (in the chart too, whose boundary maps onto the face's edges).
+  Vec2 cornerSt(int face, int corner) const {
+    const Face& f = faces[face];
+    if (f.chartOffset >= 0) return chartPoints[f.chartOffset + corner];
+    Vec2 uv;
+    f.param.GetVertexCoord(corner, &uv.x);
+    return uv;
+  }
+};
+
+class VertexDisplacement;  // meso/geometry/adaptive_tessellation.h
+struct TriangleGrid;       // meso/geometry/ray_scene.h
+
+// The engine behind tessellateUniform and tessellateAdaptive (tessellation.cpp): Bfr tessellation
+// with one rate per base-level edge (OpenSubdiv's edge numbering). A rate is a property of the edge,
+// so both faces of an edge place the same points on it; those points, like the corner points, are
+// created once by the first face (in index order) that reaches them and shared by the others, as in
+// OpenSubdiv's tutorial_2_2, so the mesh is watertight. The point layout depends on the rates only
+// (faces are laid out by prefix sums, not by which thread gets there first), so the output is the
+// same whatever the number of threads.
+class EdgeRateTessellator {
+ public:
+  explicit EdgeRateTessellator(const LimitSurface& surface);
+
+  // Where a face first reaches a mesh vertex or edge: that face creates the output points there.
+  struct Use {
+    int face = -1;  // -1: no face with a limit surface uses it
+    int corner = 0;
+  };
+  int numEdges() const { return static_cast<int>(edgeOwner_.size()); }
+  const Use& edgeOwner(int edge) const { return edgeOwner_[edge]; }
+
+  // Triangles the given rates produce (every rate >= 1), from Bfr's pattern counts alone.
+  size_t countFacets(const std::vector<int>& edgeRates);
+  // The mesh. Each output point is evaluated on the limit surface and, with a displacement, moved
+  // by its offset once (in the face that created it). With `grids`, the interior points of each
+  // quad face are stored row by row and its interior cells triangulated as Embree's grids are,
+  // and each such block is listed in *grids (faces in index order); without, points and triangles
+  // come in Bfr's order.
+  TessellatedMesh tessellate(const std::vector<int>& edgeRates,
+                             const VertexDisplacement* displacement,
+                             std::vector<TriangleGrid>* grids = nullptr);
+
+ private:
+  struct Sample {
+    int face;
+    Vec2 st;
+  };
+  struct FaceScratch;
+  struct GridShape {
+    int width = 0, height = 0;  // interior points per row and rows; 0: no grid
+    int innerU = 0, innerV = 0;  // Bfr's inner rates
+  };
+
+  OpenSubdiv::Bfr::Tessellation faceTessellation(int face, const std::vector<int>& edgeRates,
+                                                 FaceScratch& scratch) const;
+  // k indexes faces_.
+  void layoutOwnedPoints(size_t k, const std::vector<int>& edgeRates);
+  // Output point of each boundary coordinate; creates the samples of those the face owns.
+  void placeBoundary(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch);
+  GridShape interiorGrid(int face, const OpenSubdiv::Bfr::Tessellation& tess,
+                         const FaceScratch& scratch) const;
+  void emitFace(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch,
+                TessellatedMesh& out, TriangleGrid* grid);
+  void evaluatePoints(const VertexDisplacement* displacement, TessellatedMesh& out) const;
+
+  const LimitSurface& surface_;
+  const LimitSurface::Impl& impl_;
+  const OpenSubdiv::Far::TopologyLevel& base_;
+  std::vector<int> faces_;  // faces with a limit surface, in index order
+  std::vector<Use> vertexOwner_, edgeOwner_;
+  // Per entry of faces_: points the face creates (its share of the boundary and its interior) and
+  // triangles, then their prefix sums.
+  std::vector<size_t> numPoints_, numFacets_, pointOffset_, facetOffset_;
+  std::vector<int> vertexPoint_, edgePoint_;  // output point of each vertex, first of each edge
+  std::vector<Sample> samples_;               // where each output point lies
 };
 
 }  // namespace meso

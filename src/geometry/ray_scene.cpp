@@ -1,23 +1,38 @@
-// An Embree 3 triangle scene (shared/DESIGN.md section 5: the tessellated surface is traced by
-// Embree) with robust, watertight closest-hit queries.
+// An Embree 3 scene of triangles and grids (shared/DESIGN.md section 5: the tessellated surface is
+// traced by Embree) with robust, watertight closest-hit queries.
 #include "meso/geometry/ray_scene.h"
 
 #include "meso/core/error.h"
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <mutex>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace meso {
 
 struct RayScene::Impl {
+  // What an Embree geometry holds: all triangles of a mesh, or its grid blocks followed by its
+  // other triangles, one 2 x 2 grid each.
+  struct Part {
+    int mesh = -1;
+    bool isGrid = false;
+    std::vector<TriangleGrid> grids;  // primitives 0 .. grids.size() - 1 of a grid geometry
+    std::vector<uint32_t> singles;    // mesh triangle of each later primitive
+  };
+
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   int numMeshes = 0;
+  std::vector<Part> parts;  // by Embree geometry ID
   std::mutex errorMutex;
   std::string firstError;  // the first Embree error not yet reported, empty if none
+  std::atomic<long long> bytes{0}, peakBytes{0};
 
   Impl() = default;
   Impl(const Impl&) = delete;
@@ -36,6 +51,26 @@ struct RayScene::Impl {
                          (message ? message : "(no message)");
   }
 
+  // Embree reports every allocation (bytes > 0) and release (bytes < 0) of the device here;
+  // returning true lets it proceed.
+  static bool onMemory(void* self, ssize_t bytes, bool /*post*/) {
+    auto* impl = static_cast<Impl*>(self);
+    const long long now = impl->bytes.fetch_add(bytes) + bytes;
+    long long peak = impl->peakBytes.load();
+    while (now > peak && !impl->peakBytes.compare_exchange_weak(peak, now)) {
+    }
+    return true;
+  }
+
+  void attach(RTCGeometry geometry, Part part) {
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);  // the scene holds the reference now
+    throwIfError();
+    if (id >= parts.size()) parts.resize(id + 1);
+    parts[id] = std::move(part);
+  }
+
   void throwIfError() {
     std::lock_guard<std::mutex> lock(errorMutex);
     if (firstError.empty()) return;
@@ -51,6 +86,7 @@ RayScene::RayScene() : impl_(std::make_unique<Impl>()) {
     throw Error("Embree device creation failed (error " +
                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(impl_->device, &Impl::onError, impl_.get());
+  rtcSetDeviceMemoryMonitorFunction(impl_->device, &Impl::onMemory, impl_.get());
   impl_->scene = rtcNewScene(impl_->device);
   // ROBUST makes the triangle test watertight: a ray through a shared edge or vertex of two
   // triangles hits one of them, so tessellated closed surfaces never leak.
@@ -64,11 +100,10 @@ RayScene::RayScene() : impl_(std::make_unique<Impl>()) {
 RayScene::~RayScene() = default;
 
 int RayScene::addMesh(const TessellatedMesh& mesh) {
-  const unsigned id = static_cast<unsigned>(impl_->numMeshes);
+  const int index = impl_->numMeshes++;
   const size_t numTriangles = mesh.indices.size() / 3;
-  ++impl_->numMeshes;
   // An empty mesh keeps its index but needs no geometry (Embree rejects empty buffers).
-  if (numTriangles == 0) return static_cast<int>(id);
+  if (numTriangles == 0) return index;
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Embree owns these copies (padded as its SIMD loads need), so `mesh` may go away afterwards.
   void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -77,19 +112,94 @@ int RayScene::addMesh(const TessellatedMesh& mesh) {
   void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                           3 * sizeof(uint32_t), numTriangles);
   if (indices) std::memcpy(indices, mesh.indices.data(), numTriangles * 3 * sizeof(uint32_t));
-  rtcCommitGeometry(geometry);
-  // Attaching by ID makes the geometry ID of a hit the index returned here.
-  rtcAttachGeometryByID(impl_->scene, geometry, id);
-  rtcReleaseGeometry(geometry);  // the scene holds the reference now
-  impl_->throwIfError();
+  impl_->attach(geometry, {index, false, {}, {}});
   numTriangles_ += numTriangles;
-  return static_cast<int>(id);
+  return index;
+}
+
+namespace {
+
+// The mesh triangles no grid covers, after checking that the grids fit the mesh and do not overlap.
+std::vector<uint32_t> trianglesOutsideGrids(const TessellatedMesh& mesh,
+                                            std::vector<TriangleGrid>& grids) {
+  std::sort(grids.begin(), grids.end(), [](const TriangleGrid& a, const TriangleGrid& b) {
+    return a.firstTriangle < b.firstTriangle;
+  });
+  std::vector<uint32_t> outside;
+  size_t next = 0;  // first triangle not yet classified
+  for (const TriangleGrid& g : grids) {
+    const size_t cells = size_t(g.width - 1) * size_t(g.height - 1);
+    if (g.width < 2 || g.height < 2 || g.width > 32767 || g.height > 32767 ||
+        size_t(g.firstVertex) + size_t(g.width) * g.height > mesh.positions.size() ||
+        g.firstTriangle < next || g.firstTriangle + 2 * cells > mesh.numTriangles())
+      throw Error("triangle grid at triangle " + std::to_string(g.firstTriangle) +
+                  " does not fit the mesh or overlaps another grid");
+    for (; next < g.firstTriangle; ++next) outside.push_back(static_cast<uint32_t>(next));
+    next = g.firstTriangle + 2 * cells;
+  }
+  for (; next < mesh.numTriangles(); ++next) outside.push_back(static_cast<uint32_t>(next));
+  return outside;
+}
+
+}  // namespace
+
+// One grid geometry holds the blocks and, after them, every other triangle as a 2 x 2 grid whose
+// fourth point repeats the third (so Embree's second triangle of that cell has no area): a ray
+// then traverses one BVH instead of a triangle BVH and a grid BVH spread over the same surface
+// (measured on a displaced torus: 80% of the all-triangle ray rate against 60%).
+int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& blocks) {
+  if (blocks.empty() || mesh.numTriangles() == 0) return addMesh(mesh);
+  std::vector<TriangleGrid> grids = blocks;
+  std::vector<uint32_t> singles = trianglesOutsideGrids(mesh, grids);
+  const int index = impl_->numMeshes++;
+  const size_t numPositions = mesh.positions.size();
+  RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_GRID);
+  auto* vertices = static_cast<Vec3*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3),
+      numPositions + 4 * singles.size()));
+  auto* rtcGrids = static_cast<RTCGrid*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid),
+                              grids.size() + singles.size()));
+  if (vertices && rtcGrids) {
+    std::memcpy(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
+    for (size_t k = 0; k < grids.size(); ++k)
+      rtcGrids[k] = {grids[k].firstVertex, grids[k].width, grids[k].width, grids[k].height};
+    for (size_t k = 0; k < singles.size(); ++k) {
+      const uint32_t* corner = &mesh.indices[3 * size_t(singles[k])];
+      Vec3* v = vertices + numPositions + 4 * k;
+      v[0] = mesh.positions[corner[0]];
+      v[1] = mesh.positions[corner[1]];
+      v[2] = v[3] = mesh.positions[corner[2]];
+      rtcGrids[grids.size() + k] = {static_cast<unsigned>(numPositions + 4 * k), 2, 2, 2};
+    }
+  }
+  impl_->attach(geometry, {index, true, std::move(grids), std::move(singles)});
+  numTriangles_ += mesh.numTriangles();
+  return index;
 }
 
 void RayScene::commit() {
   rtcCommitScene(impl_->scene);
   impl_->throwIfError();
 }
+
+namespace {
+
+// Embree's (u, v) of a grid hit span the whole grid; the cell and the side of its diagonal give
+// the mesh triangle (see TriangleGrid) and the barycentrics of its corners 1 and 2.
+void gridHit(const TriangleGrid& g, float u, float v, RayHit& hit) {
+  const float gu = u * float(g.width - 1), gv = v * float(g.height - 1);
+  const int i = std::clamp(static_cast<int>(gu), 0, g.width - 2);
+  const int j = std::clamp(static_cast<int>(gv), 0, g.height - 2);
+  const float fu = std::clamp(gu - float(i), 0.0f, 1.0f), fv = std::clamp(gv - float(j), 0.0f, 1.0f);
+  const int first = static_cast<int>(g.firstTriangle) + 2 * (j * (g.width - 1) + i);
+  const bool lower = fu + fv <= 1.0f;  // corners (p00, p10, p01), else (p11, p01, p10)
+  hit.triangle = lower ? first : first + 1;
+  hit.b1 = lower ? fu : 1.0f - fu;
+  hit.b2 = lower ? fv : 1.0f - fv;
+}
+
+}  // namespace
 
 bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   RTCIntersectContext context;
@@ -112,11 +222,32 @@ bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
-  hit.mesh = static_cast<int>(rh.hit.geomID);
-  hit.triangle = static_cast<int>(rh.hit.primID);
+  const Impl::Part& part = impl_->parts[rh.hit.geomID];
+  hit.mesh = part.mesh;
+  if (part.isGrid && rh.hit.primID < part.grids.size()) {
+    gridHit(part.grids[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
+    return true;
+  }
   hit.b1 = rh.hit.u;
   hit.b2 = rh.hit.v;
+  if (!part.isGrid) {
+    hit.triangle = static_cast<int>(rh.hit.primID);
+    return true;
+  }
+  // A single triangle's 2 x 2 grid is hit in its first cell triangle, whose (u, v) are the
+  // barycentrics of corners 1 and 2; the clamp only guards rounding.
+  hit.triangle = static_cast<int>(part.singles[rh.hit.primID - part.grids.size()]);
+  const float sum = hit.b1 + hit.b2;
+  if (sum > 1.0f) hit.b1 /= sum, hit.b2 /= sum;
   return true;
+}
+
+size_t RayScene::deviceBytes() const {
+  return static_cast<size_t>(std::max(0LL, impl_->bytes.load()));
+}
+
+size_t RayScene::peakDeviceBytes() const {
+  return static_cast<size_t>(std::max(0LL, impl_->peakBytes.load()));
 }
 
 }  // namespace meso

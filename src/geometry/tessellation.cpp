@@ -1,162 +1,285 @@
-// Watertight uniform tessellation of a limit surface with OpenSubdiv 3.5 Bfr::Tessellation, sharing
-// the points of mesh vertices and edges between faces as in OpenSubdiv's tutorial_2_2.
+// Watertight tessellation of a limit surface with OpenSubdiv 3.5 Bfr::Tessellation and one rate per
+// mesh edge, sharing the points of mesh vertices and edges between faces as in OpenSubdiv's
+// tutorial_2_2 (shared/DESIGN.md section 5). tessellateUniform is the case of equal rates.
 #include "meso/geometry/tessellation.h"
 
 #include "limit_surface_impl.h"
 #include "meso/core/error.h"
+#include "meso/geometry/adaptive_tessellation.h"
+#include "meso/geometry/ray_scene.h"
 
-#include <opensubdiv/bfr/tessellation.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <map>
+#include <cmath>
 #include <string>
 #include <utility>
 
 namespace meso {
-namespace {
 
 using OpenSubdiv::Bfr::Tessellation;
 using OpenSubdiv::Far::ConstIndexArray;
 
-// Builds the connectivity face by face and records where each output point lies (a face and its
-// st there); the points are evaluated afterwards, in parallel, by evaluatePoints().
-class Tessellator {
- public:
-  Tessellator(const LimitSurface& surface, TessellatedMesh& out)
-      : impl_(surface.impl()),
-        base_(impl_.refiner->GetLevel(0)),
-        out_(out),
-        vertexPoint_(base_.GetNumVertices(), -1),
-        edgePoint_(base_.GetNumEdges(), -1) {}
-
-  void tessellateFace(int face, int rate) {
-    const Pattern& pattern = patternFor(face, rate);
-    shareBoundary(face, pattern);
-    // Interior points belong to this face alone.
-    const int interiorBase = static_cast<int>(samples_.size());
-    for (int j = pattern.numBoundary; j < pattern.numCoords(); ++j)
-      samples_.push_back({face, st(face, pattern, j)});
-    addFacets(face, pattern, interiorBase);
-  }
-
-  void evaluatePoints(const LimitSurface& surface) {
-    out_.positions.resize(samples_.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, samples_.size(), 256),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        for (size_t i = range.begin(); i != range.end(); ++i)
-                          out_.positions[i] = surface.evaluate(samples_[i].face, samples_[i].st).P;
-                      });
-  }
-
- private:
-  struct Sample {
-    int face;
-    Vec2 st;
-  };
-
-  // Bfr's tessellation of one face size at the uniform rate (the scheme is the surface's).
-  struct Pattern {
-    int numBoundary = 0;
-    std::vector<int> edgeCoords;  // points inside each edge
-    std::vector<float> coords;    // Bfr (u, v) pairs: boundary first, then interior
-    std::vector<int> facets;      // 3 coordinate indices per triangle
-    int numCoords() const { return static_cast<int>(coords.size() / 2); }
-  };
-
-  const Pattern& patternFor(int face, int rate) {
-    const auto& param = impl_.faces[face].param;
-    Pattern& p = patterns_[param.GetFaceSize()];
-    if (!p.coords.empty()) return p;
-    Tessellation::Options options;
-    options.SetFacetSize(3);
-    const Tessellation tess(param, rate, options);
-    p.numBoundary = tess.GetNumBoundaryCoords();
-    for (int e = 0; e < param.GetFaceSize(); ++e) p.edgeCoords.push_back(tess.GetNumEdgeCoords(e));
-    p.coords.resize(2 * static_cast<size_t>(tess.GetNumCoords()));
-    tess.GetCoords(p.coords.data());
-    p.facets.resize(3 * static_cast<size_t>(tess.GetNumFacets()));
-    tess.GetFacets(p.facets.data());
-    return p;
-  }
-
-  Vec2 st(int face, const Pattern& pattern, int coord) const {
-    return impl_.bfrToChart(face, Vec2(pattern.coords[2 * coord], pattern.coords[2 * coord + 1]));
-  }
-
-  // Bfr lists boundary coordinates as vertex 0, the points of edge 0, vertex 1, ... The first face
-  // to reach a mesh vertex or edge creates its points; later faces reuse them, so neighbours share
-  // identical vertices and the mesh has no cracks.
-  void shareBoundary(int face, const Pattern& pattern) {
-    const ConstIndexArray verts = base_.GetFaceVertices(face);
-    const ConstIndexArray edges = base_.GetFaceEdges(face);
-    boundary_.assign(pattern.numBoundary, -1);
-    int b = 0;
-    for (int i = 0; i < verts.size(); ++i) {
-      int& vertex = vertexPoint_[verts[i]];
-      if (vertex < 0) {
-        vertex = static_cast<int>(samples_.size());
-        samples_.push_back({face, st(face, pattern, b)});
-      }
-      boundary_[b++] = vertex;
-      const int n = pattern.edgeCoords[i];
-      if (n <= 0) continue;
-      // Edge points are stored from the lower to the higher mesh vertex index, whichever way the
-      // face runs along the edge.
-      const bool forward = verts[i] < verts[(i + 1) % verts.size()];
-      int& first = edgePoint_[edges[i]];
-      if (first < 0) {
-        first = static_cast<int>(samples_.size());
-        samples_.resize(samples_.size() + n);
-        for (int j = 0; j < n; ++j)
-          samples_[first + (forward ? j : n - 1 - j)] = {face, st(face, pattern, b + j)};
-      }
-      for (int j = 0; j < n; ++j) boundary_[b++] = first + (forward ? j : n - 1 - j);
-    }
-  }
-
-  // Facets keep the corners' st in their own face; corners are ordered counter-clockwise in st,
-  // which is the orientation of the limit normal (dP/ds x dP/dt).
-  void addFacets(int face, const Pattern& pattern, int interiorBase) {
-    const int numBoundary = pattern.numBoundary;
-    for (size_t k = 0; k < pattern.facets.size(); k += 3) {
-      int c[3] = {pattern.facets[k], pattern.facets[k + 1], pattern.facets[k + 2]};
-      Vec2 s[3] = {st(face, pattern, c[0]), st(face, pattern, c[1]), st(face, pattern, c[2])};
-      const Vec2 e1 = s[1] - s[0], e2 = s[2] - s[0];
-      if (e1.x * e2.y - e1.y * e2.x < 0.0f) {
-        std::swap(c[1], c[2]);
-        std::swap(s[1], s[2]);
-      }
-      for (int j = 0; j < 3; ++j) {
-        const int point = c[j] < numBoundary ? boundary_[c[j]] : interiorBase + c[j] - numBoundary;
-        out_.indices.push_back(static_cast<uint32_t>(point));
-        out_.cornerSt.push_back(s[j]);
-      }
-      out_.triangleFace.push_back(face);
-    }
-  }
-
-  const LimitSurface::Impl& impl_;
-  const OpenSubdiv::Far::TopologyLevel& base_;
-  TessellatedMesh& out_;
-  std::vector<Sample> samples_;      // one per output point
-  std::vector<int> vertexPoint_;     // output point of each mesh vertex, -1 until created
-  std::vector<int> edgePoint_;       // first output point of each mesh edge, -1 until created
-  std::map<int, Pattern> patterns_;  // by face size
-  std::vector<int> boundary_;        // output point of each boundary coordinate of the face
+// Buffers of one task, reused from face to face.
+struct EdgeRateTessellator::FaceScratch {
+  std::vector<int> rates;       // of the face's edges
+  std::vector<float> coords;    // Bfr (u, v) pairs: boundary first, then interior
+  std::vector<int> facets;      // 3 coordinate indices per triangle
+  std::vector<Vec2> st;         // meso's st of each coordinate
+  std::vector<int> point;       // output point of each coordinate
+  std::vector<int> gridCoord;   // coordinate at each interior grid slot, row by row
 };
 
+EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
+    : surface_(surface),
+      impl_(surface.impl()),
+      base_(impl_.refiner->GetLevel(0)),
+      vertexOwner_(base_.GetNumVertices()),
+      edgeOwner_(base_.GetNumEdges()),
+      vertexPoint_(base_.GetNumVertices(), -1),
+      edgePoint_(base_.GetNumEdges(), -1) {
+  // The first face in index order to reach a vertex or edge creates its points (tutorial_2_2).
+  for (int f = 0; f < surface.numFaces(); ++f) {
+    if (!surface.hasLimitSurface(f)) continue;
+    faces_.push_back(f);
+    const ConstIndexArray verts = base_.GetFaceVertices(f);
+    const ConstIndexArray edges = base_.GetFaceEdges(f);
+    for (int i = 0; i < verts.size(); ++i) {
+      if (vertexOwner_[verts[i]].face < 0) vertexOwner_[verts[i]] = {f, i};
+      if (edgeOwner_[edges[i]].face < 0) edgeOwner_[edges[i]] = {f, i};
+    }
+  }
+  const size_t n = faces_.size();
+  numPoints_.assign(n, 0);
+  numFacets_.assign(n, 0);
+  pointOffset_.assign(n + 1, 0);
+  facetOffset_.assign(n + 1, 0);
+}
+
+Tessellation EdgeRateTessellator::faceTessellation(int face, const std::vector<int>& edgeRates,
+                                                   FaceScratch& scratch) const {
+  const ConstIndexArray edges = base_.GetFaceEdges(face);
+  scratch.rates.resize(edges.size());
+  bool uniform = true;
+  for (int i = 0; i < edges.size(); ++i) {
+    scratch.rates[i] = edgeRates[edges[i]];
+    uniform = uniform && scratch.rates[i] == scratch.rates[0];
+  }
+  Tessellation::Options options;
+  options.SetFacetSize(3);
+  const auto& param = impl_.faces[face].param;
+  // Without explicit inner rates Bfr infers them: the mean of opposite edges' rates for quads, the
+  // mean of all edge rates otherwise. Equal rates give the uniform pattern either way.
+  if (uniform) return Tessellation(param, scratch.rates[0], options);
+  return Tessellation(param, edges.size(), scratch.rates.data(), options);
+}
+
+size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 64),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      FaceScratch scratch;
+                      for (size_t k = range.begin(); k != range.end(); ++k) {
+                        const int f = faces_[k];
+                        const Tessellation tess = faceTessellation(f, edgeRates, scratch);
+                        size_t points = tess.GetNumInteriorCoords();
+                        const ConstIndexArray edges = base_.GetFaceEdges(f);
+                        for (int i = 0; i < edges.size(); ++i) {
+                          const Use& v = vertexOwner_[base_.GetFaceVertices(f)[i]];
+                          const Use& e = edgeOwner_[edges[i]];
+                          if (v.face == f && v.corner == i) ++points;
+                          if (e.face == f && e.corner == i) points += edgeRates[edges[i]] - 1;
+                        }
+                        numPoints_[k] = points;
+                        numFacets_[k] = static_cast<size_t>(tess.GetNumFacets());
+                      }
+                    });
+  for (size_t k = 0; k < faces_.size(); ++k) {
+    pointOffset_[k + 1] = pointOffset_[k] + numPoints_[k];
+    facetOffset_[k + 1] = facetOffset_[k] + numFacets_[k];
+  }
+  return facetOffset_.back();
+}
+
+// The face's points come in Bfr's boundary order (vertex 0, the points of edge 0, vertex 1, ...),
+// then its interior, so equal rates reproduce the first-come numbering of a sequential walk.
+void EdgeRateTessellator::layoutOwnedPoints(size_t k, const std::vector<int>& edgeRates) {
+  const int f = faces_[k];
+  const ConstIndexArray verts = base_.GetFaceVertices(f);
+  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  size_t next = pointOffset_[k];
+  for (int i = 0; i < verts.size(); ++i) {
+    const Use& v = vertexOwner_[verts[i]];
+    if (v.face == f && v.corner == i) vertexPoint_[verts[i]] = static_cast<int>(next++);
+    const Use& e = edgeOwner_[edges[i]];
+    if (e.face == f && e.corner == i) {
+      edgePoint_[edges[i]] = static_cast<int>(next);
+      next += edgeRates[edges[i]] - 1;
+    }
+  }
+}
+
+// Bfr's boundary coordinates run vertex 0, the points of edge 0, vertex 1, ... Edge points are
+// stored from the lower to the higher mesh vertex index, whichever way a face runs along the edge.
+void EdgeRateTessellator::placeBoundary(size_t k, const std::vector<int>& edgeRates,
+                                        FaceScratch& scratch) {
+  const int f = faces_[k];
+  const ConstIndexArray verts = base_.GetFaceVertices(f);
+  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  int b = 0;
+  for (int i = 0; i < verts.size(); ++i) {
+    const Use& v = vertexOwner_[verts[i]];
+    if (v.face == f && v.corner == i) samples_[vertexPoint_[verts[i]]] = {f, scratch.st[b]};
+    scratch.point[b++] = vertexPoint_[verts[i]];
+    const int n = edgeRates[edges[i]] - 1;
+    const bool forward = verts[i] < verts[(i + 1) % verts.size()];
+    const int first = edgePoint_[edges[i]];
+    const Use& e = edgeOwner_[edges[i]];
+    for (int j = 0; j < n; ++j) {
+      const int point = first + (forward ? j : n - 1 - j);
+      if (e.face == f && e.corner == i) samples_[point] = {f, scratch.st[b]};
+      scratch.point[b++] = point;
+    }
+  }
+}
+
+// The interior coordinates of a quad face are the (innerU - 1) x (innerV - 1) points (i / innerU,
+// j / innerV) of a regular grid (Bfr lists them ring by ring), with Bfr's inferred inner rates.
+EdgeRateTessellator::GridShape EdgeRateTessellator::interiorGrid(
+    int face, const Tessellation& tess, const FaceScratch& scratch) const {
+  GridShape shape;
+  if (impl_.faces[face].param.GetType() != OpenSubdiv::Bfr::Parameterization::QUAD) return shape;
+  const std::vector<int>& r = scratch.rates;
+  const bool uniform = tess.IsUniform();
+  shape.innerU = uniform ? r[0] : (r[0] + r[2]) / 2;
+  shape.innerV = uniform ? r[0] : (r[1] + r[3]) / 2;
+  const int width = shape.innerU - 1, height = shape.innerV - 1;
+  if (width < 2 || height < 2 || tess.GetNumInteriorCoords() != width * height) return {};
+  shape.width = width;
+  shape.height = height;
+  return shape;
+}
+
+namespace {
+
+// Facets keep the corners' st in their own face; corners are ordered counter-clockwise in st,
+// which is the orientation of the limit normal (dP/ds x dP/dt).
+void writeTriangle(TessellatedMesh& out, size_t t, int face, int c0, int c1, int c2,
+                   const std::vector<int>& point, const std::vector<Vec2>& st, bool orient) {
+  int c[3] = {c0, c1, c2};
+  const Vec2 e1 = st[c[1]] - st[c[0]], e2 = st[c[2]] - st[c[0]];
+  if (orient && e1.x * e2.y - e1.y * e2.x < 0.0f) std::swap(c[1], c[2]);
+  for (int j = 0; j < 3; ++j) {
+    out.indices[3 * t + j] = static_cast<uint32_t>(point[c[j]]);
+    out.cornerSt[3 * t + j] = st[c[j]];
+  }
+  out.triangleFace[t] = face;
+}
+
 }  // namespace
+
+// Creates the samples of the points this face owns and its triangles. With `grid`, interior points
+// are stored row by row and the interior cells are triangulated last, two triangles a cell split as
+// Embree splits grid cells (see TriangleGrid); they are counter-clockwise in st by construction.
+void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
+                                   FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) {
+  const int f = faces_[k];
+  const Tessellation tess = faceTessellation(f, edgeRates, scratch);
+  const int numCoords = tess.GetNumCoords(), numBoundary = tess.GetNumBoundaryCoords();
+  scratch.coords.resize(2 * static_cast<size_t>(numCoords));
+  tess.GetCoords(scratch.coords.data());
+  scratch.st.resize(numCoords);
+  for (int j = 0; j < numCoords; ++j)
+    scratch.st[j] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * j], scratch.coords[2 * j + 1]));
+  scratch.point.resize(numCoords);
+  placeBoundary(k, edgeRates, scratch);
+
+  const GridShape shape = grid ? interiorGrid(f, tess, scratch) : GridShape{};
+  const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - (numCoords - numBoundary);
+  scratch.gridCoord.assign(static_cast<size_t>(shape.width) * shape.height, -1);
+  for (int j = numBoundary; j < numCoords; ++j) {
+    int slot = j - numBoundary;
+    if (shape.width > 0) {
+      const int u = static_cast<int>(std::lround(scratch.coords[2 * j] * shape.innerU)) - 1;
+      const int v = static_cast<int>(std::lround(scratch.coords[2 * j + 1] * shape.innerV)) - 1;
+      slot = v * shape.width + u;
+      scratch.gridCoord[slot] = j;
+    }
+    scratch.point[j] = interiorBase + slot;
+    samples_[scratch.point[j]] = {f, scratch.st[j]};
+  }
+
+  scratch.facets.resize(3 * static_cast<size_t>(tess.GetNumFacets()));
+  tess.GetFacets(scratch.facets.data());
+  size_t t = facetOffset_[k];
+  for (size_t q = 0; q < scratch.facets.size(); q += 3) {
+    const int* c = &scratch.facets[q];
+    if (shape.width > 0 && c[0] >= numBoundary && c[1] >= numBoundary && c[2] >= numBoundary)
+      continue;  // an interior cell: written below in grid order
+    writeTriangle(out, t++, f, c[0], c[1], c[2], scratch.point, scratch.st, true);
+  }
+  if (shape.width == 0) return;
+  *grid = {static_cast<uint32_t>(interiorBase), static_cast<uint32_t>(t),
+           static_cast<uint16_t>(shape.width), static_cast<uint16_t>(shape.height)};
+  const std::vector<int>& g = scratch.gridCoord;
+  for (int v = 0; v + 1 < shape.height; ++v)
+    for (int u = 0; u + 1 < shape.width; ++u) {
+      const int p00 = g[v * shape.width + u], p10 = g[v * shape.width + u + 1];
+      const int p01 = g[(v + 1) * shape.width + u], p11 = g[(v + 1) * shape.width + u + 1];
+      writeTriangle(out, t++, f, p00, p10, p01, scratch.point, scratch.st, false);
+      writeTriangle(out, t++, f, p11, p01, p10, scratch.point, scratch.st, false);
+    }
+}
+
+void EdgeRateTessellator::evaluatePoints(const VertexDisplacement* displacement,
+                                         TessellatedMesh& out) const {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, samples_.size(), 256),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const Sample& s = samples_[i];
+                        const SurfacePoint sp = surface_.evaluate(s.face, s.st);
+                        out.positions[i] =
+                            displacement ? sp.P + displacement->offset(s.face, s.st, sp) : sp.P;
+                      }
+                    });
+}
+
+TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRates,
+                                                const VertexDisplacement* displacement,
+                                                std::vector<TriangleGrid>* grids) {
+  const size_t numFacets = countFacets(edgeRates);
+  const size_t numPoints = pointOffset_.back();
+  if (numPoints > static_cast<size_t>(INT32_MAX))
+    throw Error("tessellation needs " + std::to_string(numPoints) +
+                " points, more than 32-bit indices address");
+  tbb::parallel_for(size_t(0), faces_.size(), [&](size_t k) { layoutOwnedPoints(k, edgeRates); });
+  TessellatedMesh out;
+  out.indices.resize(3 * numFacets);
+  out.cornerSt.resize(3 * numFacets);
+  out.triangleFace.resize(numFacets);
+  samples_.resize(numPoints);
+  std::vector<TriangleGrid> faceGrids(grids ? faces_.size() : 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 16),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      FaceScratch scratch;
+                      for (size_t k = range.begin(); k != range.end(); ++k)
+                        emitFace(k, edgeRates, scratch, out, grids ? &faceGrids[k] : nullptr);
+                    });
+  if (grids) {
+    grids->clear();
+    for (const TriangleGrid& g : faceGrids)
+      if (g.width > 0) grids->push_back(g);
+  }
+  out.positions.resize(numPoints);
+  evaluatePoints(displacement, out);
+  std::vector<Sample>().swap(samples_);  // the caller keeps the mesh, not the samples
+  return out;
+}
 
 TessellatedMesh tessellateUniform(const LimitSurface& surface, int rate) {
   if (rate < 1)
     throw Error("tessellation rate must be at least 1 (got " + std::to_string(rate) + ")");
-  TessellatedMesh out;
-  Tessellator tessellator(surface, out);
-  for (int f = 0; f < surface.numFaces(); ++f)
-    if (surface.hasLimitSurface(f)) tessellator.tessellateFace(f, rate);
-  tessellator.evaluatePoints(surface);
-  return out;
+  EdgeRateTessellator tessellator(surface);
+  return tessellator.tessellate(std::vector<int>(tessellator.numEdges(), rate), nullptr);
 }
 
 }  // namespace meso

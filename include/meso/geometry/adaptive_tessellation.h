@@ -1,0 +1,125 @@
+// View-dependent, displaced, crack-free micropolygons of a limit surface: per-edge Bfr rates from a
+// screen metric, vertices displaced along the limit normal (Becker & Max 1993 section 2.3;
+// shared/DESIGN.md section 5).
+#pragma once
+
+#include "meso/core/math.h"
+#include "meso/geometry/limit_surface.h"
+#include "meso/geometry/ray_scene.h"
+#include "meso/geometry/tessellation.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace meso {
+
+// A pinhole view reduced to what dicing needs, independent of the scene area. The frame and pixel
+// conventions are those of meso::Camera: pixel (0, 0) is the top-left corner, x grows along
+// `right`, y against `up`, and the vertical field of view spans `height` pixels.
+struct ScreenMetric {
+  Vec3 eye{0.0f, 0.0f, 5.0f};
+  Vec3 forward{0.0f, 0.0f, -1.0f};  // forward, right, up: orthonormal
+  Vec3 right{1.0f, 0.0f, 0.0f};
+  Vec3 up{0.0f, 1.0f, 0.0f};
+  float tanHalfFovY = 0.36397023f;  // tan(20 degrees)
+  int width = 640;
+  int height = 360;
+  // Points nearer than this (along `forward`) count as behind the eye: segments are clipped there,
+  // which bounds the pixel length of geometry that touches the eye.
+  float nearDistance = 1e-3f;
+
+  // The frame meso::Camera builds from these settings.
+  static ScreenMetric lookAt(Vec3 eye, Vec3 target, Vec3 up, float fovYDegrees, int width,
+                             int height);
+
+  float depth(Vec3 p) const { return glm::dot(p - eye, forward); }
+  // Pixels that one world unit spans at this depth, perpendicular to the view direction.
+  float pixelsPerUnit(float depth) const;
+  // Pixel position of a point in front of the eye (depth >= nearDistance); points off screen get
+  // positions outside [0, width] x [0, height] by the same perspective map.
+  Vec2 toPixels(Vec3 p) const;
+  // Length in pixels of the image of segment ab. The part behind the near plane is clipped away
+  // (0 when all of it is); parts off screen are measured by the same projection, so a segment that
+  // crosses the image border gets the point density its visible part needs.
+  float projectedLength(Vec3 a, Vec3 b) const;
+  // False when the box [lo - grow, hi + grow] lies wholly outside the view frustum (beyond one of
+  // its four side planes or behind the near plane); conservative: true when unsure.
+  bool boxInView(Vec3 lo, Vec3 hi, float grow) const;
+};
+
+struct DicingSettings {
+  float dicingRate = 1.0f;  // longest micropolygon edge in pixels where a face needs dicing
+  int maxEdgeRate = 256;    // most segments on one mesh edge
+  // Where no adjacent face needs dicing, edges are split until the limit surface deviates from
+  // the chords by about this many pixels.
+  float coarseTolerance = 0.5f;
+  // Cap on triangles: about 160 bytes each with the Embree scene (tools/bench_tessellation), so the
+  // default keeps a frame's geometry within about half of a 24 GiB machine.
+  size_t maxMicropolygons = 80'000'000;
+};
+
+// What the caller knows per base face (vectors indexed by face; empty means the default for all).
+struct FaceDicing {
+  // Nonzero: some relief level may be displaced on this face (its T can exceed e3), so it is diced
+  // at DicingSettings::dicingRate. Default: every face.
+  std::vector<char> needsDicing;
+  // The largest useful edge rate of the face (e.g. from its finest displaced level's texel
+  // spacing); 0 = no cap. Default: no caps.
+  std::vector<int> texelCap;
+};
+
+// How tessellated vertices move off the limit surface; the caller implements it (meso's renderer:
+// sum_i disp_i * h_i(u, v) * N_i). Called once per output vertex, concurrently from several
+// threads, so offset() must be thread-safe and should not allocate.
+class VertexDisplacement {
+ public:
+  virtual ~VertexDisplacement() = default;
+  // Offset of the limit point sp, which lies on base face `face` at patch coordinates st.
+  virtual Vec3 offset(int face, Vec2 st, const SurfacePoint& sp) const = 0;
+  // An upper bound of |offset| over the whole surface (world units): it grows the boxes of the
+  // view test, so a face whose relief reaches into the view is not culled.
+  virtual float bound() const = 0;
+};
+
+struct AdaptiveTessellationStats {
+  size_t micropolygons = 0;  // triangles
+  size_t vertices = 0;
+  int facesDiced = 0;   // in view and needing dicing
+  int facesCulled = 0;  // outside the view: their edges not shared with a visible face get rate 1
+  int minEdgeRate = 0;
+  int maxEdgeRate = 0;
+  // The factor by which the cap coarsened every rate (1: not capped); the effective dicing rate is
+  // DicingSettings::dicingRate times this.
+  float coarsening = 1.0f;
+  double rateSeconds = 0.0;      // edge rates, culling, pattern counts and the cap
+  double evaluateSeconds = 0.0;  // connectivity, limit evaluation and displacement
+};
+
+struct AdaptiveTessellation {
+  TessellatedMesh mesh;
+  // The interior of every quad face as a regular grid block of `mesh` (points row by row, cells
+  // split as Embree splits grid cells), for RayScene::addMesh(mesh, grids): most micropolygons
+  // then cost Embree grid memory instead of triangle memory.
+  std::vector<TriangleGrid> grids;
+  // Segments on each mesh edge, in OpenSubdiv's base-level edge numbering; both faces of an edge
+  // use its rate, which is why the mesh has no cracks.
+  std::vector<int> edgeRates;
+  AdaptiveTessellationStats stats;
+  std::string warning;  // non-empty when the micropolygon cap coarsened the tessellation
+};
+
+// Tessellates every face that has a limit surface. Per mesh edge: where an adjacent face is in view
+// and needs dicing, rate = ceil(pixel length of the limit edge / dicingRate), clamped to
+// [1, min(maxEdgeRate, the largest texel cap of those faces)]; where an adjacent face is in view,
+// at least the coarse rate that follows the limit surface to coarseTolerance pixels; elsewhere 1.
+// A face is in view when the box of its limit patch, grown by displacement->bound(), is. If the
+// triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they fit,
+// and `warning` says so. displacement may be null (the undisplaced limit surface). Throws
+// meso::Error on invalid settings or per-face vectors of the wrong size. The output is the same,
+// bit for bit, whatever the number of threads.
+AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
+                                        const DicingSettings& settings, const FaceDicing& faces,
+                                        const VertexDisplacement* displacement);
+
+}  // namespace meso

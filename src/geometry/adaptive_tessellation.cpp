@@ -1,0 +1,277 @@
+// View-dependent dicing of a limit surface into displaced micropolygons (Becker & Max 1993 section
+// 2.3: vertices displaced along the normal; shared/DESIGN.md section 5: edges at most dicing_rate
+// pixels where a level may be displaced, elsewhere just fine enough to follow the limit surface,
+// rates shared between neighbouring patches).
+#include "meso/geometry/adaptive_tessellation.h"
+
+#include "limit_surface_impl.h"
+#include "meso/core/error.h"
+#include "meso/core/timer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace meso {
+
+ScreenMetric ScreenMetric::lookAt(Vec3 eye, Vec3 target, Vec3 up, float fovYDegrees, int width,
+                                  int height) {
+  ScreenMetric m;
+  m.eye = eye;
+  m.forward = glm::normalize(target - eye);
+  m.right = glm::normalize(glm::cross(m.forward, up));
+  m.up = glm::cross(m.right, m.forward);
+  m.tanHalfFovY = std::tan(radians(fovYDegrees) * 0.5f);
+  m.width = width;
+  m.height = height;
+  return m;
+}
+
+float ScreenMetric::pixelsPerUnit(float z) const {
+  return static_cast<float>(height) / (2.0f * tanHalfFovY * std::max(z, nearDistance));
+}
+
+Vec2 ScreenMetric::toPixels(Vec3 p) const {
+  const Vec3 d = p - eye;
+  const float scale = pixelsPerUnit(glm::dot(d, forward));
+  return Vec2(0.5f * static_cast<float>(width) + glm::dot(d, right) * scale,
+              0.5f * static_cast<float>(height) - glm::dot(d, up) * scale);
+}
+
+float ScreenMetric::projectedLength(Vec3 a, Vec3 b) const {
+  const float za = depth(a), zb = depth(b);
+  if (!(za >= nearDistance) && !(zb >= nearDistance)) return 0.0f;
+  // Clip to the near plane: the part behind it is not seen, and its projection would blow up.
+  if (za < nearDistance) a += (b - a) * ((nearDistance - za) / (zb - za));
+  if (zb < nearDistance) b += (a - b) * ((nearDistance - zb) / (za - zb));
+  return glm::length(toPixels(a) - toPixels(b));
+}
+
+bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
+  lo -= Vec3(grow);
+  hi += Vec3(grow);
+  const float ty = tanHalfFovY;
+  const float tx = ty * static_cast<float>(width) / static_cast<float>(height);
+  // The box is outside a plane dot(n, p - eye) > c when its corner nearest the inside is.
+  struct Plane {
+    Vec3 n;
+    float c;
+  };
+  const Plane planes[5] = {{right - tx * forward, 0.0f},
+                           {-right - tx * forward, 0.0f},
+                           {up - ty * forward, 0.0f},
+                           {-up - ty * forward, 0.0f},
+                           {-forward, -nearDistance}};
+  for (const Plane& plane : planes) {
+    const Vec3 nearest(plane.n.x > 0.0f ? lo.x : hi.x, plane.n.y > 0.0f ? lo.y : hi.y,
+                       plane.n.z > 0.0f ? lo.z : hi.z);
+    if (glm::dot(plane.n, nearest - eye) > plane.c) return false;
+  }
+  return true;
+}
+
+namespace {
+
+using OpenSubdiv::Far::ConstIndexArray;
+
+// What the rate of one mesh edge depends on, measured once; rates for any coarsening follow.
+struct EdgeMeasure {
+  enum Kind : char { Culled, Coarse, Diced };
+  Kind kind = Culled;
+  float lengthPx = 0.0f;        // pixel length of the limit edge
+  float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
+  int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
+};
+
+void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDicing& faces) {
+  if (!(s.dicingRate > 0.0f) || !std::isfinite(s.dicingRate))
+    throw Error("dicing rate must be a positive number of pixels (got " +
+                std::to_string(s.dicingRate) + ")");
+  if (s.maxEdgeRate < 1 || s.maxEdgeRate > std::numeric_limits<short>::max())
+    throw Error("maximum edge rate must be in [1, 32767] (got " + std::to_string(s.maxEdgeRate) +
+                ")");
+  if (!(s.coarseTolerance > 0.0f))
+    throw Error("coarse tolerance must be a positive number of pixels");
+  if (s.maxMicropolygons < 1) throw Error("micropolygon cap must be at least 1");
+  const size_t n = static_cast<size_t>(surface.numFaces());
+  if (!faces.needsDicing.empty() && faces.needsDicing.size() != n)
+    throw Error("needsDicing has " + std::to_string(faces.needsDicing.size()) + " entries for " +
+                std::to_string(n) + " faces");
+  if (!faces.texelCap.empty() && faces.texelCap.size() != n)
+    throw Error("texelCap has " + std::to_string(faces.texelCap.size()) + " entries for " +
+                std::to_string(n) + " faces");
+  for (int cap : faces.texelCap)
+    if (cap < 0) throw Error("texel caps must be 0 (none) or positive rates");
+}
+
+// A face is in view when the box of its patch points, grown by the displacement bound, is: the
+// limit patch lies in the convex hull of its patch points (B-spline and Gregory bases are
+// non-negative and sum to one), so the box is conservative.
+std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow) {
+  const LimitSurface::Impl& impl = surface.impl();
+  std::vector<char> inView(surface.numFaces(), 0);
+  tbb::parallel_for(0, surface.numFaces(), [&](int f) {
+    const LimitSurface::Impl::Face& face = impl.faces[f];
+    if (!face.surface.IsValid()) return;
+    Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
+    const float* p = &impl.patchPoints[face.patchOffset];
+    for (int i = 0; i < face.surface.GetNumPatchPoints(); ++i, p += 3) {
+      lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
+      hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
+    }
+    inView[f] = screen.boxInView(lo, hi, grow);
+  });
+  return inView;
+}
+
+// Pixel length of the limit edge from a few points along it, and the segments a polyline needs to
+// stay within `tolerance` pixels of it: a chord's deviation from a smooth curve falls as 1/n^2 with
+// n segments. Deviations are scaled by the pixels per unit at their depth, which is conservative
+// (it ignores foreshortening).
+void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
+                      EdgeRateTessellator::Use owner, float tolerance, EdgeMeasure& m) {
+  constexpr int kSegments = 4;
+  const LimitSurface::Impl& impl = surface.impl();
+  const int n = surface.faceSize(owner.face);
+  const Vec2 s0 = impl.cornerSt(owner.face, owner.corner);
+  const Vec2 s1 = impl.cornerSt(owner.face, (owner.corner + 1) % n);
+  Vec3 P[kSegments + 1];
+  for (int k = 0; k <= kSegments; ++k)
+    P[k] = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments)).P;
+  float length = 0.0f, deviationPx = 0.0f;
+  for (int k = 0; k < kSegments; ++k) length += screen.projectedLength(P[k], P[k + 1]);
+  for (int k = 1; k < kSegments; ++k) {
+    const float z = screen.depth(P[k]);
+    if (!(z >= screen.nearDistance)) continue;
+    const Vec3 chord = glm::mix(P[0], P[kSegments], float(k) / kSegments);
+    deviationPx = std::max(deviationPx, glm::length(P[k] - chord) * screen.pixelsPerUnit(z));
+  }
+  m.lengthPx = std::isfinite(length) ? length : 0.0f;
+  m.coarseSegments = std::isfinite(deviationPx) ? std::sqrt(deviationPx / tolerance) : 0.0f;
+}
+
+std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface, const EdgeRateTessellator& engine,
+                                      const ScreenMetric& screen, const DicingSettings& settings,
+                                      const FaceDicing& faces, const std::vector<char>& inView) {
+  const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
+  std::vector<EdgeMeasure> measures(engine.numEdges());
+  tbb::parallel_for(0, engine.numEdges(), [&](int e) {
+    EdgeMeasure& m = measures[e];
+    bool uncapped = false;
+    for (int f : base.GetEdgeFaces(e)) {
+      if (!inView[f]) continue;
+      m.kind = std::max(m.kind, EdgeMeasure::Coarse);
+      if (!faces.needsDicing.empty() && !faces.needsDicing[f]) continue;
+      m.kind = EdgeMeasure::Diced;
+      const int cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
+      uncapped = uncapped || cap == 0;
+      m.cap = std::max(m.cap, cap);
+    }
+    if (uncapped) m.cap = 0;
+    if (m.kind != EdgeMeasure::Culled)
+      measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.coarseTolerance, m);
+  });
+  return measures;
+}
+
+// ceil(x) clamped to [1, limit]; NaN gives 1.
+int toRate(float x, int limit) {
+  if (!(x > 1.0f)) return 1;
+  return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
+}
+
+// The rate of an edge when every rate is coarsened by `coarsening` (1: as asked).
+int edgeRate(const EdgeMeasure& m, const DicingSettings& s, float coarsening) {
+  if (m.kind == EdgeMeasure::Culled) return 1;
+  int rate = toRate(m.coarseSegments / coarsening, s.maxEdgeRate);
+  if (m.kind == EdgeMeasure::Diced) {
+    const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
+    rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), limit));
+  }
+  return rate;
+}
+
+std::string capWarning(size_t asked, const DicingSettings& s, float coarsening, size_t got) {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "adaptive tessellation: %zu micropolygons would exceed the cap of %zu; every edge "
+                "rate coarsened by %.3g (dicing rate %.3g px instead of %.3g), giving %zu%s",
+                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate,
+                got, got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
+  return text;
+}
+
+// Rates for the measures, coarsened by one common factor until the triangles fit under the cap.
+// Triangles grow as the square of the rates, so the factor starts at sqrt(count / cap).
+std::vector<int> chooseRates(EdgeRateTessellator& engine, const std::vector<EdgeMeasure>& measures,
+                             const DicingSettings& s, AdaptiveTessellation& result) {
+  std::vector<int> rates(measures.size());
+  float coarsening = 1.0f;
+  size_t asked = 0;
+  for (int iteration = 0;; ++iteration) {
+    int maxRate = 1;
+    for (size_t e = 0; e < measures.size(); ++e) {
+      rates[e] = edgeRate(measures[e], s, coarsening);
+      maxRate = std::max(maxRate, rates[e]);
+    }
+    const size_t count = engine.countFacets(rates);
+    if (iteration == 0) asked = count;
+    if (count <= s.maxMicropolygons || maxRate == 1 || iteration == 64) {
+      if (iteration > 0) result.warning = capWarning(asked, s, coarsening, count);
+      break;
+    }
+    const double ratio = static_cast<double>(count) / static_cast<double>(s.maxMicropolygons);
+    coarsening *= static_cast<float>(std::max(1.02, 1.02 * std::sqrt(ratio)));
+  }
+  result.stats.coarsening = coarsening;
+  return rates;
+}
+
+void countFaces(const LimitSurface& surface, const FaceDicing& faces,
+                const std::vector<char>& inView, AdaptiveTessellationStats& stats) {
+  for (int f = 0; f < surface.numFaces(); ++f) {
+    if (!surface.hasLimitSurface(f)) continue;
+    if (!inView[f])
+      ++stats.facesCulled;
+    else if (faces.needsDicing.empty() || faces.needsDicing[f])
+      ++stats.facesDiced;
+  }
+}
+
+}  // namespace
+
+AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
+                                        const DicingSettings& settings, const FaceDicing& faces,
+                                        const VertexDisplacement* displacement) {
+  validate(surface, settings, faces);
+  AdaptiveTessellation result;
+  AdaptiveTessellationStats& stats = result.stats;
+  Timer timer;
+  const float bound = displacement ? std::max(displacement->bound(), 0.0f) : 0.0f;
+  const std::vector<char> inView = facesInView(surface, screen, bound);
+  EdgeRateTessellator engine(surface);
+  const std::vector<EdgeMeasure> measures =
+      measureEdges(surface, engine, screen, settings, faces, inView);
+  result.edgeRates = chooseRates(engine, measures, settings, result);
+  countFaces(surface, faces, inView, stats);
+  stats.rateSeconds = timer.seconds();
+
+  timer.reset();
+  result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids);
+  stats.evaluateSeconds = timer.seconds();
+  stats.micropolygons = result.mesh.numTriangles();
+  stats.vertices = result.mesh.positions.size();
+  if (!result.edgeRates.empty()) {
+    const auto [lo, hi] = std::minmax_element(result.edgeRates.begin(), result.edgeRates.end());
+    stats.minEdgeRate = *lo;
+    stats.maxEdgeRate = *hi;
+  }
+  return result;
+}
+
+}  // namespace meso

@@ -1,0 +1,417 @@
+#include "meso/geometry/adaptive_tessellation.h"
+
+#include "geometry/test_meshes.h"
+#include "meso/core/error.h"
+#include "meso/core/rng.h"
+#include "meso/geometry/ray_scene.h"
+#include "meso/scene/camera.h"
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace meso {
+namespace {
+
+// The cube [-1, 1]^3 with n x n quads on each side, counter-clockwise seen from outside: many faces,
+// so near and far faces sit side by side.
+ControlMesh refinedCube(int n) {
+  ControlMesh mesh;
+  std::map<std::tuple<int, int, int>, int> index;
+  auto vertex = [&](int i, int j, int k) {
+    const auto [it, added] = index.try_emplace({i, j, k}, static_cast<int>(mesh.positions.size()));
+    if (added) mesh.positions.push_back(Vec3(i, j, k) * (2.0f / n) - Vec3(1.0f));
+    return it->second;
+  };
+  // Each side: a fixed axis at 0 or n, and two running axes (a, b) with a x b pointing outward.
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int a = (axis + (side ? 1 : 2)) % 3, b = (axis + (side ? 2 : 1)) % 3;
+      for (int p = 0; p < n; ++p)
+        for (int q = 0; q < n; ++q) {
+          int c[4][3];
+          const int corners[4][2] = {{p, q}, {p + 1, q}, {p + 1, q + 1}, {p, q + 1}};
+          for (int k = 0; k < 4; ++k) {
+            c[k][axis] = side * n;
+            c[k][a] = corners[k][0];
+            c[k][b] = corners[k][1];
+          }
+          test::addFace(mesh, {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
+                               vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
+        }
+    }
+  return mesh;
+}
+
+// A smooth relief of both signs along the limit normal: 0.05 sin sin sin of the limit position,
+// continuous across faces because P and N are.
+struct WaveDisplacement : VertexDisplacement {
+  float amplitude = 0.05f;
+  Vec3 offset(int, Vec2, const SurfacePoint& sp) const override {
+    const Vec3 p = sp.P;
+    return amplitude * std::sin(5.0f * p.x) * std::sin(4.0f * p.y + 1.0f) *
+           std::sin(3.0f * p.z + 2.0f) * sp.N;
+  }
+  float bound() const override { return amplitude; }
+};
+
+// Height field h(x, y) = A sin(a x) sin(b y) over the plane z = 0 (normal +z), whose exact normal is
+// normalize(-h_x, -h_y, 1).
+struct HeightField : VertexDisplacement {
+  float A = 0.15f, a = 2.0f, b = 3.0f;
+  Vec3 offset(int, Vec2, const SurfacePoint& sp) const override {
+    return A * std::sin(a * sp.P.x) * std::sin(b * sp.P.y) * sp.N;
+  }
+  float bound() const override { return A; }
+  Vec3 normal(float x, float y) const {
+    const float hx = A * a * std::cos(a * x) * std::sin(b * y);
+    const float hy = A * b * std::sin(a * x) * std::cos(b * y);
+    return glm::normalize(Vec3(-hx, -hy, 1.0f));
+  }
+};
+
+Vec3 randomDirection(Rng& rng) {
+  const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+// Every edge used by exactly two triangles, once in each direction: closed and oriented.
+int countOpenEdges(const TessellatedMesh& mesh) {
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;  // +1 forward, +16 backward
+  for (size_t t = 0; t < mesh.numTriangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.indices[3 * t + k], b = mesh.indices[3 * t + (k + 1) % 3];
+      uses[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : 16;
+    }
+  int open = 0;
+  for (const auto& [edge, count] : uses) open += count != 17;
+  return open;
+}
+
+// Quads whose edges got different rates (the case that needs Bfr's non-uniform patterns): equal
+// rates R give 2 R^2 triangles.
+int nonUniformQuads(const LimitSurface& surface, const TessellatedMesh& mesh) {
+  std::vector<int> perFace(surface.numFaces(), 0);
+  for (int f : mesh.triangleFace) ++perFace[f];
+  int count = 0;
+  for (int f = 0; f < surface.numFaces(); ++f) {
+    if (surface.faceSize(f) != 4) continue;
+    const int r = static_cast<int>(std::lround(std::sqrt(perFace[f] / 2.0)));
+    count += perFace[f] != 2 * r * r;
+  }
+  return count;
+}
+
+void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, int numRays) {
+  const LimitSurface surface(control, SubdivisionScheme::CatmullClark);
+  const WaveDisplacement wave;
+  // Diced faces (at every other index) next to coarse ones, on top of the rates the distance gives.
+  FaceDicing faces;
+  for (int f = 0; f < surface.numFaces(); ++f) faces.needsDicing.push_back(f % 2 == 0);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, DicingSettings{}, faces, &wave);
+  std::printf("  %d faces: %zu micropolygons, edge rates %d..%d\n", surface.numFaces(),
+              t.stats.micropolygons, t.stats.minEdgeRate, t.stats.maxEdgeRate);
+  // The camera close to one side and coarse faces between diced ones make rates differ strongly,
+  // also within single faces.
+  EXPECT_GE(t.stats.maxEdgeRate, 8 * t.stats.minEdgeRate);
+  EXPECT_GT(nonUniformQuads(surface, t.mesh), 0);
+  EXPECT_EQ(countOpenEdges(t.mesh), 0);
+
+  // Embree's WatertightTest, on the triangles alone and with the face interiors as Embree grids.
+  RayScene triangles, grids;
+  triangles.addMesh(t.mesh);
+  grids.addMesh(t.mesh, t.grids);
+  triangles.commit();
+  grids.commit();
+  Rng rng(1234);
+  int escapes[2] = {0, 0};
+  for (int i = 0; i < numRays; ++i) {
+    const Vec3 origin = 0.2f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+    const Ray ray{origin, randomDirection(rng)};
+    RayHit hit;
+    escapes[0] += !triangles.intersect(ray, hit);
+    escapes[1] += !grids.intersect(ray, hit);
+  }
+  EXPECT_EQ(escapes[0], 0) << "triangles";
+  EXPECT_EQ(escapes[1], 0) << "grids";
+}
+
+TEST(AdaptiveTessellation, DisplacedClosedSurfacesWithMixedRatesAreWatertight) {
+  // Eye 1.3 units in front of the +z side, looking at the object's centre.
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.3f, 0.2f, 2.3f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 320, 180);
+  expectWatertight(refinedCube(3), screen, 100000);
+  expectWatertight(test::mixedPrism(), screen, 100000);
+}
+
+// Facet normals of the displaced plane approach the exact normal of the height field as
+// micropolygons shrink (Chan 2002: facets only converge; shading uses the limit frames instead).
+float meanFacetAngle(const TessellatedMesh& mesh, const HeightField& field) {
+  double sum = 0.0;
+  for (size_t t = 0; t < mesh.numTriangles(); ++t) {
+    const Vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
+               c = mesh.positions[mesh.indices[3 * t + 2]];
+    const Vec3 centroid = (a + b + c) / 3.0f;
+    const Vec3 facet = glm::normalize(glm::cross(b - a, c - a));
+    const float cosine = glm::dot(facet, field.normal(centroid.x, centroid.y));
+    sum += std::acos(std::clamp(cosine, -1.0f, 1.0f));
+  }
+  return static_cast<float>(sum / static_cast<double>(std::max<size_t>(mesh.numTriangles(), 1)));
+}
+
+TEST(AdaptiveTessellation, FacetNormalsConvergeToTheDisplacedSurfaceNormal) {
+  const LimitSurface surface(test::grid(4), SubdivisionScheme::CatmullClark);
+  const HeightField field;
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(2.0f, 2.0f, 4.0f), Vec3(2.0f, 2.0f, 0.0f), Vec3(0, 1, 0), 60.0f,
+                           160, 90);
+  float previous = kPi;
+  for (float dicingRate : {4.0f, 1.0f, 0.25f}) {
+    DicingSettings settings;
+    settings.dicingRate = dicingRate;
+    const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, &field);
+    const float angle = meanFacetAngle(t.mesh, field);
+    std::printf("  dicing rate %.2f px: %zu micropolygons, mean facet angle %.4f degrees\n",
+                dicingRate, t.stats.micropolygons, degrees(angle));
+    EXPECT_LT(angle, 0.5f * previous) << "dicing rate " << dicingRate;
+    previous = angle;
+  }
+}
+
+TEST(AdaptiveTessellation, DisplacementStaysWithinItsBound) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const WaveDisplacement wave;
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(1.0f, 2.0f, 4.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 320, 180);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, &wave);
+  // Each corner's own face and st lead back to the limit point the vertex was displaced from
+  // (shared vertices were displaced once, from their first face: the same limit point).
+  float largest = 0.0f;
+  for (size_t c = 0; c < t.mesh.indices.size(); ++c) {
+    const Vec3 limit = surface.evaluate(t.mesh.triangleFace[c / 3], t.mesh.cornerSt[c]).P;
+    const float d = glm::length(t.mesh.positions[t.mesh.indices[c]] - limit);
+    ASSERT_LE(d, wave.bound() * (1.0f + 1e-5f) + 1e-5f) << "corner " << c;
+    largest = std::max(largest, d);
+  }
+  EXPECT_GT(largest, 0.5f * wave.bound());  // the relief is really there
+}
+
+size_t micropolygons(const LimitSurface& surface, float distance, const FaceDicing& faces) {
+  const Vec3 eye = distance * glm::normalize(Vec3(0.4f, 0.5f, 1.0f));
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(eye, Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  return tessellateAdaptive(surface, screen, {}, faces, nullptr).stats.micropolygons;
+}
+
+TEST(AdaptiveTessellation, MicropolygonsFallWithTheSquareOfDistance) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const size_t near = micropolygons(surface, 6.0f, {}), far = micropolygons(surface, 12.0f, {});
+  const double ratio = static_cast<double>(far) / static_cast<double>(near);
+  std::printf("  distance 6: %zu, distance 12: %zu micropolygons (ratio %.3f)\n", near, far, ratio);
+  EXPECT_GE(ratio, 0.2);
+  EXPECT_LE(ratio, 0.33);
+}
+
+TEST(AdaptiveTessellation, DistantCameraGivesTheCoarseTessellationOnly) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  FaceDicing none;
+  none.needsDicing.assign(surface.numFaces(), 0);
+  // At 6 units dicing adds triangles; at 5000 it has nothing left to add.
+  EXPECT_GT(micropolygons(surface, 6.0f, {}), micropolygons(surface, 6.0f, none));
+  EXPECT_EQ(micropolygons(surface, 5000.0f, {}), micropolygons(surface, 5000.0f, none));
+}
+
+TEST(AdaptiveTessellation, CapCoarsensWithAWarning) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f, 1.0f, 5.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  const AdaptiveTessellation full = tessellateAdaptive(surface, screen, {}, {}, nullptr);
+  EXPECT_TRUE(full.warning.empty()) << full.warning;
+  EXPECT_EQ(full.stats.coarsening, 1.0f);
+  DicingSettings settings;
+  settings.maxMicropolygons = 5000;
+  const AdaptiveTessellation capped = tessellateAdaptive(surface, screen, settings, {}, nullptr);
+  std::printf("  uncapped %zu, capped %zu micropolygons (coarsening %.3f)\n  %s\n",
+              full.stats.micropolygons, capped.stats.micropolygons, capped.stats.coarsening,
+              capped.warning.c_str());
+  ASSERT_GT(full.stats.micropolygons, 10 * settings.maxMicropolygons);
+  EXPECT_LE(capped.stats.micropolygons, settings.maxMicropolygons);
+  EXPECT_GT(capped.stats.micropolygons, settings.maxMicropolygons / 4);  // coarsened, not wiped out
+  EXPECT_FALSE(capped.warning.empty());
+  EXPECT_GT(capped.stats.coarsening, 1.0f);
+}
+
+template <class T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(AdaptiveTessellation, SameBitsForOneAndTwoThreads) {
+  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
+  const WaveDisplacement wave;
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.5f, 1.0f, 3.0f), Vec3(0.0f), Vec3(0, 1, 0), 50.0f, 320, 180);
+  FaceDicing faces;
+  faces.needsDicing = {1, 0, 1, 1, 0, 1, 1, 0};
+  faces.texelCap = {0, 0, 12, 0, 0, 40, 0, 0};
+  AdaptiveTessellation t[2];
+  for (int threads : {1, 2}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { t[threads - 1] = tessellateAdaptive(surface, screen, {}, faces, &wave); });
+  }
+  EXPECT_GT(t[0].stats.micropolygons, 1000u);
+  EXPECT_TRUE(sameBits(t[0].edgeRates, t[1].edgeRates));
+  EXPECT_TRUE(sameBits(t[0].mesh.positions, t[1].mesh.positions));
+  EXPECT_TRUE(sameBits(t[0].mesh.indices, t[1].mesh.indices));
+  EXPECT_TRUE(sameBits(t[0].mesh.triangleFace, t[1].mesh.triangleFace));
+  EXPECT_TRUE(sameBits(t[0].mesh.cornerSt, t[1].mesh.cornerSt));
+}
+
+// Equal rates everywhere are the uniform tessellation, bit for bit.
+TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
+  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
+  // Looking away: every face is culled, so every edge gets rate 1.
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 5.0f), Vec3(0.0f, 0.0f, 10.0f), Vec3(0, 1, 0), 40.0f,
+                           640, 360);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, nullptr);
+  EXPECT_EQ(t.stats.facesCulled, surface.numFaces());
+  const TessellatedMesh u = tessellateUniform(surface, 1);
+  EXPECT_TRUE(sameBits(t.mesh.positions, u.positions));
+  EXPECT_TRUE(sameBits(t.mesh.indices, u.indices));
+  EXPECT_TRUE(sameBits(t.mesh.cornerSt, u.cornerSt));
+}
+
+TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 2.5f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 640, 360);
+  DicingSettings settings;
+  settings.maxEdgeRate = 64;
+  const AdaptiveTessellation free = tessellateAdaptive(surface, screen, settings, {}, nullptr);
+  EXPECT_EQ(free.stats.maxEdgeRate, 64);
+  FaceDicing capped;
+  capped.texelCap.assign(surface.numFaces(), 10);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, capped, nullptr);
+  // The cap bounds dicing; only the coarse rate (following the limit surface) may exceed it.
+  EXPECT_LE(t.stats.maxEdgeRate, 10 + 4);
+  EXPECT_LT(t.stats.micropolygons, free.stats.micropolygons);
+}
+
+TEST(AdaptiveTessellation, InvalidSettingsThrow) {
+  const LimitSurface surface(test::cube(), SubdivisionScheme::CatmullClark);
+  const ScreenMetric screen;
+  DicingSettings bad;
+  bad.dicingRate = 0.0f;
+  EXPECT_THROW(tessellateAdaptive(surface, screen, bad, {}, nullptr), Error);
+  bad = DicingSettings{};
+  bad.maxEdgeRate = 0;
+  EXPECT_THROW(tessellateAdaptive(surface, screen, bad, {}, nullptr), Error);
+  FaceDicing wrongSize;
+  wrongSize.needsDicing.assign(3, 1);
+  EXPECT_THROW(tessellateAdaptive(surface, screen, {}, wrongSize, nullptr), Error);
+}
+
+// Grids change how Embree stores the mesh, not what a hit reports: the same triangle (but for rays
+// through a shared edge), distance and patch coordinates as the all-triangle scene.
+TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const WaveDisplacement wave;
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(1.0f, 1.5f, 4.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 320, 180);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, &wave);
+  size_t inGrids = 0;
+  for (const TriangleGrid& g : t.grids) inGrids += 2 * size_t(g.width - 1) * (g.height - 1);
+  std::printf("  %zu of %zu micropolygons in %zu grids\n", inGrids, t.mesh.numTriangles(),
+              t.grids.size());
+  EXPECT_GT(inGrids, t.mesh.numTriangles() / 2);
+  RayScene triangles, grids;
+  triangles.addMesh(t.mesh);
+  EXPECT_EQ(grids.addMesh(t.mesh, t.grids), 0);
+  triangles.commit();
+  grids.commit();
+  EXPECT_EQ(grids.numTriangles(), t.mesh.numTriangles());
+  Rng rng(99);
+  int sameTriangle = 0, hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Ray ray{Vec3(0.0f), randomDirection(rng)};
+    RayHit a, b;
+    ASSERT_TRUE(triangles.intersect(ray, a));
+    ASSERT_TRUE(grids.intersect(ray, b));
+    ++hits;
+    sameTriangle += a.triangle == b.triangle;
+    EXPECT_EQ(b.mesh, 0);
+    EXPECT_NEAR(a.t, b.t, 1e-5f * a.t);
+    const Vec2 stA = t.mesh.patchCoords(a.triangle, a.b1, a.b2);
+    const Vec2 stB = t.mesh.patchCoords(b.triangle, b.b1, b.b2);
+    if (t.mesh.triangleFace[a.triangle] == t.mesh.triangleFace[b.triangle]) {
+      EXPECT_LT(glm::length(stA - stB), 1e-4f) << "ray " << i;
+    }
+  }
+  EXPECT_GT(sameTriangle, hits * 99 / 100);
+}
+
+TEST(AdaptiveTessellation, GridsThatDoNotFitTheMeshThrow) {
+  const TessellatedMesh mesh =
+      tessellateUniform(LimitSurface(test::cube(), SubdivisionScheme::CatmullClark), 2);
+  RayScene scene;
+  EXPECT_THROW(scene.addMesh(mesh, {TriangleGrid{0, 0, 40, 2}}), Error);
+  EXPECT_THROW(scene.addMesh(mesh, {TriangleGrid{0, 0, 2, 2}, TriangleGrid{0, 1, 2, 2}}), Error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The screen metric.
+
+TEST(ScreenMetric, ProjectsLikeTheCamera) {
+  CameraSettings settings;
+  settings.position = Vec3(1.0f, 2.0f, 3.0f);
+  settings.lookAt = Vec3(-1.0f, 0.5f, -2.0f);
+  settings.fovY = 50.0f;
+  const Camera camera(settings);
+  const ScreenMetric screen = ScreenMetric::lookAt(settings.position, settings.lookAt, settings.up,
+                                                   settings.fovY, settings.width, settings.height);
+  Rng rng(5);
+  for (int i = 0; i < 100; ++i) {
+    const Vec2 pixel(800.0f * rng.uniform() - 80.0f, 400.0f * rng.uniform() - 20.0f);
+    const Ray ray = camera.generateRay(pixel.x, pixel.y);
+    const Vec2 found = screen.toPixels(ray.origin + (0.5f + 9.0f * rng.uniform()) * ray.direction);
+    EXPECT_LT(glm::length(found - pixel), 1e-2f) << pixel.x << "," << pixel.y;
+  }
+}
+
+TEST(ScreenMetric, ProjectedLengthClipsBehindTheEye) {
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f), Vec3(0, 0, -1), Vec3(0, 1, 0), 90.0f, 200, 100);
+  // A unit segment across the view at depth 2: 100 / (2 tan 45 * 2) = 25 pixels per unit.
+  EXPECT_NEAR(screen.projectedLength(Vec3(-0.5f, 0, -2), Vec3(0.5f, 0, -2)), 25.0f, 1e-4f);
+  EXPECT_NEAR(screen.pixelsPerUnit(2.0f), 25.0f, 1e-4f);
+  EXPECT_EQ(screen.projectedLength(Vec3(-1, 0, 1), Vec3(1, 0, 2)), 0.0f);  // wholly behind
+  const float crossing = screen.projectedLength(Vec3(0.2f, 0, 1), Vec3(0.2f, 0, -1));
+  EXPECT_TRUE(std::isfinite(crossing));
+  EXPECT_GT(crossing, 0.0f);
+}
+
+TEST(ScreenMetric, BoxTestCullsOnlyBoxesOutsideTheFrustum) {
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f), Vec3(0, 0, -1), Vec3(0, 1, 0), 90.0f, 200, 100);
+  EXPECT_TRUE(screen.boxInView(Vec3(-0.1f, -0.1f, -3.0f), Vec3(0.1f, 0.1f, -2.0f), 0.0f));
+  EXPECT_FALSE(screen.boxInView(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 2.0f), 0.0f));
+  // Half width at depth 1 is 2 (aspect 2), half height 1.
+  EXPECT_FALSE(screen.boxInView(Vec3(2.5f, -0.1f, -1.1f), Vec3(3.0f, 0.1f, -1.0f), 0.0f));
+  EXPECT_TRUE(screen.boxInView(Vec3(2.5f, -0.1f, -1.1f), Vec3(3.0f, 0.1f, -1.0f), 0.6f));
+  EXPECT_FALSE(screen.boxInView(Vec3(-0.1f, 1.2f, -1.1f), Vec3(0.1f, 1.5f, -1.0f), 0.0f));
+  // A box around the eye is always in view.
+  EXPECT_TRUE(screen.boxInView(Vec3(-1.0f), Vec3(1.0f), 0.0f));
+}
+
+}  // namespace
+}  // namespace meso
