@@ -25,6 +25,19 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->add_option("--tessellation-rate", o.tessellationRate, "Uniform Bfr tessellation rate per base-face edge")->check(CLI::Range(1, 64));
   render->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
   render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
+  render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
+      ->check(CLI::Range(0.01f, 1000.0f));
+  render->add_option("--max-micropolygons", o.maxMicropolygons,
+                     "Cap per frame; a frame over it is diced coarser, with a warning (overrides render.max_micropolygons)")
+      ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
+  render->add_option("--normals", o.normals, "Shading normal of --algorithm displacement: bump (the paper's) or facet")
+      ->check(CLI::IsMember({"bump", "facet"}));
+  render->add_option("--D", o.transitionD, "Transition D: pixels per shortest wavelength below which a level is not displaced (render.transition.D)")
+      ->check(CLI::Range(0.0f, 1e6f));
+  render->add_option("--eps", o.transitionEps, "Transition eps of T = (nu - D) / (cos theta_V + eps) (render.transition.eps)")
+      ->check(CLI::Range(0.0f, 1e6f));
+  render->add_option("--thresholds", o.thresholds, "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
+      ->delimiter(',')->expected(4);
   render->add_flag("--false-colour,--false-color", o.falseColour,
                    "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, displacement red, synthesis magenta)");
   render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]; default all");

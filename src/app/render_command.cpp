@@ -6,6 +6,7 @@
 #include "meso/core/timer.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
+#include "meso/render/transition.h"
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
 
@@ -40,14 +41,14 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.tessellationRate) scene.render.tessellationRate = *o.tessellationRate;
   if (o.width) scene.camera.width = *o.width;
   if (o.height) scene.camera.height = *o.height;
-}
-
-// The displacement renderer needs the view-dependent micropolygon tessellation of issue 5, which is
-// not wired into this version: say so instead of silently rendering something else.
-void checkAlgorithm(const Scene& scene) {
-  if (scene.render.algorithm == "displacement")
-    throw Error(scene.file.string() + ": render.algorithm: 'displacement' is not available in this version of meso "
-                "(available: auto, brdf, bump, redistribution)");
+  if (o.dicingRate) scene.render.dicingRate = *o.dicingRate;
+  if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
+  if (o.normals) scene.render.normals = *o.normals;
+  TransitionSettings& t = scene.render.transition;
+  if (o.transitionD) t.D = *o.transitionD;
+  if (o.transitionEps) t.eps = *o.transitionEps;
+  if (o.thresholds.size() == 4) t.e1 = o.thresholds[0], t.e2 = o.thresholds[1], t.e3 = o.thresholds[2], t.e4 = o.thresholds[3];
+  validateTransitionSettings(t, "--D/--eps/--thresholds");
 }
 
 nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& output) {
@@ -62,6 +63,12 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"seed", scene.render.seed},
           {"threads", scene.render.threads},
           {"tessellation_rate", scene.render.tessellationRate},
+          {"dicing_rate", scene.render.dicingRate},
+          {"max_micropolygons", scene.render.maxMicropolygons},
+          {"normals", scene.render.normals},
+          {"transition", {{"D", scene.render.transition.D}, {"eps", scene.render.transition.eps},
+                          {"e1", scene.render.transition.e1}, {"e2", scene.render.transition.e2},
+                          {"e3", scene.render.transition.e3}, {"e4", scene.render.transition.e4}}},
           {"width", c.width},
           {"height", c.height},
           {"spp", c.spp},
@@ -164,7 +171,6 @@ void runRender(const RenderCommandOptions& o) {
   Timer total, phase;
   Scene scene = loadScene(o.scene);
   applyOverrides(o, scene);
-  checkAlgorithm(scene);
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
     throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");
@@ -178,8 +184,16 @@ void runRender(const RenderCommandOptions& o) {
   if (!output.parent_path().empty()) std::filesystem::create_directories(output.parent_path());
 
   PrepareTimes prep;
-  RenderContext ctx = prepareRenderContext(scene, prep);
-  for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  RenderContext ctx = prepareRenderContext(scene, prep, false);
+  FrameGeometryStats geometry;
+  if (!animated) geometry = prepareFrame(ctx, scene.camera, prep);
+  size_t reportedWarnings = 0;
+  const auto reportWarnings = [&] {
+    for (; reportedWarnings < ctx.warnings.size(); ++reportedWarnings)
+      std::fprintf(stderr, "meso: warning: %s\n", ctx.warnings[reportedWarnings].c_str());
+  };
+  reportWarnings();
+  size_t maxMicropolygons = geometry.micropolygons, maxTriangles = ctx.numTriangles();
   RenderCounters counters;
   nlohmann::json perFrame = nlohmann::json::array();
   double renderSeconds = 0.0, writeSeconds = 0.0;
@@ -190,7 +204,12 @@ void runRender(const RenderCommandOptions& o) {
       ++skipped;
       continue;
     }
-    if (path) ctx.camera = Camera(path->frame(f, scene.path.frames, scene.camera));
+    if (path) {
+      geometry = prepareFrame(ctx, path->frame(f, scene.path.frames, scene.camera), prep);
+      reportWarnings();
+      maxMicropolygons = std::max(maxMicropolygons, geometry.micropolygons);
+      maxTriangles = std::max(maxTriangles, ctx.numTriangles());
+    }
     phase.reset();
     const int64_t raysBefore = counters.rays.load();
     RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour, &gInterrupted};
@@ -209,7 +228,11 @@ void runRender(const RenderCommandOptions& o) {
     writeSeconds += w;
     ++rendered;
     perFrame.push_back({{"frame", f}, {"output", exr.string()}, {"rays", counters.rays.load() - raysBefore},
-                        {"seconds", {{"render", r}, {"write", w}}}});
+                        {"triangles", ctx.numTriangles()}, {"micropolygons", geometry.micropolygons},
+                        {"faces_diced", geometry.facesDiced}, {"dicing_coarsened_by", geometry.coarsening},
+                        {"geometry_rebuilt", geometry.rebuilt},
+                        {"seconds", {{"tessellate", geometry.tessellateSeconds}, {"bvh", geometry.bvhSeconds},
+                                     {"render", r}, {"write", w}}}});
     if (!o.quiet)
       std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", exr.string().c_str(),
                    png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
@@ -220,12 +243,19 @@ void runRender(const RenderCommandOptions& o) {
   if (!o.video.empty()) assembleVideo(o.video, output, scene.path.fps);
 
   if (!o.statsFile.empty()) {
+    const double peak = peakRssMib();
     nlohmann::json stats = {
         {"seconds", {{"parse", parseSeconds + prep.load}, {"tessellate", prep.tessellate}, {"bvh", prep.bvh},
                      {"render", renderSeconds}, {"write", writeSeconds}, {"total", total.seconds()}}},
-        {"peak_rss_mib", peakRssMib()},
+        {"peak_rss_mib", peak},
         {"rays", counters.rays.load()},
-        {"triangles", ctx.numTriangles()},
+        {"triangles", maxTriangles},
+        {"micropolygons", maxMicropolygons},
+        {"tessellate_seconds", prep.tessellate},
+        {"bvh_seconds", prep.bvh},
+        {"peak_mib_per_million_micropolygons",
+         maxMicropolygons > 0 ? nlohmann::json(peak / (static_cast<double>(maxMicropolygons) * 1e-6)) : nlohmann::json(nullptr)},
+        {"warnings", ctx.warnings},
         {"tables_built", prep.tablesBuilt},
         {"tables_from_cache", prep.tablesFromCache},
         {"tables_seconds", prep.tables},

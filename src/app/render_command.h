@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace meso::app {
 
@@ -19,6 +20,11 @@ struct RenderCommandOptions {
   std::optional<std::string> algorithm;
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
+  std::optional<float> dicingRate;
+  std::optional<int64_t> maxMicropolygons;
+  std::optional<std::string> normals;
+  std::optional<float> transitionD, transitionEps;
+  std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   bool falseColour = false;
   bool quiet = false;
   std::string frames;            // "A:B" (inclusive) or "A"; empty: every frame of the path

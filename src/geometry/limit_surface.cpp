@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace meso {
@@ -244,6 +245,21 @@ int LimitSurface::numFaces() const { return static_cast<int>(impl_->faces.size()
 bool LimitSurface::hasLimitSurface(int face) const { return impl_->faces[face].surface.IsValid(); }
 
 int LimitSurface::faceSize(int face) const { return impl_->faces[face].param.GetFaceSize(); }
+
+Vec2 LimitSurface::cornerSt(int face, int corner) const { return impl_->cornerSt(face, corner); }
+
+bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
+  const Impl::Face& f = impl_->faces[face];
+  if (!f.surface.IsValid()) return false;
+  lo = Vec3(std::numeric_limits<float>::infinity());
+  hi = -lo;
+  const float* p = &impl_->patchPoints[f.patchOffset];
+  for (int i = 0; i < f.surface.GetNumPatchPoints(); ++i, p += 3) {
+    lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
+    hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
+  }
+  return true;
+}
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 #include "meso/core/rng.h"
+#include "meso/relief/height_table.h"  // floorFast
 
 #include <algorithm>
 #include <array>
@@ -22,8 +23,8 @@ inline void lattice(float p, double frequency, int period, int64_t& cell, float&
   double x = static_cast<double>(p) * frequency;
   if (!(std::abs(x) < 1e9))  // huge or not finite: keep the cell index in range (the hash wraps)
     x = std::isfinite(x) ? std::fmod(x, period > 0 ? period : 4294967296.0) : 0.0;
-  if (period > 0) x -= period * std::floor(x / period);  // exact on the lattice: tiles bit for bit
-  const double f = std::floor(x);
+  if (period > 0) x -= period * floorFast(x / period);  // exact on the lattice: tiles bit for bit
+  const double f = floorFast(x);
   cell = static_cast<int64_t>(f);
   t = static_cast<float>(x - f);
 }
@@ -63,7 +64,7 @@ FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(option
     oct.period = options.periodic ? static_cast<int>(std::clamp(std::round(f), 1.0, 1e8)) : 0;
     oct.frequency = options.periodic ? oct.period : f;
     oct.weight = static_cast<float>(a);
-    oct.salt = static_cast<uint64_t>(o);
+    oct.salt = mix64(options.seed ^ mix64(static_cast<uint64_t>(o) + 0x9e3779b97f4a7c15ull));  // per seed and octave
     octaves_.push_back(oct);
     f *= options.lacunarity;
     a *= options.gain;
@@ -87,7 +88,7 @@ float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
   for (int c = 0; c < 4; ++c) {
     const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
     const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
-    const uint64_t h = mix64(options_.seed ^ mix64(o.salt ^ (cx << 32 | cy)));
+    const uint64_t h = mix64(o.salt ^ (cx << 32 | cy));
     g[c] = gradients[h >> 54];
     n[c] = glm::dot(g[c], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
   }
@@ -97,6 +98,25 @@ float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
   const Vec2 gx0 = g[0] + su * (g[1] - g[0]) + Vec2(dsu * (n[1] - n[0]), 0.0f);
   const Vec2 gx1 = g[2] + su * (g[3] - g[2]) + Vec2(dsu * (n[3] - n[2]), 0.0f);
   grad = (gx0 + sv * (gx1 - gx0) + Vec2(0.0f, dsv * (nx1 - nx0))) * static_cast<float>(o.frequency);
+  return nx0 + sv * (nx1 - nx0);
+}
+
+// octave() without the gradient: the same value, bit for bit (the same operations in the same order).
+float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
+  int64_t ix, iy;
+  float u, v;
+  lattice(p.x, o.frequency, o.period, ix, u);
+  lattice(p.y, o.frequency, o.period, iy, v);
+  const std::array<Vec2, 1024>& gradients = gradientTable();
+  float n[4];
+  for (int c = 0; c < 4; ++c) {
+    const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
+    const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
+    const uint64_t h = mix64(o.salt ^ (cx << 32 | cy));
+    n[c] = glm::dot(gradients[h >> 54], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
+  }
+  const float su = fade(u), sv = fade(v);
+  const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);
   return nx0 + sv * (nx1 - nx0);
 }
 
@@ -112,8 +132,9 @@ float FractalNoise::heightAndGradient(Vec2 p, Vec2& gradient) const {
 }
 
 float FractalNoise::height(Vec2 p) const {
-  Vec2 g;
-  return heightAndGradient(p, g);
+  float h = 0.0f;
+  for (const Octave& o : octaves_) h += o.weight * octaveHeight(o, p);
+  return h;
 }
 
 Vec2 FractalNoise::gradient(Vec2 p) const {
@@ -128,9 +149,19 @@ float FractalNoise::highestFrequency() const {
 
 uint64_t FractalNoise::fingerprint() const {
   Hasher h;
-  h.string("FractalNoise").value(options_.seed);
+  h.string("FractalNoise/2").value(options_.seed);  // /2: the lattice hash of this version
   for (const Octave& o : octaves_) h.value(o.frequency).value(o.period).value(o.weight);
   return h.digest();
+}
+
+}  // namespace meso
+
+namespace meso {
+
+float FractalNoise::maxAbsHeight() const {
+  double sum = 0.0;
+  for (const Octave& o : octaves_) sum += std::abs(static_cast<double>(o.weight));
+  return static_cast<float>(sum * 0.70710678118654752 * (1.0 + 1e-5));
 }
 
 }  // namespace meso

@@ -42,8 +42,19 @@ void traceSample(const RenderContext& ctx, const Ray& ray, PixelSum& sum) {
   }
   const PreparedObject& object = ctx.objects[hit.mesh];
   const int face = object.mesh.triangleFace[hit.triangle];
-  const SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
-  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction);
+  SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
+  Vec3 facet(0.0f);
+  if (object.displaced) {
+    sp.P = ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
+    if (ctx.facetNormals) {
+      const uint32_t* k = &object.mesh.indices[3 * static_cast<size_t>(hit.triangle)];
+      const Vec3& p0 = object.mesh.positions[k[0]];
+      const Vec3 n = glm::cross(object.mesh.positions[k[1]] - p0, object.mesh.positions[k[2]] - p0);
+      const float len = glm::length(n);
+      facet = len > 0.0f && std::isfinite(len) ? n / len : sp.N;
+    }
+  }
+  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;

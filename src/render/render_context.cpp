@@ -13,29 +13,21 @@ Algorithm parseAlgorithm(const std::string& name) {
   return Algorithm::Auto;
 }
 
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times) {
-  RenderContext ctx{&scene, Camera(scene.camera), {}, std::make_unique<RayScene>(), {}, {},
-                    parseAlgorithm(scene.render.algorithm)};
-  for (const Object& object : scene.objects) {
-    Timer load;
-    ControlMesh mesh = loadControlMesh(object.mesh);
-    transformControlMesh(mesh, object.transform);
-    times.load += load.seconds();
+namespace {
 
-    Timer tess;
-    LimitSurface surface(mesh, object.scheme);
-    TessellatedMesh triangles = tessellateUniform(surface, scene.render.tessellationRate);
-    times.tessellate += tess.seconds();
+bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::Displacement; }
 
-    Timer bvh;
-    ctx.rays->addMesh(triangles);
-    times.bvh += bvh.seconds();
-    ctx.objects.push_back(PreparedObject{std::move(surface), std::move(triangles), object.material});
-  }
-  Timer bvh;
-  ctx.rays->commit();
-  times.bvh += bvh.seconds();
+}  // namespace
 
+bool RenderContext::viewDependent() const {
+  for (const PreparedObject& o : objects)
+    if (o.displaced) return true;
+  return false;
+}
+
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame) {
+  RenderContext ctx{&scene, Camera(scene.camera), {}, nullptr, {}, {}, parseAlgorithm(scene.render.algorithm),
+                    scene.render.normals == "facet"};
   Timer tables;
   const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
   ctx.reliefs.resize(scene.materials.size());
@@ -48,7 +40,79 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times) {
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
   }
   times.tables += tables.seconds();
+
+  for (const Object& object : scene.objects) {
+    Timer load;
+    ControlMesh mesh = loadControlMesh(object.mesh);
+    transformControlMesh(mesh, object.transform);
+    times.load += load.seconds();
+    Timer tess;
+    LimitSurface surface(mesh, object.scheme);
+    times.tessellate += tess.seconds();
+    const bool displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[object.material].levels.empty();
+    ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, displaced});
+  }
+  if (buildFrame) prepareFrame(ctx, scene.camera, times);
   return ctx;
+}
+
+FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settings, PrepareTimes& times) {
+  ctx.camera = Camera(settings);
+  FrameGeometryStats stats;
+  if (ctx.rays && !ctx.viewDependent()) {
+    stats.triangles = ctx.rays->numTriangles();
+    return stats;
+  }
+  const RenderSettings& rs = ctx.scene->render;
+  const DisplacementMode mode =
+      ctx.algorithm == Algorithm::Displacement ? DisplacementMode::Full : DisplacementMode::ByTransition;
+  const ScreenMetric screen = ScreenMetric::lookAt(settings.position, settings.lookAt, settings.up, settings.fovY,
+                                                   settings.width, settings.height);
+  DicingSettings dicing;
+  dicing.dicingRate = rs.dicingRate;
+  dicing.maxEdgeRate = 4096;
+  size_t budget = static_cast<size_t>(rs.maxMicropolygons);
+
+  Timer tess;
+  ctx.rays.reset();  // the previous frame's scene goes before this one's is built (peak memory)
+  auto rays = std::make_unique<RayScene>();
+  std::vector<std::vector<TriangleGrid>> grids(ctx.objects.size());
+  for (size_t k = 0; k < ctx.objects.size(); ++k) {
+    PreparedObject& object = ctx.objects[k];
+    if (!object.displaced) {
+      if (object.mesh.numTriangles() == 0) object.mesh = tessellateUniform(object.surface, rs.tessellationRate);
+      continue;
+    }
+    object.mesh = {};
+    const MaterialRelief& relief = ctx.reliefs[object.material];
+    const ReliefDisplacement displacement(relief, mode, rs.transition, settings.position,
+                                          ctx.camera.pixelsPerRadian());
+    dicing.maxMicropolygons = std::max<size_t>(budget, 1);
+    AdaptiveTessellation t = tessellateAdaptive(
+        object.surface, screen, dicing,
+        faceDicing(object.surface, relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian()),
+        &displacement);
+    if (!t.warning.empty()) ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
+    stats.micropolygons += t.stats.micropolygons;
+    stats.facesDiced += t.stats.facesDiced;
+    stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
+    budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;
+    object.mesh = std::move(t.mesh);
+    grids[k] = std::move(t.grids);
+  }
+  stats.tessellateSeconds = tess.seconds();
+
+  Timer bvh;
+  for (size_t k = 0; k < ctx.objects.size(); ++k) rays->addMesh(ctx.objects[k].mesh, grids[k]);
+  rays->commit();
+  stats.bvhSeconds = bvh.seconds();
+  stats.triangles = rays->numTriangles();
+  stats.embreePeakBytes = rays->peakDeviceBytes();
+  stats.rebuilt = true;
+  ctx.rays = std::move(rays);
+  times.tessellate += stats.tessellateSeconds;
+  times.bvh += stats.bvhSeconds;
+  return stats;
 }
 
 }  // namespace meso

@@ -23,6 +23,7 @@ struct LevelContext {
   const SurfacePoint& sp;
   Vec3 V;
   float distance;
+  bool raised;  // the object's geometry carries the displacement of levels whose T exceeds e3
 };
 
 // The level's Blinn normal on frame f and the frame of the next level.
@@ -40,9 +41,11 @@ float levelT(const LevelContext& c, const ReliefLevel& level, const LevelFrame& 
                              glm::dot(f.N, c.V), c.ctx.scene->render.transition);
 }
 
-// Shades levels i.. on frame f (auto mode). Between e1 and e2 the paper blends intensities of the
-// BRDF and of redistribution (which then hands over to the next level); above e3 this version
-// keeps redistribution (the displaced geometry of issue 5 is not wired in yet).
+// Shades levels i.. on frame f (auto mode), DESIGN.md section 3. Below e2 the paper blends the
+// intensities of the BRDF and of redistribution (which hands over to the next level); above e3 the
+// level's geometry was raised by disp = ramp(T; e3, e4) when the frame was tessellated, and its
+// normal goes through theta_W (n' = R_thetaV(R_thetaW^-1(n)), exactly the Blinn normal at disp = 1);
+// the next level then shades that surface with the renderer its own T picks.
 ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   ShadeResult r;
   if (i == c.relief.levels.size()) {
@@ -54,6 +57,8 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   const float T = levelT(c, level, f);
   const TransitionWeights w = transitionWeights(T, c.ctx.scene->render.transition);
   const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
+  const bool finest = i + 1 == c.relief.levels.size();
+  const float disp = c.raised ? w.disp : 0.0f;
   if (w.brdf > 0.0f) {
     r.colour = w.brdf * shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, vf, c.relief.tables[i].brdf);
     r.algorithm = w.brdf * algorithm_colour::kBrdf;
@@ -63,11 +68,11 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   if (w.brdf < 1.0f) {
     LevelFrame next = f;
     const Vec3 nBump = bumpNormal(level, c.sp.uv, next);
-    next.N = redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump);
+    next.N = disp >= 1.0f ? nBump : redistributeNormal(c.relief.tables[i].redistribution, vf, disp, nBump);
     const ShadeResult finer = shadeAuto(c, i + 1, next);
     r.colour += (1.0f - w.brdf) * finer.colour;
-    const bool finest = i + 1 == c.relief.levels.size();
-    r.algorithm += (1.0f - w.brdf) * (finest ? algorithm_colour::kRedistribution : finer.algorithm);
+    const Vec3 own = glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
+    r.algorithm += (1.0f - w.brdf) * (finest ? own : finer.algorithm);
     r.normal = finer.normal;
     if (!finest && w.brdf == 0.0f) r.T = finer.T;
   }
@@ -88,7 +93,9 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
     f.N = algorithm == Algorithm::Redistribution ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
   }
   r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
-  r.algorithm = algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution : algorithm_colour::kBump;
+  r.algorithm = algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
+                : algorithm == Algorithm::Displacement   ? algorithm_colour::kDisplacement
+                                                         : algorithm_colour::kBump;
   r.normal = f.N;
   return r;
 }
@@ -96,7 +103,7 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
 }  // namespace
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V) {
+                         const Vec3& V, const Vec3* facetNormal) {
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
@@ -109,7 +116,15 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     r.algorithm = algorithm_colour::kSmooth;
     return r;
   }
-  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position())};
+  if (facetNormal && ctx.algorithm == Algorithm::Displacement && object.displaced) {
+    // --normals facet: the micropolygon's own normal, for comparison with the Blinn normal.
+    ShadeResult r;
+    r.normal = glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal;
+    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V);
+    r.algorithm = algorithm_colour::kDisplacement;
+    return r;
+  }
+  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced};
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 

@@ -271,7 +271,11 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   m.kd = r.colour("kd", m.kd);
   m.ks = r.colour("ks", m.ks);
   m.phong = static_cast<float>(r.number("phong", m.phong, 0.0, 10000.0));
-  for (const toml::table* t : r.tableArray("relief")) {
+  const std::vector<const toml::table*> levels = r.tableArray("relief");
+  if (levels.size() > static_cast<size_t>(kMaxMaterialReliefLevels))
+    throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
+                "at most " + std::to_string(kMaxMaterialReliefLevels) + " relief levels per material (got " + std::to_string(levels.size()) + ")");
+  for (const toml::table* t : levels) {
     TableReader rr(*t, r.prefix() + "relief.", r.file());
     m.relief.push_back(readRelief(rr, *t, base));
   }

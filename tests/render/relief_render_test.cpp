@@ -69,7 +69,7 @@ double meanRed(const Image& img, int y0, int y1) {
 }
 
 TEST(ReliefRender, EveryAlgorithmIsFiniteAtTheExtremes) {
-  for (const char* algorithm : {"auto", "bump", "redistribution", "brdf"})
+  for (const char* algorithm : {"auto", "bump", "redistribution", "brdf", "displacement"})
     for (float amplitude : {0.0f, 1e-9f, 0.002f, 0.5f}) {  // zero relief to relief taller than its wavelength
       Scene s = reliefScene(algorithm, amplitude);
       for (float height : {1e-4f, 1.2f, 1e4f}) {  // grazing to overhead, near and far
@@ -93,37 +93,51 @@ TEST(ReliefRender, ZeroReliefMakesAllRenderersAgree) {
   }
 }
 
-// The image is continuous across the brdf / redistribution thresholds: in auto mode, the mean
-// intensity of thin bands of rows on both sides of any row differs by less than 1% (rows run
-// from far to near across the grazing plane, so T sweeps through e1 and e2).
+// The image is continuous across every threshold: in auto mode, the mean intensity of thin bands
+// of rows on both sides of any row where a blend weight is strictly between 0 and 1 (or next to
+// one) differs by less than 1%. Rows run from far to near across the plane, so T sweeps from
+// below e1 (brdf) through e2 (redistribution) and e3 to beyond e4 (displaced micropolygons).
 TEST(ReliefRender, AutoIsContinuousAcrossThresholds) {
   Scene s = reliefScene("auto", 0.002f);
-  // scale 1: the shortest wavelength is 1/8 unit, so T crosses e1 and e2 inside the image.
+  // scale 1: the shortest wavelength is 1/8 unit, so T crosses all four thresholds in the image.
   s.camera.width = 96;
   s.camera.height = 96;
+  s.camera.fovY = 60.0f;
+  s.camera.lookAt = {0.0f, 4.0f, 0.0f};
+  s.camera.position = {0.0f, -1.0f, 2.0f};
   s.camera.spp = 4;
   const Image img = render(s);
-  int brdfRows = 0, redistRows = 0;
+  const int R = img.channelIndex("algorithm.R"), G = img.channelIndex("algorithm.G"),
+            B = img.channelIndex("algorithm.B"), depth = img.channelIndex("depth.Z");
+  int brdfRows = 0, redistRows = 0, dispRows = 0, firstFullRow = img.height;
   for (int y = 0; y < img.height; ++y) {
-    const float yellow = img.at(img.width / 2, y, img.channelIndex("algorithm.G"));
-    const float blue = img.at(img.width / 2, y, img.channelIndex("algorithm.B"));
-    brdfRows += yellow > 0.99f && blue < 0.01f;
-    redistRows += blue > 0.99f;
+    const int x = img.width / 2;
+    const float r = img.at(x, y, R), g = img.at(x, y, G), b = img.at(x, y, B);
+    brdfRows += r > 0.99f && g > 0.99f && b < 0.01f;
+    redistRows += b > 0.99f;
+    dispRows += r > 0.99f && g < 0.01f;
+    bool full = true;  // every pixel of the row sees the plane (no horizon)
+    for (int i = 0; i < img.width; ++i) full = full && img.at(i, y, depth) > 0.0f;
+    if (full) firstFullRow = std::min(firstFullRow, y);
   }
   ASSERT_GT(brdfRows, 3) << "the test scene must show the BRDF region";
   ASSERT_GT(redistRows, 3) << "the test scene must show the redistribution region";
-  // Bands of 3 rows on both sides of every row where the BRDF weight is strictly between 0 and 1
-  // (the blend region) and of its two ends (the thresholds e1 and e2 themselves).
+  ASSERT_GT(dispRows, 3) << "the test scene must show the displaced region";
+  const auto fractional = [&](int y) {
+    for (int c : {R, G, B}) {
+      const float w = img.at(img.width / 2, y, c);
+      if (w > 0.001f && w < 0.999f) return true;
+    }
+    return false;
+  };
   int checked = 0;
-  for (int y = 3; y + 3 < img.height; ++y) {
-    const float w = img.at(img.width / 2, y, img.channelIndex("algorithm.G"));  // brdf weight
-    const float wPrev = img.at(img.width / 2, y - 1, img.channelIndex("algorithm.G"));
-    if (!((w > 0.0f && w < 1.0f) || (wPrev > 0.0f && wPrev < 1.0f))) continue;
+  for (int y = firstFullRow + 3; y + 3 < img.height; ++y) {
+    if (!fractional(y) && !fractional(y - 1)) continue;
     const double above = meanRed(img, y - 3, y), below = meanRed(img, y, y + 3);
     EXPECT_LT(std::abs(above - below) / below, 0.01) << "rows " << y - 3 << ".." << y + 3;
     ++checked;
   }
-  EXPECT_GT(checked, 2);
+  EXPECT_GT(checked, 8);  // both blend regions (e1..e2 and e3..e4) are several rows tall
 }
 
 }  // namespace

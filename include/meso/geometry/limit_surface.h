@@ -37,6 +37,11 @@ class LimitSurface {
   // Evaluates the limit surface of base face `face` at patch coordinates st. Allocation-free and
   // thread-safe: everything it needs is prepared in the constructor.
   SurfacePoint evaluate(int face, Vec2 st) const;
+  // Patch coordinates of corner `corner` of the face (the st domain's corners, in face order).
+  Vec2 cornerSt(int face, int corner) const;
+  // The box of the face's patch points, which contains its limit patch (convex hull property).
+  // False for a face without a limit surface.
+  bool faceBox(int face, Vec3& lo, Vec3& hi) const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }

@@ -38,6 +38,9 @@ class FractalNoise : public HeightSource {
   // The last octave's frequency: baseFrequency * lacunarity^(octaves - 1) (rounded when periodic).
   float highestFrequency() const override;
   uint64_t fingerprint() const override;
+  // sum over octaves of |gain^o| times sqrt(2)/2, the largest value of 2D gradient noise with unit
+  // gradients (reached only where all four corner gradients point at the sample).
+  float maxAbsHeight() const override;
 
   const FractalNoiseOptions& options() const { return options_; }
 
@@ -49,6 +52,7 @@ class FractalNoise : public HeightSource {
     uint64_t salt;
   };
   float octave(const Octave& o, Vec2 p, Vec2& grad) const;
+  float octaveHeight(const Octave& o, Vec2 p) const;
   FractalNoiseOptions options_;
   std::vector<Octave> octaves_;
 };

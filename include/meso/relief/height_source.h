@@ -5,6 +5,7 @@
 #include "meso/core/math.h"
 
 #include <cstdint>
+#include <limits>
 
 namespace meso {
 
@@ -23,6 +24,9 @@ class HeightSource {
   virtual float highestFrequency() const = 0;
   // Hash of everything that shapes height() and gradient(): part of the table cache key.
   virtual uint64_t fingerprint() const = 0;
+  // An upper bound of |h| over the whole plane (table units): the displacement bound of a level is
+  // amplitude times this. Sources that cannot bound themselves return infinity (no culling).
+  virtual float maxAbsHeight() const { return std::numeric_limits<float>::infinity(); }
 };
 
 // The parameters of relief level i (DESIGN.md section 1): world height amplitude * h(S u, S v).

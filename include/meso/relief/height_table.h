@@ -54,6 +54,7 @@ class HeightTable : public HeightSource {
   Vec2 gradient(Vec2 p) const override;                      // per unit of tile coordinate
   float highestFrequency() const override { return freq_; }  // cycles per tile
   uint64_t fingerprint() const override;
+  float maxAbsHeight() const override { return maxAbs_; }  // bilinear never leaves the texel range
 
   int width() const { return width_; }
   int heightTexels() const { return height_; }
@@ -81,6 +82,7 @@ class HeightTable : public HeightSource {
   std::vector<float> texels_;
   HeightTableOptions options_;
   float freq_ = 1.0f;
+  float maxAbs_ = 0.0f;
 };
 
 // floor(x) for |x| < 2^62 without a libm call (x86-64 without SSE4.1 has no inline floor).

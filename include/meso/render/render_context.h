@@ -1,23 +1,33 @@
-// Everything a frame needs, prepared once: limit surfaces, tessellations, the Embree scene, the camera.
+// Everything a frame needs: limit surfaces and relief tables prepared once per scene, and the
+// tessellation and Embree scene of the current camera, rebuilt per frame where they depend on it.
 #pragma once
 
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
+#include "meso/render/displacement.h"
 #include "meso/render/relief_levels.h"
 #include "meso/scene/camera.h"
 #include "meso/scene/scene.h"
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace meso {
 
+// render.algorithm, parsed once so the per-sample path compares no strings.
+enum class Algorithm { Auto, Brdf, Bump, Redistribution, Displacement };
+Algorithm parseAlgorithm(const std::string& name);
+
 struct PreparedObject {
   LimitSurface surface;
-  TessellatedMesh mesh;
+  TessellatedMesh mesh;  // of the current frame
   int material = 0;
+  // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the uniform
+  // tessellation of the limit surface (built once).
+  bool displaced = false;
 };
 
 // Wall-clock seconds of the preparation phases, for --stats.
@@ -26,13 +36,21 @@ struct PrepareTimes {
   double tables = 0.0;      // building or loading appearance tables
   int tablesBuilt = 0;
   int tablesFromCache = 0;
-  double tessellate = 0.0;  // limit surfaces and tessellation
-  double bvh = 0.0;         // Embree build
+  double tessellate = 0.0;  // limit surfaces and tessellation (all frames)
+  double bvh = 0.0;         // Embree builds (all frames)
 };
 
-// render.algorithm, parsed once so the per-sample path compares no strings.
-enum class Algorithm { Auto, Brdf, Bump, Redistribution, Displacement };
-Algorithm parseAlgorithm(const std::string& name);
+// What building one frame's geometry did.
+struct FrameGeometryStats {
+  double tessellateSeconds = 0.0;
+  double bvhSeconds = 0.0;
+  size_t triangles = 0;       // in the Embree scene
+  size_t micropolygons = 0;   // of that, displaced micropolygons
+  int facesDiced = 0;
+  float coarsening = 1.0f;    // > 1 when the micropolygon cap coarsened dicing
+  size_t embreePeakBytes = 0;
+  bool rebuilt = false;       // false: the previous frame's geometry was reused
+};
 
 // The per-frame state passed down to the renderers (no global mutable state).
 struct RenderContext {
@@ -43,12 +61,23 @@ struct RenderContext {
   std::vector<MaterialRelief> reliefs;  // per material; empty levels for materials no object uses
   std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
   Algorithm algorithm = Algorithm::Auto;
+  bool facetNormals = false;            // render.normals = "facet"
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
+  // True when some object's geometry depends on the camera (displaced relief is in use).
+  bool viewDependent() const;
 };
 
-// Loads every object's mesh, builds its limit surface, tessellates it and builds the Embree scene;
-// builds the relief tables of the materials that objects use (only those).
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times);
+// Loads every object's mesh, builds its limit surface and the relief tables of the materials that
+// objects use (only those), then (unless buildFrame is false) the geometry of the scene's own
+// camera (prepareFrame).
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame = true);
+
+// Sets the camera and builds the frame's geometry: objects whose material has relief are diced
+// into displaced micropolygons where the algorithm raises relief in this view (everywhere for
+// displacement, where T can exceed e3 for auto); the others keep the uniform tessellation of
+// render.tessellation_rate, built on the first call and reused after. Warnings (a micropolygon cap
+// that coarsened dicing) are appended to ctx.warnings.
+FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& camera, PrepareTimes& times);
 
 }  // namespace meso

@@ -23,8 +23,11 @@ struct ShadeResult {
   float T = 0.0f;                 // of the finest visible level; 0 without relief
 };
 
-// sp is the limit surface at the hit (never the facet), V the unit direction to the eye.
+// sp is the limit surface at the hit's patch coordinates (never the facet), with P the hit point
+// itself on displaced geometry; V the unit direction to the eye. facetNormal (the hit triangle's
+// unit normal) is used instead of the Blinn normal when the context asks for facet normals and the
+// object is displaced by --algorithm displacement; it may be null otherwise.
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V);
+                         const Vec3& V, const Vec3* facetNormal = nullptr);
 
 }  // namespace meso

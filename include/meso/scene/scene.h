@@ -33,6 +33,9 @@ struct Light {
 };
 
 // One relief level as declared in the scene (used by the relief and appearance work).
+// The most relief levels one material may declare (meso::kMaxReliefLevels of relief/level_frames.h).
+inline constexpr int kMaxMaterialReliefLevels = 8;
+
 struct ReliefLevelDecl {
   FileLoc loc;
   std::filesystem::path height;  // image file, empty for procedural noise
@@ -84,7 +87,7 @@ struct RenderSettings {
   Vec3 background{0.0f};
   TransitionSettings transition;
   float dicingRate = 1.0f;               // micropolygon edge length in pixels where displaced
-  int64_t maxMicropolygons = 200000000;  // per frame; more coarsens dicing with a warning
+  int64_t maxMicropolygons = 80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
   std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
 };

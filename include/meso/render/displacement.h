@@ -1,0 +1,70 @@
+// True displacement of relief levels (Becker & Max 1993 section 2.3, DESIGN.md section 5): how far
+// each level is raised at a point, the vertex offsets the adaptive tessellator applies, and which
+// faces need micropolygons at all.
+#pragma once
+
+#include "meso/geometry/adaptive_tessellation.h"
+#include "meso/geometry/limit_surface.h"
+#include "meso/relief/level_frames.h"
+#include "meso/render/relief_levels.h"
+#include "meso/scene/scene.h"
+
+#include <array>
+
+namespace meso {
+
+// Full: every level is raised completely (the reference renderer, --algorithm displacement).
+// ByTransition: level i is raised by disp_i = ramp(T_i; e3, e4) (auto mode); 0 below e3.
+enum class DisplacementMode { Full, ByTransition };
+
+// The transition parameter of a level at a point: T = (nu - D) / (|cos theta_V| + eps) with
+// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3). lengthPerU is the
+// world length of one unit of u at the point: min(|P_u|, |P_v|) of the limit surface.
+float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
+                      float pixelsPerRadian, const TransitionSettings& settings);
+
+// How the surface at one point is displaced: disp_i per level (0 for levels left flat) and the
+// number of leading levels with disp > 0 (finer levels have shorter wavelengths, hence lower T, so
+// the raised levels are always a prefix).
+struct LevelDisplacement {
+  std::array<float, kMaxReliefLevels> disp{};
+  int raised = 0;
+};
+
+// The vertex offsets of one material's relief: sum_i disp_i h_i(u, v) N_i, where N_i is the normal
+// of the surface after levels 1..i-1 were raised, P_u[i+1] = P_u[i] + disp_i B_u[i] N[i].
+class ReliefDisplacement : public VertexDisplacement {
+ public:
+  ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
+                     const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian);
+  Vec3 offset(int face, Vec2 st, const SurfacePoint& sp) const override;
+  float bound() const override { return bound_; }
+
+  // disp per level at a limit-surface point seen from the eye (the vertex rule; the shader
+  // recomputes T at its hit in the same way).
+  LevelDisplacement levels(const SurfacePoint& sp) const;
+
+ private:
+  const MaterialRelief& relief_;
+  DisplacementMode mode_;
+  TransitionSettings transition_;
+  Vec3 eye_;
+  float pixelsPerRadian_;
+  float bound_ = 0.0f;
+};
+
+// sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
+float displacementBound(const MaterialRelief& relief);
+
+// Samples of the finest level per unit of u: the texel spacing below which dicing stops. A height
+// table has max(W, H) * S texels per unit of u; procedural noise is sampled 4 times per wavelength.
+float finestSamplesPerU(const MaterialRelief& relief);
+
+// Per face: whether some level can be raised there in this view (always, in Full mode; in
+// ByTransition mode, when the coarsest level's nu at the face's nearest point exceeds
+// D + e3 * eps, the least nu for which T can exceed e3 at a grazing angle), and the texel cap
+// (the edge rate at which micropolygons reach the finest level's sample spacing).
+FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief, DisplacementMode mode,
+                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian);
+
+}  // namespace meso

@@ -1,0 +1,143 @@
+// Becker & Max 1993, section 2.3 and eq. (10); DESIGN.md sections 3 and 5.
+#include "meso/render/displacement.h"
+
+#include "meso/relief/height_table.h"
+#include "meso/relief/level_frames.h"
+#include "meso/render/transition.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace meso {
+
+static_assert(kMaxMaterialReliefLevels == kMaxReliefLevels, "the scene reader's level limit is the frames' capacity");
+
+float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
+                      float pixelsPerRadian, const TransitionSettings& settings) {
+  return transitionParameter(level.wavelength() * lengthPerU, pixelsPerRadian, distance,
+                             std::abs(cosThetaV), settings);
+}
+
+float displacementBound(const MaterialRelief& relief) {
+  double sum = 0.0;
+  for (const ReliefLevel& level : relief.levels)
+    sum += std::abs(static_cast<double>(level.amplitude)) * level.source->maxAbsHeight();
+  return std::isfinite(sum) ? static_cast<float>(sum) : std::numeric_limits<float>::infinity();
+}
+
+float finestSamplesPerU(const MaterialRelief& relief) {
+  if (relief.levels.empty()) return 0.0f;
+  const ReliefLevel& finest = relief.levels.back();
+  if (const auto* table = dynamic_cast<const HeightTable*>(finest.source.get()))
+    return static_cast<float>(std::max(table->width(), table->heightTexels())) * finest.scale;
+  return 4.0f * finest.freqPerU;
+}
+
+ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
+                                       const TransitionSettings& transition, Vec3 eye,
+                                       float pixelsPerRadian)
+    : relief_(relief),
+      mode_(mode),
+      transition_(transition),
+      eye_(eye),
+      pixelsPerRadian_(pixelsPerRadian),
+      bound_(displacementBound(relief)) {}
+
+LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
+  LevelDisplacement out;
+  const size_t n = std::min(relief_.levels.size(), static_cast<size_t>(kMaxReliefLevels));
+  if (mode_ == DisplacementMode::Full) {
+    std::fill(out.disp.begin(), out.disp.begin() + static_cast<long>(n), 1.0f);
+    out.raised = static_cast<int>(n);
+    return out;
+  }
+  const Vec3 toEye = eye_ - sp.P;
+  const float distance = glm::length(toEye);
+  const Vec3 V = distance > 0.0f ? toEye / distance : sp.N;
+  const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+  SurfaceFrame f{sp.Pu, sp.Pv, sp.N};
+  for (size_t i = 0; i < n; ++i) {
+    const ReliefLevel& level = relief_.levels[i];
+    const float T = levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian_,
+                                    transition_);
+    const float disp = ramp(T, transition_.e3, transition_.e4);
+    if (!(disp > 0.0f)) break;
+    out.disp[i] = disp;
+    out.raised = static_cast<int>(i) + 1;
+    f = nextFrame(f, disp * level.derivatives(sp.uv));
+  }
+  return out;
+}
+
+Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
+  const LevelDisplacement d = levels(sp);
+  SurfaceFrame f{sp.Pu, sp.Pv, sp.N};
+  Vec3 offset(0.0f);
+  for (int i = 0; i < d.raised; ++i) {
+    const ReliefLevel& level = relief_.levels[i];
+    offset += (d.disp[i] * level.height(sp.uv)) * f.N;
+    if (i + 1 < d.raised) f = nextFrame(f, d.disp[i] * level.derivatives(sp.uv));
+  }
+  // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
+  return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset : Vec3(0.0f);
+}
+
+namespace {
+
+// Distance from p to the box [lo, hi] (0 inside).
+float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
+  const Vec3 d = glm::max(glm::max(lo - p, p - hi), Vec3(0.0f));
+  return glm::length(d);
+}
+
+}  // namespace
+
+FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief, DisplacementMode mode,
+                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian) {
+  const int n = surface.numFaces();
+  FaceDicing out;
+  out.needsDicing.assign(static_cast<size_t>(n), 0);
+  out.texelCap.assign(static_cast<size_t>(n), 0);
+  if (relief.levels.empty()) return out;
+  const float bound = displacementBound(relief);
+  const float samplesPerU = finestSamplesPerU(relief);
+  const ReliefLevel& coarsest = relief.levels.front();
+  tbb::parallel_for(0, n, [&](int face) {
+    Vec3 lo, hi;
+    if (!surface.faceBox(face, lo, hi)) return;
+    const int corners = surface.faceSize(face);
+    Vec2 centre(0.0f);
+    float uvEdge = 0.0f, lengthPerU = 0.0f;
+    SurfacePoint previous = surface.evaluate(face, surface.cornerSt(face, corners - 1));
+    for (int k = 0; k < corners; ++k) {
+      const Vec2 st = surface.cornerSt(face, k);
+      const SurfacePoint sp = surface.evaluate(face, st);
+      centre += st / static_cast<float>(corners);
+      uvEdge = std::max(uvEdge, glm::length(sp.uv - previous.uv));
+      lengthPerU = std::max(lengthPerU, std::min(glm::length(sp.Pu), glm::length(sp.Pv)));
+      previous = sp;
+    }
+    const SurfacePoint mid = surface.evaluate(face, centre);
+    lengthPerU = std::max(lengthPerU, std::min(glm::length(mid.Pu), glm::length(mid.Pv)));
+    if (samplesPerU > 0.0f && std::isfinite(uvEdge * samplesPerU))
+      out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * samplesPerU), 1.0f, 32767.0f));
+    if (mode == DisplacementMode::Full) {
+      out.needsDicing[face] = 1;
+      return;
+    }
+    // The largest nu on the face: the coarsest level, seen from the nearest point of its box
+    // grown by the bound; lengthPerU is padded by 25% because it was sampled at five points only.
+    const Vec3 grow(std::isfinite(bound) ? bound : 0.0f);
+    const float distance = std::isfinite(bound) ? boxDistance(eye, lo - grow, hi + grow) : 0.0f;
+    const float nu = distance > 0.0f
+                         ? coarsest.wavelength() * 1.25f * lengthPerU * pixelsPerRadian / distance
+                         : std::numeric_limits<float>::infinity();
+    out.needsDicing[face] = !(nu <= transition.D + transition.e3 * transition.eps);
+  });
+  return out;
+}
+
+}  // namespace meso
