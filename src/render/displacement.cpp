@@ -33,7 +33,7 @@ float finestSamplesPerU(const MaterialRelief& relief) {
   const ReliefLevel& finest = relief.levels.back();
   if (const auto* table = dynamic_cast<const HeightTable*>(finest.source.get()))
     return static_cast<float>(std::max(table->width(), table->heightTexels())) * finest.scale;
-  return 4.0f * finest.freqPerU;
+  return 16.0f * finest.freqPerU;
 }
 
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,

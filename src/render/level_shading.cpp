@@ -33,6 +33,7 @@ ViewFrame makeViewFrame(const Vec3& N, const Vec3& V, const Vec3& tangentHint) {
 }
 
 Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp, const Vec3& nBump) {
+  if (disp >= 1.0f) return nBump;  // fully displaced: the Blinn normal itself, not a round trip of it
   const NormalAngles in = anglesOf(toFrame(f, nBump));
   const NormalAngles out = r.partial(f.thetaV, disp, in);
   return fromFrame(f, normalOf(out));

@@ -57,7 +57,8 @@ class ReliefDisplacement : public VertexDisplacement {
 float displacementBound(const MaterialRelief& relief);
 
 // Samples of the finest level per unit of u: the texel spacing below which dicing stops. A height
-// table has max(W, H) * S texels per unit of u; procedural noise is sampled 4 times per wavelength.
+// table has max(W, H) * S texels per unit of u; procedural noise is sampled 16 times per shortest
+// wavelength (enough for facet normals to follow its slopes).
 float finestSamplesPerU(const MaterialRelief& relief);
 
 // Per face: whether some level can be raised there in this view (always, in Full mode; in

@@ -30,7 +30,8 @@ inline Vec3 toFrame(const ViewFrame& f, const Vec3& w) { return {glm::dot(w, f.T
 inline Vec3 fromFrame(const ViewFrame& f, const Vec3& v) { return v.x * f.T + v.y * f.B + v.z * f.N; }
 
 // Redistribution bump mapping (section 3) with partial displacement (section 4.1): the bump normal
-// nBump (world, unit) mapped by n' = R_thetaV(R_thetaW^-1(n)); disp = 0 is plain redistribution.
+// nBump (world, unit) mapped by n' = R_thetaV(R_thetaW^-1(n)); disp = 0 is plain redistribution,
+// disp >= 1 returns nBump exactly.
 Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp, const Vec3& nBump);
 
 // The BRDF renderer: ka + sum over lights of radiance * (kd BRDF_diff + ks BRDF_spec) at

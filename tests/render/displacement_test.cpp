@@ -1,0 +1,234 @@
+// True displacement in the renderer (DESIGN.md sections 3 and 5): the vertex rule and its bound,
+// screen-space dicing, the exact limits of partial displacement (disp -> 0 is redistribution,
+// disp = 1 is displacement) in the shader and in whole images.
+#include "meso/render/displacement.h"
+#include "meso/render/integrator.h"
+#include "meso/render/level_shading.h"
+#include "meso/scene/mesh_io.h"
+
+#include "meso/core/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kTorus = fs::path(MESO_SOURCE_DIR) / "scenes" / "torus.obj";
+
+fs::path planeObj() {
+  const fs::path file = fs::temp_directory_path() / ("meso_disp_plane_" + std::to_string(::getpid()) + ".obj");
+  std::ofstream out(file);
+  out << "v -4 -4 0\nv 4 -4 0\nv 4 4 0\nv -4 4 0\nvt 0 0\nvt 8 0\nvt 8 8\nvt 0 8\nf 1/1 2/2 3/3 4/4\n";
+  return file;
+}
+
+ReliefLevelDecl noiseLevel(float amplitude, float scale, int octaves = 2) {
+  ReliefLevelDecl d;
+  d.source = "noise";
+  d.octaves = octaves;
+  d.amplitude = amplitude;
+  d.scale = scale;
+  return d;
+}
+
+MaterialRelief levelsOnly(std::vector<ReliefLevelDecl> decls) {
+  MaterialRelief r;
+  for (const ReliefLevelDecl& d : decls) r.levels.push_back(makeReliefLevel(d));
+  return r;
+}
+
+Scene planeScene(const std::string& algorithm) {
+  Scene s;
+  s.camera.position = {0.0f, -1.5f, 1.6f};
+  s.camera.lookAt = {0.0f, 0.8f, 0.0f};
+  s.camera.up = {0.0f, 0.0f, 1.0f};
+  s.camera.width = 48;
+  s.camera.height = 32;
+  s.camera.fovY = 50.0f;
+  s.camera.spp = 2;
+  Light l;
+  l.direction = glm::normalize(Vec3(0.3f, 0.6f, -0.7f));
+  s.lights = {l};
+  Material m;
+  m.kd = Vec3(0.7f);
+  m.ks = Vec3(0.3f);
+  m.phong = 20.0f;
+  m.relief = {noiseLevel(0.004f, 1.0f)};
+  s.materials = {m};
+  Object o;
+  o.mesh = planeObj();
+  o.scheme = SubdivisionScheme::Bilinear;
+  s.objects = {o};
+  s.render.algorithm = algorithm;
+  s.render.cacheDir = fs::temp_directory_path() / ("meso_disp_cache_" + std::to_string(::getpid()));
+  return s;
+}
+
+struct Rendered {
+  Image image;
+  FrameGeometryStats geometry;
+};
+
+Rendered render(const Scene& scene) {
+  PrepareTimes times;
+  RenderContext ctx = prepareRenderContext(scene, times, false);
+  Rendered out;
+  out.geometry = prepareFrame(ctx, scene.camera, times);
+  RenderCounters counters;
+  out.image = renderFrame(ctx, {scene.camera.spp, 5, false}, counters);
+  return out;
+}
+
+double worstBeautyDifference(const Image& a, const Image& b) {
+  double worst = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
+  return worst;
+}
+
+// Every vertex of a displaced torus lies within the material's bound of the limit point it came
+// from, and the bound is not vacuous (some vertex gets close to it).
+TEST(Displacement, EveryVertexStaysWithinTheBound) {
+  ControlMesh mesh = loadControlMesh(kTorus);
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const MaterialRelief relief = levelsOnly({noiseLevel(0.03f, 2.0f, 3), noiseLevel(0.01f, 9.0f, 2)});
+  const Vec3 eye(0.0f, 1.5f, 4.0f);
+  const ScreenMetric screen = ScreenMetric::lookAt(eye, Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 160, 90);
+  const ReliefDisplacement displacement(relief, DisplacementMode::Full, TransitionSettings{}, eye, 200.0f);
+  DicingSettings dicing;
+  dicing.dicingRate = 2.0f;
+  const AdaptiveTessellation t = tessellateAdaptive(
+      surface, screen, dicing, faceDicing(surface, relief, DisplacementMode::Full, {}, eye, 200.0f), &displacement);
+  const float bound = displacement.bound();
+  ASSERT_TRUE(std::isfinite(bound));
+  float largest = 0.0f;
+  for (size_t c = 0; c < t.mesh.indices.size(); ++c) {
+    const Vec3 limit = surface.evaluate(t.mesh.triangleFace[c / 3], t.mesh.cornerSt[c]).P;
+    const float d = glm::length(t.mesh.positions[t.mesh.indices[c]] - limit);
+    ASSERT_LE(d, bound * 1.0001f + 1e-6f);
+    largest = std::max(largest, d);
+  }
+  std::printf("  bound %.5f, largest offset %.5f over %zu micropolygons\n", bound, largest, t.stats.micropolygons);
+  EXPECT_GT(largest, 0.25f * bound);
+}
+
+// Micropolygons are about a pixel wide, so a camera twice as far gives about a quarter of them,
+// and one far enough that T stays below e3 leaves auto mode with the coarse tessellation only.
+TEST(Displacement, MicropolygonsFollowTheScreenAndTheTransition) {
+  Scene near = planeScene("displacement");
+  near.materials[0].relief = {noiseLevel(0.004f, 16.0f)};  // texels far below a pixel: no texel cap
+  near.camera.position = {0.0f, 0.0f, 2.0f};
+  near.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  near.camera.up = {0.0f, 1.0f, 0.0f};
+  near.camera.fovY = 20.0f;  // the plane (8 units) fills the view from both distances
+  Scene far = near;
+  far.camera.position.z = 4.0f;
+  const size_t a = render(near).geometry.micropolygons, b = render(far).geometry.micropolygons;
+  std::printf("  distance 2: %zu micropolygons, distance 4: %zu (ratio %.3f)\n", a, b, double(b) / a);
+  EXPECT_GT(static_cast<double>(b) / a, 0.2);
+  EXPECT_LT(static_cast<double>(b) / a, 0.32);
+
+  Scene distant = planeScene("auto");
+  distant.camera.position = {0.0f, 0.0f, 400.0f};
+  distant.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  distant.camera.up = {0.0f, 1.0f, 0.0f};
+  const Rendered r = render(distant);
+  EXPECT_EQ(r.geometry.facesDiced, 0);
+  EXPECT_LE(r.geometry.micropolygons, 8u) << "one quad, no dicing";
+  EXPECT_TRUE(r.image.allFinite());
+}
+
+// The shader's partial displacement: n' = R_thetaV(R_thetaW^-1(n)) is plain redistribution at
+// disp = 0, tends to it continuously as disp -> 0, and is the Blinn normal itself at disp = 1.
+TEST(Displacement, PartialDisplacementHasExactLimits) {
+  Scene s = planeScene("redistribution");
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(s, times, false);
+  const Redistribution& r = ctx.reliefs[0].tables[0].redistribution;
+  Rng rng(4);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 N(0.0f, 0.0f, 1.0f);
+    const float thetaV = 0.05f + 1.4f * rng.uniform();
+    const Vec3 V(std::sin(thetaV), 0.0f, std::cos(thetaV));
+    const ViewFrame f = makeViewFrame(N, V, Vec3(1, 0, 0));
+    const Vec3 nBump = glm::normalize(Vec3(0.4f * (rng.uniform() - 0.5f), 0.4f * (rng.uniform() - 0.5f), 1.0f));
+    const Vec3 atZero = redistributeNormal(r, f, 0.0f, nBump);
+    EXPECT_EQ(redistributeNormal(r, f, 1.0f, nBump), nBump);
+    EXPECT_LT(glm::length(redistributeNormal(r, f, 1e-4f, nBump) - atZero), 2e-3f);
+    EXPECT_LT(glm::length(redistributeNormal(r, f, 1e-6f, nBump) - atZero), 2e-4f);
+    EXPECT_TRUE(isFinite(redistributeNormal(r, f, 0.999999f, nBump)));
+  }
+}
+
+// Whole images: with thresholds that keep T between e2 and e3 everywhere, auto is the
+// redistribution renderer (nothing is raised); with D = 0 and e3, e4 tiny, T exceeds e4
+// everywhere and auto is the displacement renderer, to float rounding.
+TEST(Displacement, AutoImagesMatchTheirLimits) {
+  Scene autoRedist = planeScene("auto");
+  autoRedist.render.transition = {2.0f, 0.1f, -3e6f, -2e6f, 2e6f, 3e6f};
+  const Rendered a = render(autoRedist), b = render(planeScene("redistribution"));
+  EXPECT_EQ(a.geometry.facesDiced, 0) << "nothing raised: the coarse tessellation";
+  EXPECT_LE(a.geometry.micropolygons, 8u);
+  EXPECT_LT(worstBeautyDifference(a.image, b.image), 1e-4);
+
+  Scene autoDisp = planeScene("auto");
+  autoDisp.render.transition = {0.0f, 0.1f, -2.0f, -1.0f, 1e-6f, 2e-6f};
+  Scene disp = planeScene("displacement");
+  disp.render.transition = autoDisp.render.transition;
+  const Rendered c = render(autoDisp), d = render(disp);
+  EXPECT_GT(c.geometry.micropolygons, 1000u);
+  EXPECT_EQ(c.geometry.micropolygons, d.geometry.micropolygons);
+  EXPECT_LT(worstBeautyDifference(c.image, d.image), 1e-5);
+  // And the two limits really differ from each other (the test is not vacuous).
+  EXPECT_GT(worstBeautyDifference(a.image, c.image), 1e-3);
+}
+
+// Facet normals of the displaced micropolygons approach the Blinn normal of the relief (the
+// paper's shading normal) as the dicing rate shrinks.
+TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
+  Scene s = planeScene("displacement");
+  // Shortest wavelength about 3.4 pixels: 16 samples per wavelength (the cap) is about 0.21 px.
+  s.camera.position = {0.0f, 0.0f, 2.5f};
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.up = {0.0f, 1.0f, 0.0f};
+  s.camera.width = 64;
+  s.camera.height = 64;
+  double previous = 1e9;
+  for (float rate : {4.0f, 1.0f, 0.25f}) {
+    s.render.dicingRate = rate;
+    PrepareTimes times;
+    RenderContext ctx = prepareRenderContext(s, times, false);
+    prepareFrame(ctx, s.camera, times);
+    const PreparedObject& o = ctx.objects[0];
+    const ReliefLevel& level = ctx.reliefs[0].levels[0];
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t t = 0; t < o.mesh.numTriangles(); t += 7) {
+      const uint32_t* k = &o.mesh.indices[3 * t];
+      const Vec3 facet = glm::normalize(glm::cross(o.mesh.positions[k[1]] - o.mesh.positions[k[0]],
+                                                   o.mesh.positions[k[2]] - o.mesh.positions[k[0]]));
+      const SurfacePoint sp = o.surface.evaluate(o.mesh.triangleFace[t], o.mesh.patchCoords(t, 1.0f / 3, 1.0f / 3));
+      const Vec2 B = level.derivatives(sp.uv);
+      const Vec3 blinn = blinnNormal(sp.Pu, sp.Pv, sp.N, B.x, B.y);
+      sum += std::acos(std::clamp(glm::dot(facet, blinn), -1.0f, 1.0f));
+      ++count;
+    }
+    const double mean = degrees(static_cast<float>(sum / count));
+    std::printf("  dicing rate %.2f px: %zu micropolygons, mean angle facet vs Blinn %.3f degrees\n", rate,
+                o.mesh.numTriangles(), mean);
+    EXPECT_LT(mean, 0.7 * previous);
+    previous = mean;
+  }
+}
+
+}  // namespace
+}  // namespace meso
