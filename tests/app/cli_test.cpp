@@ -66,6 +66,43 @@ TEST_F(CliTest, ValidSceneWritesExrPngAndStats) {
   EXPECT_NE(s.str().find("\"rays\": 576"), std::string::npos) << s.str();  // 32 x 18 x 1
 }
 
+// The displacement renderer from the command line: its stats keys, the micropolygon cap's
+// warning, facet normals, and the transition overrides with their checks.
+TEST_F(CliTest, DisplacementOptionsAndStats) {
+  const std::string relief =
+      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n  amplitude = 0.01\n"
+      "  scale = 4.0\n";
+  const std::string sceneText = scene("material = \"m\"\n", "", "resolution = [64, 36]\nspp = 1\n");
+  // The material table must come before [[objects]] uses it: put it first.
+  write("scene.toml", relief + sceneText);
+  const std::string base = "render " + (dir_ / "scene.toml").string() + " -o " + (dir_ / "out/img.exr").string() + " -q ";
+  RunResult r = run(base + "--algorithm displacement --dicing-rate 2 --stats " + (dir_ / "out/stats.json").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(dir_ / "out/stats.json");
+  std::stringstream s;
+  s << in.rdbuf();
+  for (const char* key : {"\"micropolygons\"", "\"tessellate_seconds\"", "\"bvh_seconds\"",
+                          "\"peak_mib_per_million_micropolygons\"", "\"dicing_rate\": 2.0"})
+    EXPECT_NE(s.str().find(key), std::string::npos) << key << "\n" << s.str();
+  EXPECT_EQ(s.str().find("\"micropolygons\": 0,"), std::string::npos) << s.str();
+
+  r = run(base + "--algorithm displacement --max-micropolygons 1000 --overwrite");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("would exceed the cap of 1000"), std::string::npos) << r.output;
+  r = run(base + "--algorithm displacement --normals facet");
+  EXPECT_EQ(r.status, 0) << r.output;
+  r = run(base + "--D 0.5 --eps 0 --thresholds=-2,-1,1,2");
+  EXPECT_EQ(r.status, 0) << r.output;
+  fs::remove_all(dir_ / "out");
+  fs::create_directories(dir_ / "out");
+  r = run(base + "--thresholds=1,-1,0.3,2");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("thresholds must satisfy e1 < e2 < 0 < e3 < e4"), std::string::npos) << r.output;
+  r = run(base + "--normals shiny");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(outputFolderEmpty());
+}
+
 struct BadInput {
   const char* name;
   std::string sceneExtra;  // appended to a valid scene
