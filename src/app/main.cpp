@@ -40,6 +40,8 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
       ->delimiter(',')->expected(4);
   render->add_flag("--false-colour,--false-color", o.falseColour,
                    "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, displacement red, synthesis magenta)");
+  render->add_flag("--no-bump-filter", o.noBumpFilter,
+                   "--algorithm bump: point-sample the slopes instead of filtering them over the pixel footprint (Schilling)");
   render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]; default all");
   render->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)");
   render->add_flag("--overwrite", o.overwrite, "Re-render frames whose EXR and PNG already exist");

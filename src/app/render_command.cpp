@@ -212,7 +212,7 @@ void runRender(const RenderCommandOptions& o) {
     }
     phase.reset();
     const int64_t raysBefore = counters.rays.load();
-    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour, &gInterrupted};
+    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour, &gInterrupted, !o.noBumpFilter};
     Image film;
     try {
       film = renderFrame(ctx, ro, counters);

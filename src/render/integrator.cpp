@@ -34,7 +34,8 @@ struct PixelSum {
 
 // Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
 // coordinates, never from the triangle (Chan 2002).
-void traceSample(const RenderContext& ctx, const Ray& ray, PixelSum& sum) {
+// footprintScale 0: no footprint (unfiltered bump lookups).
+void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale, PixelSum& sum) {
   RayHit hit;
   if (!ctx.rays->intersect(ray, hit)) {
     sum.colour += ctx.scene->render.background;
@@ -54,7 +55,12 @@ void traceSample(const RenderContext& ctx, const Ray& ray, PixelSum& sum) {
       facet = len > 0.0f && std::isfinite(len) ? n / len : sp.N;
     }
   }
-  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr);
+  Footprint footprint;
+  if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
+    footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy), ctx.camera.generateRay(fx, fy + 1.0f),
+                            footprintScale);
+  const ShadeResult r =
+      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;
@@ -71,11 +77,14 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
   const uint64_t pixelIndex = static_cast<uint64_t>(y) * film.width + x;
   Rng rng(options.seed, pixelIndex);
   PixelSum sum;
+  // A pixel averages its samples, so each sample filters over 1/sqrt(spp) of the pixel.
+  const float footprintScale = options.filterBump ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
   for (int i = 0; i < spp; ++i) {
     // Jittered stratum (i % cols, i / cols) of a cols x rows grid over the pixel.
     const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
     const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
-    traceSample(ctx, ctx.camera.generateRay(static_cast<float>(x) + fx, static_cast<float>(y) + fy), sum);
+    const float filmX = static_cast<float>(x) + fx, filmY = static_cast<float>(y) + fy;
+    traceSample(ctx, ctx.camera.generateRay(filmX, filmY), filmX, filmY, footprintScale, sum);
   }
   rays += spp;
   const float inv = 1.0f / static_cast<float>(spp);

@@ -44,6 +44,19 @@ class OwningTileRelief : public PeriodicRelief {
 };
 }  // namespace
 
+void buildSlopePyramids(MaterialRelief& relief) {
+  for (ReliefLevel& level : relief.levels) {
+    if (level.pyramid) continue;
+    if (const auto* table = dynamic_cast<const HeightTable*>(level.source.get())) {
+      level.pyramid = std::make_shared<SlopePyramid>(*table);
+      continue;
+    }
+    int n = 1;
+    while (n < 4.0f * level.source->highestFrequency() && n < 2048) n *= 2;
+    level.pyramid = std::make_shared<SlopePyramid>(*level.source, n, n, true);
+  }
+}
+
 std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
   return std::make_unique<OwningTileRelief>(makeReliefLevel(decl));
 }

@@ -1,6 +1,8 @@
 // Becker & Max 1993, section 2 and DESIGN.md section 6: ka + sum kd (L.N) + ks (H.N)^n.
 #include "meso/render/shading.h"
 
+#include "meso/relief/schilling_phong.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -35,6 +37,33 @@ Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const V
       // L = -V (light exactly behind the eye direction) has no half vector: no highlight.
       const float HdotN = len > 1e-12f ? std::max(glm::dot(h / len, N), 0.0f) : 0.0f;
       reflect += material.ks * std::pow(HdotN, material.phong);
+    }
+    I += reflect * s.radiance;
+  }
+  return I;
+}
+
+Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
+                    const Vec3& N, const Vec3& V, const Vec3& e1, const Vec3& e2,
+                    const SlopeCovariance& roughness) {
+  const float m = std::max(material.phong, 1e-3f);
+  const SlopeCovariance K = SlopeCovariance{1.0f, 0.0f, 1.0f} + m * roughness;
+  const RoughnessFactor D = roughnessFactor(K);
+  // Schilling's lobe only widens (its peak stays 1); meso keeps the lobe's integral over slopes,
+  // 2 pi sqrt(det(K / m)), equal to the smooth one so that filtering preserves mean intensity.
+  const float det = K.a * K.c - K.b * K.b;
+  const float energy = det > 1.0f && std::isfinite(det) ? 1.0f / std::sqrt(det) : 1.0f;
+  Vec3 I = material.ka;
+  for (const Light& light : lights) {
+    const LightSample s = sampleLight(light, P);
+    const float LdotN = glm::dot(s.L, N);
+    if (LdotN <= 0.0f) continue;
+    Vec3 reflect = material.kd * LdotN;
+    if (material.ks != Vec3(0.0f)) {
+      const Vec3 h = s.L + V;
+      const float len = glm::length(h);
+      if (len > 1e-12f)
+        reflect += (material.ks * energy) * schillingSpecular(modifiedCos2Alpha(N, h / len, e1, e2, D), m);
     }
     I += reflect * s.radiance;
   }

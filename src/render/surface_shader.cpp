@@ -4,8 +4,11 @@
 #include "meso/render/level_shading.h"
 #include "meso/render/shading.h"
 #include "meso/render/transition.h"
+#include "meso/relief/level_frames.h"
+#include "meso/relief/schilling_phong.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace meso {
@@ -24,6 +27,7 @@ struct LevelContext {
   Vec3 V;
   float distance;
   bool raised;  // the object's geometry carries the displacement of levels whose T exceeds e3
+  const Footprint* footprint;
 };
 
 // The level's Blinn normal on frame f and the frame of the next level.
@@ -79,7 +83,46 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   return r;
 }
 
+// Schilling's antialiased bump mapping: each level's slope is the pyramid's mean over the
+// footprint, and the slope covariance that averaging removed widens the highlight (Appendix A).
+ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
+  const size_t n = std::min(c.relief.levels.size(), static_cast<size_t>(kMaxReliefLevels));
+  std::array<SlopeCovariance, kMaxReliefLevels> K{};
+  std::array<LevelFrame, kMaxReliefLevels> frames{};
+  const Footprint& fp = *c.footprint;
+  for (size_t i = 0; i < n; ++i) {
+    const ReliefLevel& level = c.relief.levels[i];
+    frames[i] = f;
+    Vec2 B = level.derivatives(c.sp.uv);
+    if (level.pyramid) {
+      const Vec2 size(static_cast<float>(level.pyramid->width()), static_cast<float>(level.pyramid->height()));
+      const SlopeSample s = level.pyramid
+                                ->lookup(level.scale * c.sp.uv, level.scale * fp.dUVdx * size,
+                                         level.scale * fp.dUVdy * size)
+                                .scaled(level.amplitude * level.scale);
+      B = s.mean;
+      K[i] = s.roughness;
+    }
+    const Vec3 nBump = blinnNormal(f.Pu, f.Pv, f.N, B.x, B.y);
+    f.Pu += B.x * f.N;
+    f.Pv += B.y * f.N;
+    f.N = nBump;
+  }
+  Vec3 e1 = f.Pu - glm::dot(f.Pu, f.N) * f.N;
+  const float len = glm::length(e1);
+  e1 = len > 1e-12f && std::isfinite(len) ? e1 / len : glm::normalize(glm::cross(f.N, std::abs(f.N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
+  const Vec3 e2 = glm::cross(f.N, e1);
+  SlopeCovariance roughness;
+  for (size_t i = 0; i < n; ++i) roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
+  ShadeResult r;
+  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness);
+  r.algorithm = algorithm_colour::kBump;
+  r.normal = f.N;
+  return r;
+}
+
 ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f) {
+  if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid) return shadeFilteredBump(c, f);
   ShadeResult r;
   if (algorithm == Algorithm::Brdf) {
     r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf);
@@ -102,8 +145,30 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
 
 }  // namespace
 
+Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, float scale) {
+  Footprint fp;
+  const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
+  const float det = a * c - b * b;
+  if (!(det > 1e-20f * a * c) || !std::isfinite(det)) return fp;
+  Vec2 d[2];
+  const Ray* rays[2] = {&rx, &ry};
+  for (int k = 0; k < 2; ++k) {
+    const float denom = glm::dot(rays[k]->direction, sp.N);
+    if (std::abs(denom) < 1e-8f) return fp;
+    const float t = glm::dot(sp.P - rays[k]->origin, sp.N) / denom;
+    if (!(t > 0.0f) || !std::isfinite(t)) return fp;
+    const Vec3 dP = (rays[k]->origin + t * rays[k]->direction - sp.P) * scale;
+    const float pu = glm::dot(sp.Pu, dP), pv = glm::dot(sp.Pv, dP);
+    d[k] = Vec2(c * pu - b * pv, a * pv - b * pu) / det;
+  }
+  fp.dUVdx = d[0];
+  fp.dUVdy = d[1];
+  fp.valid = std::isfinite(d[0].x) && std::isfinite(d[0].y) && std::isfinite(d[1].x) && std::isfinite(d[1].y);
+  return fp;
+}
+
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal) {
+                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint) {
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
@@ -124,7 +189,8 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     r.algorithm = algorithm_colour::kDisplacement;
     return r;
   }
-  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced};
+  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
+                       footprint};
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 

@@ -17,6 +17,9 @@ struct RenderOptions {
   bool falseColour = false;  // beauty = algorithm colours (Figure 4) instead of shading
   // Polled once per tile; when it becomes true the frame stops and renderFrame throws Interrupted.
   const std::atomic<bool>* cancel = nullptr;
+  // The bump renderer filters its slopes over each sample's footprint with Schilling's pyramids;
+  // false: point-sampled Blinn bump mapping (aliases when the relief is finer than a pixel).
+  bool filterBump = true;
 };
 
 // Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.

@@ -4,6 +4,7 @@
 
 #include "meso/appearance/level_tables.h"
 #include "meso/relief/height_source.h"
+#include "meso/relief/slope_pyramid.h"
 #include "meso/scene/scene.h"
 
 #include <memory>
@@ -18,6 +19,8 @@ struct ReliefLevel {
   float amplitude = 0.0f;
   float scale = 1.0f;
   float freqPerU = 1.0f;  // highest frequency in cycles per unit of u
+  // Schilling's slope and roughness pyramids, built only for the bump renderer (buildSlopePyramids).
+  std::shared_ptr<const SlopePyramid> pyramid;
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
   float wavelength() const { return 1.0f / freqPerU; }
@@ -63,5 +66,9 @@ struct MaterialRelief {
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings);
+
+// Builds each level's slope pyramid: a height table's own texels (rounded up to powers of two), or
+// a procedural source sampled 4 times per period of its highest frequency (at most 2048 x 2048).
+void buildSlopePyramids(MaterialRelief& relief);
 
 }  // namespace meso

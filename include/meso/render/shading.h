@@ -2,6 +2,7 @@
 #pragma once
 
 #include "meso/core/math.h"
+#include "meso/relief/slope_covariance.h"
 #include "meso/scene/scene.h"
 
 #include <span>
@@ -23,5 +24,17 @@ LightSample sampleLight(const Light& light, const Vec3& P);
 // renderers stay comparable, DESIGN.md section 6).
 Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
                 const Vec3& N, const Vec3& V);
+
+// The same with Schilling's roughness-modified highlight (his Appendix A): the highlight of a
+// surface whose normal offsets, in the orthonormal tangent basis (e1, e2) of N, have the extra
+// covariance `roughness` that filtering removed. With m = phong, the base factor K0 = I makes
+// (cos^2 alpha')^(m / 2) exactly (H.N)^phong; the filtered covariance widens the equivalent
+// Gaussian slope distribution (whose covariance is K / m), so K = I + phong * roughness. Unlike
+// Schilling's, the lobe is scaled by 1 / sqrt(det K) so that its integral over slopes (the mean
+// intensity of the footprint) does not grow as it widens. roughness = 0 gives shadeLocal's value
+// up to float rounding.
+Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
+                    const Vec3& N, const Vec3& V, const Vec3& e1, const Vec3& e2,
+                    const SlopeCovariance& roughness);
 
 }  // namespace meso

@@ -16,6 +16,20 @@ inline constexpr Vec3 kSynthesis{1.0f, 0.0f, 1.0f};
 inline constexpr Vec3 kSmooth{0.5f, 0.5f, 0.5f};  // a material without relief
 }  // namespace algorithm_colour
 
+// A sample's footprint on the surface from ray differentials: how (u, v) change per pixel step of
+// the sample's film position in x and in y (scaled down by sqrt(spp), since a pixel averages its
+// samples). Only the bump renderer uses it, to filter its lookups (Schilling's pyramids).
+struct Footprint {
+  Vec2 dUVdx{0.0f};
+  Vec2 dUVdy{0.0f};
+  bool valid = false;
+};
+
+// The footprint of a hit at P with surface frame (Pu, Pv, N): the neighbouring rays rx, ry meet the
+// tangent plane at P + dP/dx, P + dP/dy, and dP = Pu du + Pv dv is solved by least squares. Invalid
+// (and harmless) when a neighbouring ray misses the plane or the frame is degenerate.
+Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, float scale);
+
 struct ShadeResult {
   Vec3 colour{0.0f};
   Vec3 algorithm{0.0f};
@@ -27,7 +41,9 @@ struct ShadeResult {
 // itself on displaced geometry; V the unit direction to the eye. facetNormal (the hit triangle's
 // unit normal) is used instead of the Blinn normal when the context asks for facet normals and the
 // object is displaced by --algorithm displacement; it may be null otherwise.
+// footprint (may be null) filters the bump renderer's slope lookups and widens its highlight by
+// the roughness filtering removed.
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal = nullptr);
+                         const Vec3& V, const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr);
 
 }  // namespace meso
