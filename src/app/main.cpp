@@ -1,4 +1,5 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
+#include "bands_command.h"
 #include "consistency_command.h"
 #include "render_command.h"
 #include "tables_command.h"
@@ -87,6 +88,17 @@ void addTablesCommand(CLI::App& cli, meso::app::TablesCommandOptions& o) {
   t->callback([&o] { meso::app::runTables(o); });
 }
 
+void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
+  CLI::App* b = cli.add_subcommand("bands",
+      "Split one height map into band-limited relief levels whose sum reproduces it (Becker & Max 1993, 4.3); "
+      "writes one EXR per band and prints each band's measured highest frequency");
+  b->add_option("height", o.height, "Height image (any format OpenImageIO reads)")->required()->check(CLI::ExistingFile);
+  b->add_option("-n,--levels", o.levels, "Number of bands")->check(CLI::Range(1, 16))->capture_default_str();
+  b->add_option("-o,--out-dir", o.outDir, "Folder for the band images")->capture_default_str();
+  b->add_flag("--clamp", o.clamp, "The map does not tile (it is mirrored before filtering)");
+  b->callback([&o] { meso::app::runBands(o); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,6 +110,8 @@ int main(int argc, char** argv) {
   addConsistencyCommand(cli, consistencyOptions);
   meso::app::TablesCommandOptions tablesOptions;
   addTablesCommand(cli, tablesOptions);
+  meso::app::BandsCommandOptions bandsOptions;
+  addBandsCommand(cli, bandsOptions);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);
