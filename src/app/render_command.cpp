@@ -194,6 +194,13 @@ void runRender(const RenderCommandOptions& o) {
   };
   reportWarnings();
   size_t maxMicropolygons = geometry.micropolygons, maxTriangles = ctx.numTriangles();
+  double geometryMibPerMillion = 0.0;  // of the frame with the most micropolygons
+  const auto noteGeometry = [&] {
+    if (geometry.micropolygons == 0 || geometry.micropolygons < maxMicropolygons) return;
+    geometryMibPerMillion = static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) / (1024.0 * 1024.0) /
+                            (static_cast<double>(geometry.micropolygons) * 1e-6);
+  };
+  noteGeometry();
   RenderCounters counters;
   nlohmann::json perFrame = nlohmann::json::array();
   double renderSeconds = 0.0, writeSeconds = 0.0;
@@ -208,6 +215,7 @@ void runRender(const RenderCommandOptions& o) {
       geometry = prepareFrame(ctx, path->frame(f, scene.path.frames, scene.camera), prep);
       reportWarnings();
       maxMicropolygons = std::max(maxMicropolygons, geometry.micropolygons);
+      noteGeometry();
       maxTriangles = std::max(maxTriangles, ctx.numTriangles());
     }
     phase.reset();
@@ -255,6 +263,8 @@ void runRender(const RenderCommandOptions& o) {
         {"bvh_seconds", prep.bvh},
         {"peak_mib_per_million_micropolygons",
          maxMicropolygons > 0 ? nlohmann::json(peak / (static_cast<double>(maxMicropolygons) * 1e-6)) : nlohmann::json(nullptr)},
+        {"geometry_mib_per_million_micropolygons",
+         maxMicropolygons > 0 ? nlohmann::json(geometryMibPerMillion) : nlohmann::json(nullptr)},
         {"warnings", ctx.warnings},
         {"tables_built", prep.tablesBuilt},
         {"tables_from_cache", prep.tablesFromCache},

@@ -98,6 +98,9 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     stats.facesDiced += t.stats.facesDiced;
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;
+    const TessellatedMesh& m = t.mesh;
+    stats.meshBytes += m.positions.capacity() * sizeof(Vec3) + m.indices.capacity() * sizeof(uint32_t) +
+                       m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
     object.mesh = std::move(t.mesh);
     grids[k] = std::move(t.grids);
   }

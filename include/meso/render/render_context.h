@@ -49,6 +49,7 @@ struct FrameGeometryStats {
   int facesDiced = 0;
   float coarsening = 1.0f;    // > 1 when the micropolygon cap coarsened dicing
   size_t embreePeakBytes = 0;
+  size_t meshBytes = 0;       // meso's own copy of the displaced meshes (hit -> patch coordinates)
   bool rebuilt = false;       // false: the previous frame's geometry was reused
 };
 
