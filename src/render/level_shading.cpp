@@ -39,15 +39,26 @@ Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp,
   return fromFrame(f, normalOf(out));
 }
 
+float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv) {
+  const Vec2 Vn(glm::dot(V, Pu), glm::dot(V, Pv)), Ln(glm::dot(L, Pu), glm::dot(L, Pv));
+  const float a = glm::length(Vn), b = glm::length(Ln);
+  if (!(a > 1e-6f * (glm::length(Pu) + glm::length(Pv))) || !(b > 1e-6f * (glm::length(Pu) + glm::length(Pv))))
+    return -1.0f;
+  const float c = glm::dot(Vn, Ln) / (a * b);
+  return std::isfinite(c) ? std::acos(std::clamp(c, -1.0f, 1.0f)) : -1.0f;
+}
+
 Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
-               const ViewFrame& f, const BrdfTable& brdf) {
+               const ViewFrame& f, const BrdfTable& brdf, const Vec3* Pu, const Vec3* Pv) {
   Vec3 I = material.ka;
+  const Vec3 V = std::sin(f.thetaV) * f.T + std::cos(f.thetaV) * f.N;
   for (const Light& light : lights) {
     const LightSample s = sampleLight(light, P);
     const Vec3 l = toFrame(f, s.L);
     if (l.z <= 0.0f) continue;
     const float thetaL = std::acos(std::min(l.z, 1.0f));
-    const float phiVL = std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
+    const float eq2 = Pu && Pv ? azimuthEq2(V, s.L, *Pu, *Pv) : -1.0f;
+    const float phiVL = eq2 >= 0.0f ? eq2 : std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
     const BrdfTable::Value v = brdf.lookup(f.thetaV, thetaL, phiVL);
     I += s.radiance * (material.kd * v.diffuse + material.ks * v.specular);
   }

@@ -64,7 +64,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   const bool finest = i + 1 == c.relief.levels.size();
   const float disp = c.raised ? w.disp : 0.0f;
   if (w.brdf > 0.0f) {
-    r.colour = w.brdf * shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, vf, c.relief.tables[i].brdf);
+    r.colour = w.brdf * shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, vf, c.relief.tables[i].brdf, &f.Pu, &f.Pv);
     r.algorithm = w.brdf * algorithm_colour::kBrdf;
   }
   r.T = T;
@@ -125,7 +125,8 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
   if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid) return shadeFilteredBump(c, f);
   ShadeResult r;
   if (algorithm == Algorithm::Brdf) {
-    r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf);
+    r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf,
+                         &f.Pu, &f.Pv);
     r.algorithm = algorithm_colour::kBrdf;
     r.normal = f.N;
     return r;

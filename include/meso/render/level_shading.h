@@ -35,8 +35,16 @@ inline Vec3 fromFrame(const ViewFrame& f, const Vec3& v) { return v.x * f.T + v.
 Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp, const Vec3& nBump);
 
 // The BRDF renderer: ka + sum over lights of radiance * (kd BRDF_diff + ks BRDF_spec) at
-// (theta_V, theta_L, phi_{V-L}) measured in the frame. Lights below the macro horizon add nothing.
+// (theta_V, theta_L, phi_{V-L}). Lights below the macro horizon add nothing. phi_{V-L} follows the
+// paper's eq. (2) when the level's tangents are given: the angle between V_n = [V.P_u, V.P_v] and
+// L_n = [L.P_u, L.P_v], so a stretched or warped parameterization stretches the table's azimuths
+// with it (anisotropic highlights where the relief is stretched); without them (or when V or L is
+// along N) it is the angle between the projections of V and L on the tangent plane.
 Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
-               const ViewFrame& f, const BrdfTable& brdf);
+               const ViewFrame& f, const BrdfTable& brdf, const Vec3* Pu = nullptr,
+               const Vec3* Pv = nullptr);
+
+// phi_{V-L} of eq. (2) in [0, pi], or a negative value when V_n or L_n vanishes.
+float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv);
 
 }  // namespace meso
