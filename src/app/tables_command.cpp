@@ -20,7 +20,7 @@ void runTables(const TablesCommandOptions& o) {
     const Material& material = scene.materials[m];
     if (!used[m] || material.relief.empty()) continue;
     std::vector<std::string> warnings;
-    const MaterialRelief relief = buildMaterialRelief(material, cache, &warnings);
+    const MaterialRelief relief = buildMaterialRelief(material, cache, &warnings, tableSettings(scene.render.tables));
     for (const std::string& w : warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
     for (size_t i = 0; i < relief.levels.size(); ++i) {
       const LevelTables& t = relief.tables[i];

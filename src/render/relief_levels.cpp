@@ -61,15 +61,27 @@ std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
   return std::make_unique<OwningTileRelief>(makeReliefLevel(decl));
 }
 
+TableSettings tableSettings(const TableResolution& q) {
+  TableSettings t;
+  t.histogram.resolution = {q.thetaVBins, q.thetaNBins, q.phiBins};
+  t.histogram.azimuths = q.azimuths;
+  t.histogram.raysPerView = q.raysPerView;
+  t.histogram.meshResolution = q.meshResolution;
+  t.brdf.thetaL = q.brdfThetaL;
+  t.brdf.phi = q.brdfPhi;
+  t.variant = q.variant == "separable" ? RedistributionVariant::Separable : RedistributionVariant::Conditional;
+  return t;
+}
+
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings) {
+                                   std::vector<std::string>* warnings, const TableSettings& settings) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
   const size_t n = r.levels.size();
   std::vector<LevelTables> reversed;  // finest first: each coarser BRDF integrates the finer one
   for (size_t k = 0; k < n; ++k) {
     const TileRelief tile(r.levels[n - 1 - k]);
-    reversed.push_back(buildLevelTables(tile, material.phong, TableSettings{}, k == 0 ? nullptr : &reversed.back(),
+    reversed.push_back(buildLevelTables(tile, material.phong, settings, k == 0 ? nullptr : &reversed.back(),
                                         cache, warnings));
     const LevelTables& t = reversed.back();
     (t.fromCache ? r.tablesFromCache : r.tablesBuilt) += 1;

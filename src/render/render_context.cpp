@@ -35,7 +35,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   for (const Object& o : scene.objects) used[o.material] = true;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     if (!used[m] || scene.materials[m].relief.empty()) continue;
-    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings);
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;

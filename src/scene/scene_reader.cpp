@@ -346,6 +346,20 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.normals = r.choice("normals", s.normals, {"bump", "facet"});
   if (const std::optional<std::string> c = r.string("cache_dir"))
     s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
+  if (const toml::table* t = r.subtable("tables")) {
+    TableReader tr(*t, r.prefix() + "tables.", r.file());
+    TableResolution& q = s.tables;
+    q.thetaVBins = static_cast<int>(tr.integer("theta_v_bins", q.thetaVBins, 2, 90));
+    q.thetaNBins = static_cast<int>(tr.integer("theta_n_bins", q.thetaNBins, 4, 1024));
+    q.phiBins = static_cast<int>(tr.integer("phi_bins", q.phiBins, 4, 1024));
+    q.azimuths = static_cast<int>(tr.integer("azimuths", q.azimuths, 1, 1024));
+    q.raysPerView = static_cast<int>(tr.integer("rays_per_view", q.raysPerView, 16, 1 << 22));
+    q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));
+    q.brdfThetaL = static_cast<int>(tr.integer("brdf_theta_l", q.brdfThetaL, 2, 512));
+    q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));
+    q.variant = tr.choice("variant", q.variant, {"conditional", "separable"});
+    tr.finish();
+  }
   r.finish();
 }
 

@@ -197,6 +197,28 @@ TEST_F(SceneReaderTest, EnumsReferencesAndDuplicatesAreChecked) {
             std::string::npos);
 }
 
+TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
+  const Scene s = parse(std::string(kObject) +
+                        "[render.tables]\ntheta_v_bins = 9\ntheta_n_bins = 48\nphi_bins = 16\nazimuths = 8\n"
+                        "rays_per_view = 512\nmesh_resolution = 64\nbrdf_theta_l = 12\nbrdf_phi = 10\nvariant = \"separable\"\n");
+  const TableResolution& t = s.render.tables;
+  EXPECT_EQ(t.thetaVBins, 9);
+  EXPECT_EQ(t.thetaNBins, 48);
+  EXPECT_EQ(t.phiBins, 16);
+  EXPECT_EQ(t.azimuths, 8);
+  EXPECT_EQ(t.raysPerView, 512);
+  EXPECT_EQ(t.meshResolution, 64);
+  EXPECT_EQ(t.brdfThetaL, 12);
+  EXPECT_EQ(t.brdfPhi, 10);
+  EXPECT_EQ(t.variant, "separable");
+  EXPECT_EQ(parse(kObject).render.tables.thetaNBins, 96);
+  EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\ntheta_v_bins = 1\n")
+                .find(at(4, 16, "render.tables.theta_v_bins") + "expected an integer in [2, 90], got 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\nrays = 3\n").find(at(4, 1, "render.tables.rays") + "unknown key"),
+            std::string::npos);
+}
+
 TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
   EXPECT_NE(errorOf("[[objects]]\nmesh = \"nope.obj\"\n").find(at(2, 8, "objects.mesh") + "file not found: "), std::string::npos);
   EXPECT_NE(errorOf("[[objects]]\nmesh = \".\"\n").find(at(2, 8, "objects.mesh") + "not a regular file"), std::string::npos);

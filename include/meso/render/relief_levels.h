@@ -64,8 +64,11 @@ struct MaterialRelief {
   double tablesSeconds = 0.0;
 };
 
+// The library's table settings for a scene's [render.tables].
+TableSettings tableSettings(const TableResolution& resolution);
+
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings);
+                                   std::vector<std::string>* warnings, const TableSettings& settings = {});
 
 // Builds each level's slope pyramid: a height table's own texels (rounded up to powers of two), or
 // a procedural source sampled 4 times per period of its highest frequency (at most 2048 x 2048).

@@ -79,6 +79,19 @@ struct TransitionSettings {
   float e4 = 1.0f;
 };
 
+// [render.tables]: resolutions of the appearance tables (DESIGN.md section 4). Part of the cache key.
+struct TableResolution {
+  int thetaVBins = 16;      // view slices of the visible-normal histogram and the BRDF
+  int thetaNBins = 96;      // normal polar bins
+  int phiBins = 32;         // normal azimuth bins
+  int azimuths = 32;        // view azimuths traced per slice
+  int raysPerView = 2048;   // rays per (theta_V, phi_V)
+  int meshResolution = 192; // quads per tile side of the traced relief
+  int brdfThetaL = 16;      // BRDF nodes over theta_L
+  int brdfPhi = 16;         // BRDF nodes over |phi_{V-L}|
+  std::string variant = "conditional";  // redistribution maps: conditional | separable
+};
+
 struct RenderSettings {
   std::string algorithm = "auto";  // auto | brdf | bump | redistribution | displacement
   uint64_t seed = 0;
@@ -90,6 +103,7 @@ struct RenderSettings {
   int64_t maxMicropolygons = 80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
   std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
+  TableResolution tables;
 };
 
 // One keyframe of a camera path (see scene/camera_path.h).
