@@ -246,6 +246,9 @@ void runRender(const RenderCommandOptions& o) {
                    png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
     if (gInterrupted.load()) throw RenderInterrupted();
   }
+  if (counters.nonFinite.load() > 0)
+    std::fprintf(stderr, "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in meso: please report "
+                 "the scene)\n", static_cast<long long>(counters.nonFinite.load()));
   if (!o.quiet && skipped > 0)
     std::fprintf(stderr, "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n", skipped);
   if (!o.video.empty()) assembleVideo(o.video, output, scene.path.fps);
@@ -257,6 +260,7 @@ void runRender(const RenderCommandOptions& o) {
                      {"render", renderSeconds}, {"write", writeSeconds}, {"total", total.seconds()}}},
         {"peak_rss_mib", peak},
         {"rays", counters.rays.load()},
+        {"non_finite_values", counters.nonFinite.load()},
         {"triangles", maxTriangles},
         {"micropolygons", maxMicropolygons},
         {"tessellate_seconds", prep.tessellate},

@@ -70,7 +70,7 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
 }
 
 void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, int y, Image& film,
-                 int64_t& rays) {
+                 int64_t& rays, int64_t& nonFinite) {
   const int spp = options.spp;
   const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
   const int rows = (spp + cols - 1) / cols;
@@ -95,7 +95,11 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
   const float values[kChannels] = {beauty.r, beauty.g, beauty.b, sum.depth * invHits,
                                    sum.normal.x * invHits, sum.normal.y * invHits, sum.normal.z * invHits,
                                    algorithm.r, algorithm.g, algorithm.b, sum.T * invHits};
-  for (int c = 0; c < kChannels; ++c) film.at(x, y, c) = values[c];
+  for (int c = 0; c < kChannels; ++c) {
+    const bool finite = std::isfinite(values[c]);
+    nonFinite += !finite;
+    film.at(x, y, c) = finite ? values[c] : 0.0f;
+  }
 }
 
 }  // namespace
@@ -112,11 +116,12 @@ Image renderFrame(const RenderContext& ctx, const RenderOptions& options, Render
     for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
       for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
         if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
-        int64_t rays = 0;
+        int64_t rays = 0, nonFinite = 0;
         for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
           for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
-            renderPixel(ctx, options, x, y, film, rays);
+            renderPixel(ctx, options, x, y, film, rays, nonFinite);
         counters.rays.fetch_add(rays, std::memory_order_relaxed);
+        if (nonFinite) counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
         progress.advance();
       }
     }

@@ -60,7 +60,9 @@ Image render(const Scene& s, int spp, bool filter) {
   RenderCounters counters;
   RenderOptions o{spp, 9, false};
   o.filterBump = filter;
-  return renderFrame(ctx, o, counters);
+  Image img = renderFrame(ctx, o, counters);
+  EXPECT_EQ(counters.nonFinite.load(), 0) << "the renderer's own NaN/Inf check fired";
+  return img;
 }
 
 double rmse(const Image& a, const Image& b) {

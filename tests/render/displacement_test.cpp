@@ -84,6 +84,7 @@ Rendered render(const Scene& scene) {
   out.geometry = prepareFrame(ctx, scene.camera, times);
   RenderCounters counters;
   out.image = renderFrame(ctx, {scene.camera.spp, 5, false}, counters);
+  EXPECT_EQ(counters.nonFinite.load(), 0) << "the renderer's own NaN/Inf check fired";
   return out;
 }
 

@@ -58,7 +58,9 @@ Image render(const Scene& scene) {
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times);
   RenderCounters counters;
-  return renderFrame(ctx, {scene.camera.spp, 3, false}, counters);
+  Image img = renderFrame(ctx, {scene.camera.spp, 3, false}, counters);
+  EXPECT_EQ(counters.nonFinite.load(), 0) << "the renderer's own NaN/Inf check fired";
+  return img;
 }
 
 double meanRed(const Image& img, int y0, int y1) {

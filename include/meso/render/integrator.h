@@ -29,6 +29,9 @@ struct Interrupted : std::exception {
 
 struct RenderCounters {
   std::atomic<int64_t> rays{0};
+  // Film values that came out NaN or infinite and were written as 0 instead: always 0 unless meso
+  // has a bug (the renderer's own check; the CLI warns and --stats reports it).
+  std::atomic<int64_t> nonFinite{0};
 };
 
 // The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that hit
