@@ -261,6 +261,35 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t, const std::file
   return d;
 }
 
+NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::path& base) {
+  NdfDecl d;
+  d.present = true;
+  d.loc = {r.file(), static_cast<int>(t.source().begin.line), static_cast<int>(t.source().begin.column)};
+  d.type = r.choice("type", d.type, {"beckmann", "blinn-phong", "tabulated", "relief"});
+  if (const toml::node* a = r.get("alpha")) {
+    if (a->is_array()) {
+      const std::vector<double> v = r.numbers(*a, "alpha", 2, 1e-4, 10.0);
+      d.alpha = Vec2(static_cast<float>(v[0]), static_cast<float>(v[1]));
+    } else {
+      d.alpha = Vec2(static_cast<float>(r.number("alpha", 0.3, 1e-4, 10.0)));
+    }
+  }
+  d.angle = static_cast<float>(r.number("angle", d.angle, -360.0, 360.0));
+  d.exponent = static_cast<float>(r.number("exponent", d.exponent, 0.0, 1e6, true));
+  if (d.type == "tabulated") {
+    if (!r.get("image")) throw Error(d.loc, r.prefix() + "image", "a tabulated NDF needs `image` (an NDF over n.x, n.y)");
+    d.image = readablePath(r, "image", base);
+  }
+  d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e9));
+  d.octaves = static_cast<int>(r.integer("octaves", d.octaves, 1, 24));
+  d.lacunarity = static_cast<float>(r.number("lacunarity", d.lacunarity, 1.0, 16.0, true));
+  d.gain = static_cast<float>(r.number("gain", d.gain, 0.0, 1.0, true));
+  d.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
+  d.lambert = r.boolean("lambert", d.lambert);
+  r.finish();
+  return d;
+}
+
 Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   Material m;
   const std::optional<std::string> name = r.string("name");
@@ -278,6 +307,13 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   for (const toml::table* t : levels) {
     TableReader rr(*t, r.prefix() + "relief.", r.file());
     m.relief.push_back(readRelief(rr, *t, base));
+  }
+  if (const toml::table* t = r.subtable("ndf")) {
+    TableReader nr(*t, r.prefix() + "ndf.", r.file());
+    m.ndf = readNdf(nr, *t, base);
+    if (m.ndf.type == "relief" && m.relief.empty())
+      throw Error(m.ndf.loc, r.prefix() + "ndf.type", "\"relief\" estimates the NDF from the material's finest relief level, "
+                  "but the material has no [[materials.relief]]");
   }
   r.finish();
   return m;

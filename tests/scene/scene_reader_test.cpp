@@ -219,6 +219,35 @@ TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
             std::string::npos);
 }
 
+TEST_F(SceneReaderTest, NdfDeclarations) {
+  const Scene s = parse("[[materials]]\nname = \"m\"\n  [materials.ndf]\n  type = \"beckmann\"\n  alpha = [0.2, 0.05]\n"
+                        "  angle = 30\n  scale = 64\n  octaves = 5\n  seed = 3\n  lambert = false\n" + std::string(kObject));
+  const NdfDecl& n = s.materials[0].ndf;
+  EXPECT_TRUE(n.present);
+  EXPECT_EQ(n.type, "beckmann");
+  EXPECT_FLOAT_EQ(n.alpha.x, 0.2f);
+  EXPECT_FLOAT_EQ(n.alpha.y, 0.05f);
+  EXPECT_FLOAT_EQ(n.angle, 30.0f);
+  EXPECT_FLOAT_EQ(n.scale, 64.0f);
+  EXPECT_EQ(n.octaves, 5);
+  EXPECT_EQ(n.seed, 3u);
+  EXPECT_FALSE(n.lambert);
+  EXPECT_FALSE(parse(kObject).materials[0].ndf.present);
+  EXPECT_FLOAT_EQ(parse("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0.4\n" + std::string(kObject)).materials[0].ndf.alpha.y, 0.4f);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"ggx\"\n" + std::string(kObject))
+                .find(at(4, 8, "materials.ndf.type") + "expected one of beckmann | blinn-phong | tabulated | relief"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"tabulated\"\n" + std::string(kObject))
+                .find("materials.ndf.image: a tabulated NDF needs `image`"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"relief\"\n" + std::string(kObject))
+                .find("materials.ndf.type: \"relief\" estimates the NDF from the material's finest relief level"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0\n" + std::string(kObject))
+                .find(at(4, 9, "materials.ndf.alpha") + "expected a number in [0.0001, 10]"),
+            std::string::npos);
+}
+
 TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
   EXPECT_NE(errorOf("[[objects]]\nmesh = \"nope.obj\"\n").find(at(2, 8, "objects.mesh") + "file not found: "), std::string::npos);
   EXPECT_NE(errorOf("[[objects]]\nmesh = \".\"\n").find(at(2, 8, "objects.mesh") + "not a regular file"), std::string::npos);

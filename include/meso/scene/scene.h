@@ -51,6 +51,23 @@ struct ReliefLevelDecl {
   bool periodic = true;
 };
 
+// [materials.ndf]: the finest level, fractal NDF synthesis (Kautz et al. 2001; docs/synthesis.md).
+struct NdfDecl {
+  bool present = false;
+  FileLoc loc;
+  std::string type = "beckmann";  // beckmann | blinn-phong | tabulated | relief
+  Vec2 alpha{0.3f};               // beckmann roughness (alpha_x, alpha_y); equal for isotropic
+  float angle = 0.0f;             // degrees: the alpha_x axis, measured from P_u towards P_v
+  float exponent = 40.0f;         // blinn-phong
+  std::filesystem::path image;    // tabulated: NDF over (n.x, n.y) of the hemisphere
+  float scale = 0.0f;             // turbulence cycles per unit of u at octave 0 (0: from the relief or 16)
+  int octaves = 8;                // most turbulence octaves
+  float lacunarity = 2.0f;
+  float gain = 0.5f;
+  uint64_t seed = 0;
+  bool lambert = true;            // keep the kd (L.N) term
+};
+
 struct Material {
   std::string name;
   FileLoc loc;
@@ -59,6 +76,7 @@ struct Material {
   Vec3 ks{0.0f};
   float phong = 20.0f;  // exponent n of (H.N)^n
   std::vector<ReliefLevelDecl> relief;
+  NdfDecl ndf;
 };
 
 struct Object {
