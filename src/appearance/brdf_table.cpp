@@ -73,6 +73,22 @@ BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res, std
   return t;
 }
 
+BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
+                                      const SpecularLobe& lobe) {
+  return integrate(distr, res, [&lobe](const Vec3& V, const Vec3& L, const Vec3& nMean) {
+    Value v;
+    v.diffuse = std::max(glm::dot(L, nMean), 0.0f);
+    const float len = glm::length(nMean);
+    const Vec3 h = V + L;
+    const float hl = glm::length(h);
+    if (len > 0.0f && hl > 1e-12f) {
+      const float s = lobe.value(std::clamp(glm::dot(h / hl, nMean / len), -1.0f, 1.0f));
+      v.specular = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
+    }
+    return v;
+  });
+}
+
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong) {
   return integrate(distr, res, [phong](const Vec3& V, const Vec3& L, const Vec3& nMean) {
     // The diffuse term is linear in N: the bin's mean normal (unnormalized) makes it exact.

@@ -5,7 +5,8 @@
 namespace meso {
 namespace {
 
-uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s, const LevelTables* finer) {
+uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s, const LevelTables* finer,
+                  const SpecularLobe* lobe) {
   const HistogramSettings& h = s.histogram;
   Hasher hash;
   hash.value(kTableFormatVersion).value(relief.fingerprint());
@@ -13,22 +14,28 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
   hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
   hash.value(s.brdf.thetaL).value(s.brdf.phi);
   // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
-  if (finer) hash.value(finer->key); else hash.value(phong);
+  if (finer)
+    hash.value(finer->key);
+  else if (lobe)
+    hash.string("lobe").value(lobe->fingerprint);
+  else
+    hash.value(phong);
   return hash.digest();
 }
 
-BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s, const LevelTables* finer) {
-  return finer ? BrdfTable::fromFinerLevel(distr, s.brdf, finer->brdf)
-               : BrdfTable::fromDistribution(distr, s.brdf, phong);
+BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s, const LevelTables* finer,
+                  const SpecularLobe* lobe) {
+  if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, finer->brdf);
+  return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe) : BrdfTable::fromDistribution(distr, s.brdf, phong);
 }
 
 }  // namespace
 
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
                              const LevelTables* finer, const TableCache& cache,
-                             std::vector<std::string>* warnings) {
+                             std::vector<std::string>* warnings, const SpecularLobe* lobe) {
   Timer timer;
-  const uint64_t key = tableKey(relief, phong, settings, finer);
+  const uint64_t key = tableKey(relief, phong, settings, finer, lobe);
   VisibleNormalHistogram distr(settings.histogram.resolution);
   std::string warning;
   std::optional<std::vector<float>> cached = cache.load(key, &warning);
@@ -48,7 +55,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
   const size_t brdfSize = 2 * thetaV.size() * settings.brdf.thetaL * settings.brdf.phi;
   BrdfTable brdf = fromCache && brdfData.size() == brdfSize
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData))
-                       : brdfFor(distr, phong, settings, finer);
+                       : brdfFor(distr, phong, settings, finer, lobe);
   fromCache = fromCache && brdf.data().size() == brdfSize;
   std::vector<float> payload = distr.toData();
   payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());

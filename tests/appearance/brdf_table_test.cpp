@@ -99,3 +99,24 @@ TEST(BrdfTable, RecursionOverAFlatFinerLevelIsTheOneLevelTable) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// A specular lobe given as a function is the same table as the built-in (H.N)^phong when it is
+// that function, and a wider lobe gives a wider highlight (more specular away from the mirror).
+TEST(BrdfTable, SpecularLobeGeneralizesPhong) {
+  const VisibleNormalHistogram h = roughHistogram();
+  const BrdfResolution res{8, 8};
+  const BrdfTable phong = BrdfTable::fromDistribution(h, res, 30.0f);
+  const SpecularLobe same{[](float c) { return std::pow(std::max(c, 0.0f), 30.0f); }, 1};
+  EXPECT_EQ(BrdfTable::fromDistribution(h, res, same).data(), phong.data());
+  const SpecularLobe wide{[](float c) { return std::pow(std::max(c, 0.0f), 5.0f); }, 2};
+  const BrdfTable w = BrdfTable::fromDistribution(h, res, wide);
+  EXPECT_GT(w.lookup(0.2f, 1.2f, 0.0f).specular, phong.lookup(0.2f, 1.2f, 0.0f).specular);
+  const SpecularLobe broken{[](float) { return std::nanf(""); }, 3};
+  for (float v : BrdfTable::fromDistribution(h, res, broken).data()) EXPECT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
+}  // namespace meso

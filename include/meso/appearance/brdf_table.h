@@ -4,9 +4,19 @@
 
 #include "meso/appearance/visible_normal_histogram.h"
 
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace meso {
+
+// The highlight of one visible normal n as a function of cos(angle between H and n), peak 1 at
+// cos = 1 for (H.n)^phong. A finest level whose material synthesizes detail below it (an NDF)
+// uses the NDF's lobe instead (Figure 2's first branch over the NDF model).
+struct SpecularLobe {
+  std::function<float(float cosHN)> value;
+  uint64_t fingerprint = 0;  // identifies the lobe in table cache keys
+};
 
 struct BrdfResolution {
   int thetaL = 16;  // nodes over [0, pi/2], both ends included
@@ -21,6 +31,9 @@ class BrdfTable {
   BrdfTable() = default;
   // The finest level (Figure 2, first branch): (L.N) and (H.N)^phong over the visible normals.
   static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong);
+  // The same with any specular lobe.
+  static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
+                                    const SpecularLobe& lobe);
   // A coarser level (Figure 2, second branch): the finer level's table at the primed angles of
   // eq. (1), averaged over this level's visible normals.
   static BrdfTable fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,

@@ -34,8 +34,9 @@ struct LevelTables {
 // Builds (or loads) the tables of a level. `finer` is the next finer level's tables, or nullptr for
 // the finest level, whose BRDF uses (L.N) and (H.N)^phong. Warnings (a corrupt cache file that was
 // rebuilt, an unwritable cache) are appended to *warnings.
+// `lobe` (may be null) replaces (H.N)^phong in the finest level's BRDF.
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
                              const LevelTables* finer, const TableCache& cache,
-                             std::vector<std::string>* warnings);
+                             std::vector<std::string>* warnings, const SpecularLobe* lobe = nullptr);
 
 }  // namespace meso
