@@ -113,7 +113,7 @@ TEST(Ndf, BadParametersThrow) {
   EXPECT_THROW(BeckmannNdf(-1.0f), Error);
   EXPECT_THROW(BeckmannNdf(0.3f, std::numeric_limits<float>::quiet_NaN()), Error);
   EXPECT_THROW(BlinnPhongNdf(-2.0f), Error);
-  EXPECT_THROW(BlinnPhongNdf(std::numeric_limits<float>::infinity()), Error);
+  EXPECT_THROW(BlinnPhongNdf{std::numeric_limits<float>::infinity()}, Error);
 }
 
 std::vector<float> gaussianGrid(int n, float sigmaX, float sigmaY, float cx = 0.0f) {

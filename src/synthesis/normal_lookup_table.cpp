@@ -1,0 +1,198 @@
+// Kautz et al. 2001, section 4: x_n = M^-1(r1), y_n = C^-1(r2 | x_n) over the normal's x and y,
+// tabulated as L(r1, r2); section 7: its inverse for index textures.
+#include "meso/synthesis/normal_lookup_table.h"
+
+#include "meso/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace meso {
+namespace {
+
+// Cumulative sums of masses (double), normalized to end at 1; all zero gives the uniform CDF.
+void cumulate(const double* masses, int n, float* out) {
+  double total = 0.0;
+  for (int k = 0; k < n; ++k) total += masses[k];
+  double run = 0.0;
+  out[0] = 0.0f;
+  for (int k = 0; k < n; ++k) {
+    run += masses[k];
+    out[k + 1] = total > 0.0 ? static_cast<float>(run / total) : static_cast<float>(k + 1) / n;
+  }
+  out[n] = 1.0f;
+}
+
+// Inverse of a piecewise-linear CDF over n equal cells of [0, n]: a position in cells, and the cell
+// it came from (one with mass, unless all are empty). r >= 1 lands on the right edge of the last
+// cell with mass, r <= 0 on the left edge of the first.
+float inverseCells(const float* cdf, int n, float r, int& cell) {
+  if (r >= 1.0f) {
+    int c = n - 1;
+    while (c > 0 && !(cdf[c + 1] > cdf[c])) --c;
+    cell = c;
+    return static_cast<float>(c + 1);
+  }
+  r = std::max(r, 0.0f);
+  // The cell c with cdf[c] <= r < cdf[c + 1]: it has mass.
+  const int c = std::clamp(static_cast<int>(std::upper_bound(cdf, cdf + n + 1, r) - cdf) - 1, 0, n - 1);
+  const float width = cdf[c + 1] - cdf[c];
+  const float f = width > 0.0f ? (r - cdf[c]) / width : 0.0f;
+  cell = c;
+  return static_cast<float>(c) + std::clamp(f, 0.0f, 1.0f);
+}
+
+// The CDF at a position in cells (clamped to [0, n]).
+float forwardCells(const float* cdf, int n, float pos) {
+  pos = std::clamp(pos, 0.0f, static_cast<float>(n));
+  const int c = std::min(static_cast<int>(pos), n - 1);
+  return cdf[c] + (pos - c) * (cdf[c + 1] - cdf[c]);
+}
+
+}  // namespace
+
+float NormalLookupTable::unwarp(float r) {
+  r = std::clamp(r, 0.0f, 1.0f);
+  return r < 0.5f ? std::cbrt(0.25f * r) : 1.0f - std::cbrt(0.25f * (1.0f - r));
+}
+
+NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& options)
+    : res_(options.resolution), pdfRes_(options.pdfResolution), support_(ndf.support()) {
+  if (res_ < 2 || res_ > 8192 || pdfRes_ < 1 || pdfRes_ > 8192 || options.subsamples < 1 || options.subsamples > 64)
+    throw Error("normal lookup table: need 2..8192 nodes, 1..8192 density cells and 1..64 subsamples (got " +
+                std::to_string(res_) + ", " + std::to_string(pdfRes_) + ", " + std::to_string(options.subsamples) + ")");
+  const int n = pdfRes_, k = options.subsamples;
+  const double wx = 2.0 * support_.x / n, wy = 2.0 * support_.y / n;
+  // Cell masses of the disk density D (their common factor wx wy / k^2 cancels in the CDFs).
+  std::vector<double> mass(static_cast<size_t>(n) * n, 0.0), column(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      double m = 0.0;
+      for (int a = 0; a < k; ++a) {
+        const double x = -support_.x + (i + (a + 0.5) / k) * wx;
+        for (int b = 0; b < k; ++b) {
+          const double y = -support_.y + (j + (b + 0.5) / k) * wy, r2 = x * x + y * y;
+          if (r2 < 1.0)
+            m += ndf.D(Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(std::sqrt(1.0 - r2))));
+        }
+      }
+      mass[static_cast<size_t>(i) * n + j] = m;
+      column[i] += m;
+    }
+  }
+  double total = 0.0;
+  for (double m : column) total += m;
+  if (!(total > 0.0) || !std::isfinite(total))
+    throw Error("normal lookup table: the NDF " + ndf.name() + " has no mass inside its support box");
+  marginalCdf_.resize(n + 1);
+  cumulate(column.data(), n, marginalCdf_.data());
+  conditionalCdf_.resize(static_cast<size_t>(n) * (n + 1));
+  for (int i = 0; i < n; ++i) cumulate(&mass[static_cast<size_t>(i) * n], n, &conditionalCdf_[static_cast<size_t>(i) * (n + 1)]);
+
+  nodes_.resize(static_cast<size_t>(res_) * res_);
+  for (int i = 0; i < res_; ++i) {
+    int c = 0;
+    const float x = marginalInverse(warp(static_cast<float>(i) / (res_ - 1)), c);
+    for (int j = 0; j < res_; ++j) {
+      const float y = conditionalInverse(c, warp(static_cast<float>(j) / (res_ - 1)));
+      nodes_[static_cast<size_t>(j) * res_ + i] = Vec2(x, y);
+    }
+  }
+}
+
+float NormalLookupTable::marginalInverse(float r1, int& column) const {
+  const float pos = inverseCells(marginalCdf_.data(), pdfRes_, r1, column);
+  return -support_.x + pos * (2.0f * support_.x / pdfRes_);
+}
+
+float NormalLookupTable::conditionalInverse(int column, float r2) const {
+  int cell = 0;
+  const float pos = inverseCells(&conditionalCdf_[static_cast<size_t>(column) * (pdfRes_ + 1)], pdfRes_, r2, cell);
+  return -support_.y + pos * (2.0f * support_.y / pdfRes_);
+}
+
+Vec3 NormalLookupTable::sampleExact(Vec2 r) const {
+  int c = 0;
+  const float x = marginalInverse(std::clamp(r.x, 0.0f, 1.0f), c);
+  return normalFromXY(Vec2(x, conditionalInverse(c, std::clamp(r.y, 0.0f, 1.0f))));
+}
+
+Vec2 NormalLookupTable::cdf(const Vec3& m) const {
+  const float px = std::clamp((m.x + support_.x) / (2.0f * support_.x) * pdfRes_, 0.0f, static_cast<float>(pdfRes_));
+  const float py = std::clamp((m.y + support_.y) / (2.0f * support_.y) * pdfRes_, 0.0f, static_cast<float>(pdfRes_));
+  const int c = std::min(static_cast<int>(px), pdfRes_ - 1);
+  return Vec2(forwardCells(marginalCdf_.data(), pdfRes_, px),
+              forwardCells(&conditionalCdf_[static_cast<size_t>(c) * (pdfRes_ + 1)], pdfRes_, py));
+}
+
+Vec2 NormalLookupTable::interpolate(Vec2 t) const {
+  const int i = std::min(static_cast<int>(t.x), res_ - 2), j = std::min(static_cast<int>(t.y), res_ - 2);
+  const float a = t.x - i, b = t.y - j;
+  const Vec2* row0 = &nodes_[static_cast<size_t>(j) * res_ + i];
+  const Vec2* row1 = row0 + res_;
+  const Vec2 p = row0[0] + a * (row0[1] - row0[0]), q = row1[0] + a * (row1[1] - row1[0]);
+  return p + b * (q - p);
+}
+
+Vec3 NormalLookupTable::lookup(Vec2 r) const {
+  const float s = static_cast<float>(res_ - 1);
+  return normalFromXY(interpolate(Vec2(unwarp(r.x) * s, unwarp(r.y) * s)));
+}
+
+Vec2 NormalLookupTable::invert(const Vec3& m) const {
+  // First coordinate: node x depends on i only and rises with i.
+  const auto xAt = [&](int i) { return nodes_[i].x; };
+  int lo = 0, hi = res_ - 1;
+  float tx;
+  if (!(m.x > xAt(0))) {
+    tx = 0.0f;
+  } else if (!(m.x < xAt(res_ - 1))) {
+    tx = static_cast<float>(res_ - 1);
+  } else {
+    while (hi - lo > 1) {  // invariant xAt(lo) < m.x <= xAt(hi)
+      const int mid = (lo + hi) / 2;
+      (xAt(mid) < m.x ? lo : hi) = mid;
+    }
+    const float w = xAt(hi) - xAt(lo);
+    tx = static_cast<float>(lo) + (w > 0.0f ? (m.x - xAt(lo)) / w : 0.0f);
+  }
+  // Second coordinate: y along the column blended at tx rises with j.
+  const int i = std::min(static_cast<int>(tx), res_ - 2);
+  const float a = tx - i;
+  const auto yAt = [&](int j) {
+    const Vec2* row = &nodes_[static_cast<size_t>(j) * res_ + i];
+    return row[0].y + a * (row[1].y - row[0].y);
+  };
+  float ty;
+  if (!(m.y > yAt(0))) {
+    ty = 0.0f;
+  } else if (!(m.y < yAt(res_ - 1))) {
+    ty = static_cast<float>(res_ - 1);
+  } else {
+    lo = 0, hi = res_ - 1;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      (yAt(mid) < m.y ? lo : hi) = mid;
+    }
+    const float w = yAt(hi) - yAt(lo);
+    ty = static_cast<float>(lo) + (w > 0.0f ? (m.y - yAt(lo)) / w : 0.0f);
+  }
+  const float s = static_cast<float>(res_ - 1);
+  return Vec2(warp(tx / s), warp(ty / s));
+}
+
+float NormalLookupTable::cellAngle(Vec2 r) const {
+  const float s = static_cast<float>(res_ - 1);
+  const int i = std::min(static_cast<int>(unwarp(r.x) * s), res_ - 2);
+  const int j = std::min(static_cast<int>(unwarp(r.y) * s), res_ - 2);
+  const Vec3 c[4] = {normalFromXY(nodeXY(i, j)), normalFromXY(nodeXY(i + 1, j)), normalFromXY(nodeXY(i, j + 1)),
+                     normalFromXY(nodeXY(i + 1, j + 1))};
+  float largest = 0.0f;
+  for (int p = 0; p < 4; ++p)
+    for (int q = p + 1; q < 4; ++q)
+      largest = std::max(largest, std::acos(std::clamp(glm::dot(c[p], c[q]), -1.0f, 1.0f)));
+  return largest;
+}
+
+}  // namespace meso
