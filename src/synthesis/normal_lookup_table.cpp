@@ -5,6 +5,8 @@
 #include "meso/core/error.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -52,9 +54,23 @@ float forwardCells(const float* cdf, int n, float pos) {
 
 }  // namespace
 
+namespace {
+
+// x^(1/3) for x in [0, 1/8] to float precision, without std::cbrt's ~25 ns: a bit-level first
+// guess of x^(-1/3) (exponent / -3), division-free Newton steps y <- y (4 - x y^3) / 3, then
+// x y^2.
+inline float cubeRoot(float x) {
+  if (!(x > 1e-30f)) return 0.0f;
+  float y = std::bit_cast<float>(0x54a2fa8cu - std::bit_cast<uint32_t>(x) / 3u);
+  for (int k = 0; k < 4; ++k) y *= (4.0f - x * y * y * y) * (1.0f / 3.0f);
+  return x * y * y;
+}
+
+}  // namespace
+
 float NormalLookupTable::unwarp(float r) {
   r = std::clamp(r, 0.0f, 1.0f);
-  return r < 0.5f ? std::cbrt(0.25f * r) : 1.0f - std::cbrt(0.25f * (1.0f - r));
+  return r < 0.5f ? cubeRoot(0.25f * r) : 1.0f - cubeRoot(0.25f * (1.0f - r));
 }
 
 NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& options)

@@ -75,11 +75,14 @@ float Turbulence::octaveNoise(int channel, int o, Vec2 p) const {
   const double y = (static_cast<double>(oct.sinA) * p.x + static_cast<double>(oct.cosA) * p.y) * oct.frequency + oct.offsetY;
   const double fx = std::floor(x), fy = std::floor(y);
   const float u = static_cast<float>(x - fx), v = static_cast<float>(y - fy);
-  const uint64_t ix = static_cast<uint64_t>(static_cast<int64_t>(fx)), iy = static_cast<uint64_t>(static_cast<int64_t>(fy));
+  const uint32_t ix = static_cast<uint32_t>(static_cast<int64_t>(fx)), iy = static_cast<uint32_t>(static_cast<int64_t>(fy));
+  const uint32_t salt = static_cast<uint32_t>(oct.salt);
   float n[4];
   for (int c = 0; c < 4; ++c) {
-    const uint64_t h = mix64(oct.salt ^ ((ix + (c & 1)) << 32 | ((iy + (c >> 1)) & 0xffffffffull)));
-    const Vec2 g = gradients_[h >> 56];
+    // A 32-bit lattice hash (the lowbias32 finaliser of Wellons 2018): a quarter of mix64's cost.
+    uint32_t h = (ix + (c & 1)) * 0x27d4eb2du ^ (iy + (c >> 1)) * 0x165667b1u ^ salt;
+    h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
+    const Vec2 g = gradients_[h >> 24];
     n[c] = g.x * (u - static_cast<float>(c & 1)) + g.y * (v - static_cast<float>(c >> 1));
   }
   const float su = fade(u), sv = fade(v);
