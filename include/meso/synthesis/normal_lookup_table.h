@@ -21,11 +21,12 @@ struct NormalLookupOptions {
 //  1. cell masses of D on a pdfResolution^2 grid (D integrated with subsamples^2 midpoints);
 //  2. x = M^-1(r1) from the column marginal, y = C^-1(r2 | column of x): both exact inverses of
 //     the piecewise-constant density (linear inside a cell);
-//  3. L stores (x, y) at nodes (i, j) placed at r = warp(i / (res - 1)), where warp(t) = 2 t^2 for
-//     t < 1/2 and 1 - 2 (1 - t)^2 above: nodes crowd towards r = 0 and 1, where the inverse CDFs
-//     run off into the tails, so the first and last cells hold 3e-5 of the mass rather than 1/255.
+//  3. L stores (x, y) at nodes (i, j) placed at r = warp(i / (res - 1)), where warp(t) = 4 t^3 for
+//     t < 1/2 and 1 - 4 (1 - t)^3 above (C1): nodes crowd towards r = 0 and 1, where the inverse
+//     CDFs run off into the tails, so the first and last cells hold 2.4e-7 of the mass rather than
+//     1/255 (which bilinear interpolation would smear evenly over the far tail).
 //  lookup() interpolates (x, y) bilinearly in the warped coordinates and returns
-//  (x, y, sqrt(1 - x^2 - y^2)) (pulled onto the disk if interpolation strays outside).
+//  normalFromXY(x, y) = (x, y, sqrt(1 - x^2 - y^2)).
 // The normals are in the NDF's frame: an anisotropic NDF's x axis is its principal axis, and the
 // caller maps them to the surface through the surface tangent (see synthesized_shading.h).
 // Immutable after construction; lookup() and invert() are allocation-free and thread-safe.

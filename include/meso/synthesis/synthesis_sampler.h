@@ -18,8 +18,8 @@ struct SynthesisOptions {
 // Turbulence (2 channels) -> G -> L: a microfacet normal distributed by the NDF wherever the
 // turbulence has at least one octave in (pixelsPerUnit large enough), with spatial coherence
 // (neighbouring samples get neighbouring normals) and more detail the closer one looks.
-// Does not own the NDF: it must outlive the sampler. Building costs the G rows (~0.25 s with the
-// defaults) and the table (~60 ms); normal() is allocation-free and thread-safe.
+// Does not own the NDF: it must outlive the sampler. Building costs the G rows (~0.35 s with the
+// defaults) and the table (~30 ms); normal() is allocation-free and thread-safe.
 class SynthesisSampler {
  public:
   SynthesisSampler(const Ndf& ndf, const SynthesisOptions& options);

@@ -31,7 +31,7 @@ struct TurbulenceCdfOptions {
 //    crowded towards 0 and 1 (as L's nodes), each row a piecewise-linear CDF over `bins` bins;
 //  - at run time the two fine rows around c blend linearly; c < 1 uses the row c = 1 (the first
 //    octave fading in from t = 0 maps to r = 1/2, the median), c > 4 the last row.
-// Building costs about points * 1.2 us; G() and inverse() are allocation-free and thread-safe.
+// Building costs about points * 1.4 us; G() and inverse() are allocation-free and thread-safe.
 class TurbulenceCdf {
  public:
   static constexpr std::array<float, 8> kMeasuredCounts{1.0f, 1.25f, 1.5f, 1.75f, 2.0f, 2.5f, 3.0f, 4.0f};
