@@ -78,11 +78,22 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
   const size_t n = r.levels.size();
+  if (material.ndf.present) {
+    const ReliefLevel* finest = n > 0 ? &r.levels.back() : nullptr;
+    float angle = 0.0f;
+    std::unique_ptr<Ndf> ndf = makeNdf(material.ndf, finest ? finest->source.get() : nullptr,
+                                       finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f, &angle);
+    // Octave 0 continues just below the finest level's shortest wavelength (16 cells per unit of u
+    // on a material without relief), unless the scene says otherwise.
+    const float base = material.ndf.scale > 0.0f ? material.ndf.scale : (finest ? 2.0f * finest->freqPerU : 16.0f);
+    r.synthesis = buildSynthesisLevel(material.ndf, std::move(ndf), base, angle);
+  }
+  const SpecularLobe lobe = r.synthesis ? r.synthesis->lobe() : SpecularLobe{};
   std::vector<LevelTables> reversed;  // finest first: each coarser BRDF integrates the finer one
   for (size_t k = 0; k < n; ++k) {
     const TileRelief tile(r.levels[n - 1 - k]);
     reversed.push_back(buildLevelTables(tile, material.phong, settings, k == 0 ? nullptr : &reversed.back(),
-                                        cache, warnings));
+                                        cache, warnings, k == 0 && r.synthesis ? &lobe : nullptr));
     const LevelTables& t = reversed.back();
     (t.fromCache ? r.tablesFromCache : r.tablesBuilt) += 1;
     r.tablesSeconds += t.seconds;

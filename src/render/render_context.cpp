@@ -34,7 +34,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   std::vector<bool> used(scene.materials.size(), false);
   for (const Object& o : scene.objects) used[o.material] = true;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
-    if (!used[m] || scene.materials[m].relief.empty()) continue;
+    if (!used[m] || !hasRelief(scene.materials[m])) continue;
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;

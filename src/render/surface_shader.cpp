@@ -45,18 +45,38 @@ float levelT(const LevelContext& c, const ReliefLevel& level, const LevelFrame& 
                              glm::dot(f.N, c.V), c.ctx.scene->render.transition);
 }
 
+// Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
+// local model. `own` is the algorithm colour of the level above, mixed towards synthesis by how
+// much synthesized detail shows.
+ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& own) {
+  ShadeResult r;
+  if (!c.relief.synthesis) {
+    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
+    r.normal = f.N;
+    r.algorithm = own;
+    return r;
+  }
+  const float lengthPerU = std::min(glm::length(c.sp.Pu), glm::length(c.sp.Pv));
+  const float cosV = std::max(glm::dot(f.N, c.V), 0.1f);
+  const float pixelsPerUnit =
+      c.distance > 0.0f ? c.ctx.camera.pixelsPerRadian() * lengthPerU * cosV / c.distance : 1e30f;
+  const SynthesisShade s = shadeSynthesisLevel(*c.relief.synthesis, c.material, c.ctx.scene->lights, c.sp.P, f.Pu,
+                                               f.N, c.V, c.sp.uv, pixelsPerUnit);
+  r.colour = s.colour;
+  r.normal = s.normal;
+  r.synthesis = s.weight;
+  r.algorithm = glm::mix(own, algorithm_colour::kSynthesis, s.weight);
+  return r;
+}
+
 // Shades levels i.. on frame f (auto mode), DESIGN.md section 3. Below e2 the paper blends the
 // intensities of the BRDF and of redistribution (which hands over to the next level); above e3 the
 // level's geometry was raised by disp = ramp(T; e3, e4) when the frame was tessellated, and its
 // normal goes through theta_W (n' = R_thetaV(R_thetaW^-1(n)), exactly the Blinn normal at disp = 1);
 // the next level then shades that surface with the renderer its own T picks.
 ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
+  if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth);
   ShadeResult r;
-  if (i == c.relief.levels.size()) {
-    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
-    r.normal = f.N;
-    return r;
-  }
   const ReliefLevel& level = c.relief.levels[i];
   const float T = levelT(c, level, f);
   const TransitionWeights w = transitionWeights(T, c.ctx.scene->render.transition);
@@ -76,7 +96,8 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
     const ShadeResult finer = shadeAuto(c, i + 1, next);
     r.colour += (1.0f - w.brdf) * finer.colour;
     const Vec3 own = glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
-    r.algorithm += (1.0f - w.brdf) * (finest ? own : finer.algorithm);
+    r.algorithm += (1.0f - w.brdf) * (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
+    r.synthesis = (1.0f - w.brdf) * finer.synthesis;
     r.normal = finer.normal;
     if (!finest && w.brdf == 0.0f) r.T = finer.T;
   }
@@ -136,12 +157,10 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
     f.N = algorithm == Algorithm::Redistribution ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
   }
-  r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
-  r.algorithm = algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
-                : algorithm == Algorithm::Displacement   ? algorithm_colour::kDisplacement
-                                                         : algorithm_colour::kBump;
-  r.normal = f.N;
-  return r;
+  return shadeBottom(c, f,
+                     algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
+                     : algorithm == Algorithm::Displacement ? algorithm_colour::kDisplacement
+                                                            : algorithm_colour::kBump);
 }
 
 }  // namespace
@@ -175,7 +194,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
   const bool back = glm::dot(sp.N, V) < 0.0f;
   LevelFrame frame{sp.Pu, sp.Pv, back ? -sp.N : sp.N};
-  if (relief.levels.empty()) {
+  if (relief.levels.empty() && !relief.synthesis) {
     ShadeResult r;
     r.normal = frame.N;
     r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V);
@@ -192,6 +211,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   }
   const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
                        footprint};
+  if (relief.levels.empty()) return shadeBottom(c, frame, algorithm_colour::kSmooth);  // an NDF alone
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 

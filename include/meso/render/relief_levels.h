@@ -5,6 +5,7 @@
 #include "meso/appearance/level_tables.h"
 #include "meso/relief/height_source.h"
 #include "meso/relief/slope_pyramid.h"
+#include "meso/render/synthesis_level.h"
 #include "meso/scene/scene.h"
 
 #include <memory>
@@ -59,6 +60,9 @@ std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
 struct MaterialRelief {
   std::vector<ReliefLevel> levels;
   std::vector<LevelTables> tables;
+  // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
+  // material declares [materials.ndf].
+  std::unique_ptr<SynthesisLevel> synthesis;
   int tablesBuilt = 0;
   int tablesFromCache = 0;
   double tablesSeconds = 0.0;
@@ -69,6 +73,9 @@ TableSettings tableSettings(const TableResolution& resolution);
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings, const TableSettings& settings = {});
+
+// True when the material has anything for the relief renderers (levels or an NDF).
+inline bool hasRelief(const Material& m) { return !m.relief.empty() || m.ndf.present; }
 
 // Builds each level's slope pyramid: a height table's own texels (rounded up to powers of two), or
 // a procedural source sampled 4 times per period of its highest frequency (at most 2048 x 2048).

@@ -35,6 +35,7 @@ struct ShadeResult {
   Vec3 algorithm{0.0f};
   Vec3 normal{0.0f, 0.0f, 1.0f};  // the shading normal, facing the eye
   float T = 0.0f;                 // of the finest visible level; 0 without relief
+  float synthesis = 0.0f;         // how much synthesized detail shows (0 none, 1 full)
 };
 
 // sp is the limit surface at the hit's patch coordinates (never the facet), with P the hit point

@@ -1,0 +1,153 @@
+// Kautz, Heidrich & Seidel 2001, sections 4 and 5.1, with the consistency rule of
+// synthesis_level.h.
+#include "meso/render/synthesis_level.h"
+
+#include "meso/core/error.h"
+#include "meso/core/hash.h"
+#include "meso/core/image_io.h"
+#include "meso/core/timer.h"
+#include "meso/render/shading.h"
+#include "meso/relief/height_source.h"
+#include "meso/synthesis/beckmann_ndf.h"
+#include "meso/synthesis/blinn_phong_ndf.h"
+#include "meso/synthesis/ndf_estimate.h"
+#include "meso/synthesis/synthesized_shading.h"
+#include "meso/synthesis/tabulated_ndf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace meso {
+namespace {
+
+// The unit normal of slope s: normalize(-s.x, -s.y, 1).
+Vec3 normalOfSlope(Vec2 s) { return glm::normalize(Vec3(-s.x, -s.y, 1.0f)); }
+
+float smoothstep01(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
+std::unique_ptr<Ndf> tabulatedFromImage(const NdfDecl& decl) {
+  try {
+    const Image img = readImage(decl.image);
+    if (img.width < 2 || img.height < 2) throw Error(decl.image.string() + ": an NDF image needs at least 2 x 2 pixels");
+    // One channel, or the luminance of RGB(A); image row 0 (the top) is m.y = +1.
+    std::vector<float> values(static_cast<size_t>(img.width) * img.height);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        float v = img.at(x, y, 0);
+        if (img.numChannels() >= 3)
+          v = 0.2126f * img.at(x, y, 0) + 0.7152f * img.at(x, y, 1) + 0.0722f * img.at(x, y, 2);
+        values[static_cast<size_t>(img.height - 1 - y) * img.width + x] = v;
+      }
+    return std::make_unique<TabulatedNdf>(img.width, img.height, std::move(values));
+  } catch (const Error& e) {
+    throw Error(decl.loc, "materials.ndf.image", e.what());
+  }
+}
+
+}  // namespace
+
+float ScaledSlopeNdf::D(const Vec3& m) const {
+  if (!(m.z > 0.0f)) return 0.0f;
+  const Vec2 s(-m.x / m.z, -m.y / m.z);
+  const Vec3 mp = normalOfSlope(s / k_);
+  const float c = m.z * m.z, cp = mp.z * mp.z;
+  const float d = ndf_->D(mp) * (cp * cp) / (k_ * k_ * c * c);
+  return std::isfinite(d) ? d : 0.0f;
+}
+
+Vec2 ScaledSlopeNdf::support() const {
+  const Vec2 s = ndf_->support();
+  const auto scale = [this](float x) {
+    if (x >= 1.0f) return 1.0f;
+    const float slope = k_ * x / std::sqrt(std::max(1e-12f, 1.0f - x * x));
+    return std::min(1.0f, slope / std::sqrt(1.0f + slope * slope));
+  };
+  return {scale(s.x), scale(s.y)};
+}
+
+std::string ScaledSlopeNdf::name() const {
+  char text[64];
+  std::snprintf(text, sizeof text, " slopes x %.4g", k_);
+  return ndf_->name() + text;
+}
+
+uint64_t ScaledSlopeNdf::fingerprint() const {
+  return Hasher().string("ScaledSlopeNdf").value(ndf_->fingerprint()).value(k_).digest();
+}
+
+std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, float finestScale,
+                             float finestAmplitude, float* principalAngle) {
+  if (principalAngle) *principalAngle = 0.0f;
+  if (decl.type == "beckmann") return std::make_unique<BeckmannNdf>(decl.alpha.x, decl.alpha.y);
+  if (decl.type == "blinn-phong") return std::make_unique<BlinnPhongNdf>(decl.exponent);
+  if (decl.type == "tabulated") return tabulatedFromImage(decl);
+  if (!finest) throw Error(decl.loc, "materials.ndf.type", "\"relief\" needs a relief level to estimate the NDF from");
+  // Kautz et al. section 7: the NDF of the finest level's own slopes (Beckmann in its principal frame).
+  NdfEstimateOptions options;
+  options.slopeScale = finestAmplitude * finestScale;
+  NdfEstimate e = estimateNdf(*finest, options);
+  if (principalAngle) *principalAngle = e.principalAngle;
+  return std::move(e.ndf);
+}
+
+SpecularLobe SynthesisLevel::lobe() const {
+  const Ndf* d = ndf.get();
+  const float p = peak;
+  return {[d, p](float c) {
+            const float s = std::sqrt(std::max(0.0f, 1.0f - c * c));
+            if (!(c > 0.0f)) return 0.0f;
+            return 0.5f * (d->D(Vec3(s, 0.0f, c)) + d->D(Vec3(0.0f, s, c))) / p;
+          },
+          Hasher().string("ndf lobe").value(ndf->fingerprint()).digest()};
+}
+
+std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::unique_ptr<Ndf> ndf,
+                                                    float baseFrequency, float principalAngle) {
+  Timer timer;
+  auto level = std::make_unique<SynthesisLevel>();
+  level->ndf = std::move(ndf);
+  level->structure = std::make_unique<ScaledSlopeNdf>(*level->ndf, std::sqrt(kStructureShare));
+  SynthesisOptions options;
+  options.turbulence.baseFrequency = baseFrequency;
+  options.turbulence.lacunarity = decl.lacunarity;
+  options.turbulence.gain = decl.gain;
+  options.turbulence.maxOctaves = decl.octaves;
+  options.turbulence.seed = decl.seed;
+  level->sampler = std::make_unique<SynthesisSampler>(*level->structure, options);
+  level->peak = std::max(level->ndf->D(Vec3(0.0f, 0.0f, 1.0f)), 1e-20f);
+  level->cosAngle = std::cos(radians(decl.angle) + principalAngle);
+  level->sinAngle = std::sin(radians(decl.angle) + principalAngle);
+  level->lambert = decl.lambert;
+  level->seconds = timer.seconds();
+  return level;
+}
+
+SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
+                                   std::span<const Light> lights, const Vec3& P, const Vec3& Pu,
+                                   const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit) {
+  SynthesisShade out;
+  const float c = level.sampler->turbulence().octaveCount(pixelsPerUnit);
+  out.weight = smoothstep01(c);
+  const Vec3 m = level.sampler->normalAtCount(uv, c);
+  // The NDF's x axis: P_u turned by the declared angle about N.
+  Vec3 t = Pu - glm::dot(Pu, N) * N;
+  const float len = glm::length(t);
+  t = len > 1e-20f && std::isfinite(len) ? t / len : Vec3(0.0f);
+  const Vec3 T = level.cosAngle * t + level.sinAngle * glm::cross(N, t);
+  const ScaledSlopeNdf lobe(*level.ndf, std::sqrt(std::max(1.0f - kStructureShare * out.weight * out.weight, 1e-4f)));
+  out.normal = ndfFrameToWorld(N, T, m);
+  out.colour = material.ka;
+  for (const Light& light : lights) {
+    const LightSample s = sampleLight(light, P);
+    const SynthesizedShading f = shadeSynthesized(lobe, N, T, V, s.L, m);
+    const float diffuse = level.lambert ? f.diffuse : std::max(glm::dot(s.L, N), 0.0f) * (glm::dot(V, N) > 0.0f);
+    out.colour += s.radiance * (material.kd * diffuse + material.ks * (f.specular / level.peak));
+  }
+  return out;
+}
+
+}  // namespace meso
