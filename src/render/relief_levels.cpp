@@ -86,7 +86,8 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
     // Octave 0 continues just below the finest level's shortest wavelength (16 cells per unit of u
     // on a material without relief), unless the scene says otherwise.
     const float base = material.ndf.scale > 0.0f ? material.ndf.scale : (finest ? 2.0f * finest->freqPerU : 16.0f);
-    r.synthesis = buildSynthesisLevel(material.ndf, std::move(ndf), base, angle);
+    r.synthesis = buildSynthesisLevel(material.ndf, std::move(ndf), base, angle, finest ? finest->source.get() : nullptr,
+                                      finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f);
   }
   const SpecularLobe lobe = r.synthesis ? r.synthesis->lobe() : SpecularLobe{};
   std::vector<LevelTables> reversed;  // finest first: each coarser BRDF integrates the finer one

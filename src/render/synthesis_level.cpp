@@ -106,7 +106,9 @@ SpecularLobe SynthesisLevel::lobe() const {
 }
 
 std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::unique_ptr<Ndf> ndf,
-                                                    float baseFrequency, float principalAngle) {
+                                                    float baseFrequency, float principalAngle,
+                                                    const HeightSource* finest, float finestScale,
+                                                    float finestAmplitude) {
   Timer timer;
   auto level = std::make_unique<SynthesisLevel>();
   level->ndf = std::move(ndf);
@@ -122,8 +124,22 @@ std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::un
   level->cosAngle = std::cos(radians(decl.angle) + principalAngle);
   level->sinAngle = std::sin(radians(decl.angle) + principalAngle);
   level->lambert = decl.lambert;
+  if (decl.type == "relief" && finest) {
+    level->index = std::make_unique<IndexTexture>(*finest, level->sampler->table(), 256, finestAmplitude * finestScale);
+    level->indexScale = finestScale;
+  }
   level->seconds = timer.seconds();
   return level;
+}
+
+Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c) {
+  if (!level.index) return level.sampler->normalAtCount(uv, c);
+  const float amplitude = smoothstep01(c);
+  if (!(amplitude > 0.0f)) return Vec3(0.0f, 0.0f, 1.0f);
+  const Vec2 tile = level.indexScale * uv;
+  const Vec3 n0 = level.sampler->table().lookup(level.index->index(tile));
+  const Vec3 n1 = level.index->normal(*level.sampler, tile, amplitude, c);
+  return glm::normalize(toMicrofacetFrame(n0, n1));
 }
 
 SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
@@ -132,7 +148,7 @@ SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& 
   SynthesisShade out;
   const float c = level.sampler->turbulence().octaveCount(pixelsPerUnit);
   out.weight = smoothstep01(c);
-  const Vec3 m = level.sampler->normalAtCount(uv, c);
+  const Vec3 m = synthesizedNormal(level, uv, c);
   // The NDF's x axis: P_u turned by the declared angle about N.
   Vec3 t = Pu - glm::dot(Pu, N) * N;
   const float len = glm::length(t);

@@ -2,6 +2,7 @@
 // adds synthesized detail without changing the mean intensity, the false-colour layer shows it,
 // and a Blinn-Phong NDF far away is the local model it generalizes.
 #include "meso/render/integrator.h"
+#include "meso/render/relief_levels.h"
 
 #include "meso/core/rng.h"
 
@@ -118,6 +119,41 @@ TEST(SynthesisRender, MeanIntensityHoldsFromFarToDeepZoom) {
       if (zoom == 16.0f) EXPECT_GT(m.synthesis, 0.2) << type << " zoom " << zoom;  // fading in
       if (zoom >= 64.0f) EXPECT_GT(m.synthesis, 0.99) << type << " zoom " << zoom;
     }
+  }
+}
+
+// Kautz et al. section 7 through the index texture: the finest relief level's NDF, and detail that
+// starts from that level's own normals (no change before the first octave fades in), grows while
+// the first octave fades in and then keeps its spread as finer octaves add finer detail.
+TEST(SynthesisRender, IndexTextureContinuesTheReliefsOwnNormals) {
+  Material m;
+  ReliefLevelDecl d;
+  d.source = "noise";
+  d.octaves = 3;
+  d.amplitude = 0.01f;
+  d.scale = 4.0f;
+  m.relief = {d};
+  m.ndf.present = true;
+  m.ndf.type = "relief";
+  m.ndf.octaves = 8;
+  const TableCache none{fs::path()};
+  const MaterialRelief r = buildMaterialRelief(m, none, nullptr);
+  ASSERT_TRUE(r.synthesis && r.synthesis->index);
+  Rng rng(5);
+  double previous = -1.0;
+  for (float c : {0.0f, 0.3f, 1.0f, 3.0f}) {
+    double angle = 0.0;
+    for (int k = 0; k < 2000; ++k) {
+      const Vec3 n = synthesizedNormal(*r.synthesis, Vec2(rng.uniform(), rng.uniform()), c);
+      ASSERT_TRUE(isFinite(n));
+      angle += std::acos(std::clamp(n.z, -1.0f, 1.0f));
+    }
+    angle = degrees(static_cast<float>(angle / 2000));
+    std::printf("  octave count %.1f: mean deviation from the relief's own normal %.3f degrees\n", c, angle);
+    if (c == 0.0f) EXPECT_EQ(angle, 0.0);
+    if (c > 0.0f && c <= 1.0f) EXPECT_GT(angle, previous + 0.1);  // noise grows as the first octave fades in
+    if (c > 1.0f) EXPECT_NEAR(angle, previous, 0.2 * previous);   // then holds its spread (t is normalized)
+    previous = angle;
   }
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "meso/appearance/brdf_table.h"
+#include "meso/synthesis/index_texture.h"
 #include "meso/synthesis/ndf.h"
 #include "meso/synthesis/synthesis_sampler.h"
 #include "meso/scene/scene.h"
@@ -54,6 +55,10 @@ struct SynthesisLevel {
   float cosAngle = 1.0f, sinAngle = 0.0f;  // the NDF's x axis, from P_u towards P_v
   bool lambert = true;
   double seconds = 0.0;            // build time
+  // type "relief": the finest relief level as indices into L (Kautz et al. section 7), so that the
+  // synthesized detail continues that level's own normals and noise is added as one zooms in.
+  std::unique_ptr<IndexTexture> index;
+  float indexScale = 1.0f;         // the finest level's tiling S: tile coordinates = S uv
 
   // The lobe (H.n) -> D(h) / peak of an isotropic version of the NDF (the average over the x and y
   // axes), for the finest level's BRDF table (Figure 2's first branch over the NDF model).
@@ -62,8 +67,12 @@ struct SynthesisLevel {
 
 // baseFrequency: turbulence lattice cells per unit of u at octave 0 (decl.scale, or the default
 // the caller derives from the relief). principalAngle (radians) turns the NDF's x axis further.
+// `finest` (type "relief" only; may be null) is the level the index texture encodes, with its
+// amplitude and tiling scale.
 std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::unique_ptr<Ndf> ndf,
-                                                    float baseFrequency, float principalAngle = 0.0f);
+                                                    float baseFrequency, float principalAngle = 0.0f,
+                                                    const HeightSource* finest = nullptr, float finestScale = 1.0f,
+                                                    float finestAmplitude = 0.0f);
 
 // What synthesis did at one point.
 struct SynthesisShade {
@@ -71,6 +80,11 @@ struct SynthesisShade {
   Vec3 normal{0.0f, 0.0f, 1.0f};  // the synthesized normal (world)
   float weight = 0.0f;            // w0: how much synthesized detail is in (0 far, 1 near)
 };
+
+// The synthesized normal in the NDF's frame at uv with octave count c. With an index texture, the
+// detail added to the finest level's own normal n0 = L(index): L(index + noise) expressed in n0's
+// frame, z (no change) until the first octave fades in.
+Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c);
 
 // Shades a surface point whose frame is (Pu, N) (N unit, facing the eye), at surface parameters uv,
 // seen from V (unit, towards the eye) with pixelsPerUnit pixels per unit of u:
