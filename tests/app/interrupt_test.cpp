@@ -1,8 +1,7 @@
-// Fly-throughs stopped by real signals, sent to the meso executable started
-// with posix_spawn: SIGINT exits with status 130 leaving only complete frames
-// and no temporary file; SIGKILL (no clean-up possible) never leaves a partial
-// frame under a final name, and a rerun completes the path, skipping the frames
-// that were complete.
+// Fly-throughs stopped by real signals, sent to the meso executable started with posix_spawn:
+// SIGINT exits with status 130 leaving only complete frames and no temporary file; SIGKILL (no
+// clean-up possible) never leaves a partial frame under a final name, and a rerun completes the
+// path, skipping the frames that were complete.
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 #include "support/temp_dir.h"
@@ -26,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-extern char **environ;
+extern char** environ;
 
 namespace {
 
@@ -36,22 +35,21 @@ using Clock = std::chrono::steady_clock;
 constexpr int kFrames = 60;
 constexpr int kWidth = 96, kHeight = 54;
 
-std::string readAll(const fs::path &p) {
+std::string readAll(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// A child process running meso with stdout to /dev/null and stderr to a file.
-// Signals the test process ignores or blocks are reset to their defaults in the
-// child.
+// A child process running meso with stdout to /dev/null and stderr to a file. Signals the test
+// process ignores or blocks are reset to their defaults in the child.
 class Child {
-public:
-  Child(const std::vector<std::string> &args, const fs::path &stderrFile) {
+ public:
+  Child(const std::vector<std::string>& args, const fs::path& stderrFile) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, stderrFile.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, stderrFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
     posix_spawnattr_t attr;
     posix_spawnattr_init(&attr);
     sigset_t defaults, empty;
@@ -61,16 +59,13 @@ public:
     sigemptyset(&empty);
     posix_spawnattr_setsigdefault(&attr, &defaults);
     posix_spawnattr_setsigmask(&attr, &empty);
-    posix_spawnattr_setflags(&attr,
-                             POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
     std::vector<std::string> all = {MESO_EXE};
     all.insert(all.end(), args.begin(), args.end());
-    std::vector<char *> argv;
-    for (std::string &a : all)
-      argv.push_back(a.data());
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
-    spawnError_ =
-        posix_spawn(&pid_, MESO_EXE, &actions, &attr, argv.data(), environ);
+    spawnError_ = posix_spawn(&pid_, MESO_EXE, &actions, &attr, argv.data(), environ);
     posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&actions);
   }
@@ -98,23 +93,23 @@ public:
     return -1;
   }
 
-private:
+ private:
   pid_t pid_ = -1;
   int spawnError_ = -1;
   bool reaped_ = false;
 };
 
 class InterruptTest : public meso::testing::TempDirTest {
-protected:
+ protected:
   void SetUp() override {
     meso::testing::TempDirTest::SetUp();
-    write("plane.obj", "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\nvt 0 0\nvt 1 "
-                       "0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n");
-    // A plane with noise relief flown over from far (BRDF) to close (displaced
-    // micropolygons), so frames differ in cost and content. Small tables,
-    // cached in the temporary folder.
-    write("fly.toml", "[camera]\nresolution = [" + std::to_string(kWidth) +
-                          ", " + std::to_string(kHeight) +
+    write("plane.obj",
+          "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\nvt 0 0\nvt 1 "
+          "0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n");
+    // A plane with noise relief flown over from far (BRDF) to close (displaced micropolygons), so
+    // frames differ in cost and content. Small tables, cached in the temporary folder.
+    write("fly.toml", "[camera]\nresolution = [" + std::to_string(kWidth) + ", " +
+                          std::to_string(kHeight) +
                           "]\nspp = 4\n"
                           "[path]\nframes = " +
                           std::to_string(kFrames) +
@@ -146,12 +141,11 @@ protected:
   std::vector<std::string> args(bool quiet = true) const {
     std::vector<std::string> a = {"render", (dir_ / "fly.toml").string(), "-o",
                                   (dir_ / "out/f.exr").string()};
-    if (quiet)
-      a.push_back("-q");
+    if (quiet) a.push_back("-q");
     return a;
   }
 
-  static fs::path frameFile(int f, const char *ext) {
+  static fs::path frameFile(int f, const char* ext) {
     char name[32];
     std::snprintf(name, sizeof name, "f_%04d.%s", f, ext);
     return name;
@@ -169,14 +163,13 @@ protected:
     return false;
   }
 
-  // Every file under a final frame name must read back as a whole kWidth x
-  // kHeight image with the expected channels. Returns the frames (numbers)
-  // whose EXR and PNG are both on disk, and counts the temporaries (names
-  // starting with '.').
-  std::set<int> checkFinalFrames(int *temporaries) const {
+  // Every file under a final frame name must read back as a whole kWidth x kHeight image with the
+  // expected channels. Returns the frames (numbers) whose EXR and PNG are both on disk, and counts
+  // the temporaries (names starting with '.').
+  std::set<int> checkFinalFrames(int* temporaries) const {
     std::set<int> exr, png;
     *temporaries = 0;
-    for (const auto &e : fs::directory_iterator(dir_ / "out")) {
+    for (const auto& e : fs::directory_iterator(dir_ / "out")) {
       const std::string name = e.path().filename().string();
       if (name[0] == '.') {
         ++*temporaries;
@@ -186,31 +179,26 @@ protected:
       char ext[8] = {};
       EXPECT_EQ(std::sscanf(name.c_str(), "f_%4d.%3s", &frame, ext), 2)
           << "unexpected file " << name;
-      EXPECT_EQ(name, frameFile(frame, ext).string())
-          << "unexpected file " << name;
+      EXPECT_EQ(name, frameFile(frame, ext).string()) << "unexpected file " << name;
       try {
         const meso::Image img = meso::readImage(e.path());
         EXPECT_EQ(img.width, kWidth) << name;
         EXPECT_EQ(img.height, kHeight) << name;
-        EXPECT_EQ(img.pixels.size(),
-                  size_t(kWidth) * kHeight * img.channels.size())
-            << name;
+        EXPECT_EQ(img.pixels.size(), size_t(kWidth) * kHeight * img.channels.size()) << name;
         if (std::string(ext) == "exr") {
-          EXPECT_GE(img.channelIndex("T.Y"), 0)
-              << name << ": an EXR without all its layers";
+          EXPECT_GE(img.channelIndex("T.Y"), 0) << name << ": an EXR without all its layers";
           exr.insert(frame);
         } else {
           EXPECT_GE(img.numChannels(), 3) << name;
           png.insert(frame);
         }
-      } catch (const meso::Error &err) {
+      } catch (const meso::Error& err) {
         ADD_FAILURE() << "a partial frame under a final name: " << err.what();
       }
     }
     std::set<int> both;
     for (int f : exr)
-      if (png.count(f))
-        both.insert(f);
+      if (png.count(f)) both.insert(f);
     return both;
   }
 };
@@ -218,36 +206,29 @@ protected:
 TEST_F(InterruptTest, SigintExits130WithOnlyCompleteFramesAndNoTemporaries) {
   Child child(args(), dir_ / "stderr.txt");
   ASSERT_TRUE(child.started());
-  ASSERT_TRUE(waitForFrame(1))
-      << "no frame within 60 s: " << readAll(dir_ / "stderr.txt");
+  ASSERT_TRUE(waitForFrame(1)) << "no frame within 60 s: " << readAll(dir_ / "stderr.txt");
   child.signal(SIGINT);
   const int status = child.wait(std::chrono::seconds(60));
   ASSERT_NE(status, -1) << "meso did not stop within 60 s of SIGINT";
-  ASSERT_TRUE(WIFEXITED(status))
-      << "killed by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal "
+                                 << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   EXPECT_EQ(WEXITSTATUS(status), 130) << readAll(dir_ / "stderr.txt");
   int temporaries = 0;
   const std::set<int> complete = checkFinalFrames(&temporaries);
   EXPECT_EQ(temporaries, 0) << "temporary files left behind after SIGINT";
   EXPECT_GE(complete.size(), 2u);
-  EXPECT_LT(complete.size(), size_t(kFrames))
-      << "the interrupt came too late to test anything";
-  // Frames are written in order: what is on disk is frames 0..n-1, each as an
-  // EXR and PNG pair.
+  EXPECT_LT(complete.size(), size_t(kFrames)) << "the interrupt came too late to test anything";
+  // Frames are written in order: what is on disk is frames 0..n-1, each as an EXR and PNG pair.
   int expected = 0;
-  for (int f : complete)
-    EXPECT_EQ(f, expected++);
+  for (int f : complete) EXPECT_EQ(f, expected++);
   size_t files = 0;
-  for (const auto &e : fs::directory_iterator(dir_ / "out"))
-    files += e.is_regular_file();
-  EXPECT_EQ(files, 2 * complete.size())
-      << "an EXR without its PNG (or the reverse)";
+  for (const auto& e : fs::directory_iterator(dir_ / "out")) files += e.is_regular_file();
+  EXPECT_EQ(files, 2 * complete.size()) << "an EXR without its PNG (or the reverse)";
 }
 
-// SIGKILL at several moments after a frame appears (to land in a render and,
-// sometimes, in a write): final names only ever hold whole frames; then a rerun
-// finishes the path, skipping (and not rewriting) the frames that were
-// complete.
+// SIGKILL at several moments after a frame appears (to land in a render and, sometimes, in a
+// write): final names only ever hold whole frames; then a rerun finishes the path, skipping (and
+// not rewriting) the frames that were complete.
 TEST_F(InterruptTest, SigkillLeavesNoPartialFrameAndRerunCompletes) {
   int killedAt = 1;
   for (int delayMs : {0, 3, 11}) {
@@ -264,15 +245,13 @@ TEST_F(InterruptTest, SigkillLeavesNoPartialFrameAndRerunCompletes) {
     int temporaries = 0;
     const std::set<int> complete = checkFinalFrames(&temporaries);
     ASSERT_LT(complete.size(), size_t(kFrames));
-    killedAt =
-        static_cast<int>(complete.size()) + 1; // the next run must get further
+    killedAt = static_cast<int>(complete.size()) + 1;  // the next run must get further
   }
 
   int temporaries = 0;
   const std::set<int> before = checkFinalFrames(&temporaries);
   std::map<int, fs::file_time_type> stamps;
-  for (int f : before)
-    stamps[f] = fs::last_write_time(dir_ / "out" / frameFile(f, "exr"));
+  for (int f : before) stamps[f] = fs::last_write_time(dir_ / "out" / frameFile(f, "exr"));
   ASSERT_GE(before.size(), 3u);
 
   Child rerun(args(/*quiet=*/false), dir_ / "stderr.txt");
@@ -281,19 +260,18 @@ TEST_F(InterruptTest, SigkillLeavesNoPartialFrameAndRerunCompletes) {
   ASSERT_NE(status, -1) << "the rerun did not finish within 120 s";
   const std::string err = readAll(dir_ / "stderr.txt");
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err;
-  EXPECT_NE(err.find("skipped " + std::to_string(before.size()) + " frame(s)"),
-            std::string::npos)
+  EXPECT_NE(err.find("skipped " + std::to_string(before.size()) + " frame(s)"), std::string::npos)
       << err;
   const std::set<int> after = checkFinalFrames(&temporaries);
-  EXPECT_EQ(after.size(), size_t(kFrames))
-      << "the rerun must complete the path";
-  for (const auto &[f, stamp] : stamps)
+  EXPECT_EQ(after.size(), size_t(kFrames)) << "the rerun must complete the path";
+  for (const auto& [f, stamp] : stamps)
     EXPECT_EQ(fs::last_write_time(dir_ / "out" / frameFile(f, "exr")), stamp)
         << "frame " << f << " was redone";
   if (temporaries > 0)
-    std::printf("note: %d temporary file(s) of the killed runs remain (SIGKILL "
-                "allows no clean-up)\n",
-                temporaries);
+    std::printf(
+        "note: %d temporary file(s) of the killed runs remain (SIGKILL "
+        "allows no clean-up)\n",
+        temporaries);
 }
 
-} // namespace
+}  // namespace
