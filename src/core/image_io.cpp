@@ -4,12 +4,18 @@
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
+#include "meso/core/image_io_memory.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <string>
 
 namespace meso {
 namespace {
@@ -25,11 +31,68 @@ std::string oiioMessage(const std::string& primary) {
   return msg;
 }
 
+// Random access to the bytes of an image: up to `count` bytes from `offset` (fewer at the end).
+using ByteReader = std::function<std::string(uint64_t offset, size_t count)>;
+
+uint32_t bigEndian32(const std::string& b, size_t at) {
+  return (uint32_t(uint8_t(b[at])) << 24) | (uint32_t(uint8_t(b[at + 1])) << 16) |
+         (uint32_t(uint8_t(b[at + 2])) << 8) | uint32_t(uint8_t(b[at + 3]));
+}
+
+std::string printable(std::string s) {
+  for (char& c : s)
+    if (c < 32 || c > 126) c = '?';
+  return s;
+}
+
+// A corrupt header can declare a PNG chunk or an OpenEXR attribute of gigabytes; libpng then skips
+// it a kilobyte at a time and OpenEXR allocates it (seconds and GiB of memory for a file of 300
+// bytes). Both end in an error anyway, since the bytes are not there: say so first. Checks every
+// chunk of a PNG (up to IEND) and every attribute of an OpenEXR file's first header; other formats
+// pass unchecked.
+void checkFraming(const ByteReader& read, uint64_t size, const std::filesystem::path& name) {
+  const std::string magic = read(0, 8);
+  if (magic.size() == 8 && magic == std::string("\x89PNG\r\n\x1a\n", 8)) {
+    for (uint64_t at = 8; size - at >= 8;) {
+      const std::string head = read(at, 8);
+      const uint64_t length = bigEndian32(head, 0);
+      const std::string type = printable(head.substr(4, 4));
+      if (length > 0x7fffffffu || length + 12 > size - at)
+        fail(name, "truncated or corrupt PNG: chunk \"" + type + "\" at byte " +
+                       std::to_string(at) + " declares " + std::to_string(length) +
+                       " bytes, the file has " + std::to_string(size - at) + " left");
+      at += 12 + length;
+      if (type == "IEND") break;
+    }
+  } else if (magic.size() == 8 && magic.compare(0, 4, "\x76\x2f\x31\x01") == 0) {
+    // Attributes: name \0 type \0 size (int32, little-endian) value; an empty name ends the header.
+    for (uint64_t at = 8; at < size;) {
+      const std::string window = read(at, 2 * 256 + 8);
+      if (window.empty() || window[0] == '\0') break;
+      const size_t nameEnd = window.find('\0'), typeEnd = window.find('\0', nameEnd + 1);
+      if (nameEnd == std::string::npos || typeEnd == std::string::npos ||
+          typeEnd + 5 > window.size())
+        fail(name, "truncated or corrupt OpenEXR header at byte " + std::to_string(at));
+      const uint32_t raw = uint32_t(uint8_t(window[typeEnd + 1])) |
+                           (uint32_t(uint8_t(window[typeEnd + 2])) << 8) |
+                           (uint32_t(uint8_t(window[typeEnd + 3])) << 16) |
+                           (uint32_t(uint8_t(window[typeEnd + 4])) << 24);
+      const uint64_t valueAt = at + typeEnd + 5;
+      if (raw > 0x7fffffffu || raw > size - valueAt)
+        fail(name, "truncated or corrupt OpenEXR header: attribute \"" +
+                       printable(window.substr(0, nameEnd)) + "\" declares " + std::to_string(raw) +
+                       " bytes, the file has " + std::to_string(size - valueAt) + " left");
+      at = valueAt + raw;
+    }
+  }
+}
+
 void writeWithOiio(const std::filesystem::path& tmp, const OIIO::ImageSpec& spec,
                    OIIO::TypeDesc format, const void* data) {
   auto out = OIIO::ImageOutput::create(tmp.string());
   if (!out) fail(tmp, "cannot create image writer: " + oiioMessage(""));
-  if (!out->open(tmp.string(), spec)) fail(tmp, "cannot open for writing: " + oiioMessage(out->geterror()));
+  if (!out->open(tmp.string(), spec))
+    fail(tmp, "cannot open for writing: " + oiioMessage(out->geterror()));
   if (!out->write_image(format, data)) fail(tmp, "write failed: " + oiioMessage(out->geterror()));
   if (!out->close()) fail(tmp, "close failed: " + oiioMessage(out->geterror()));
 }
@@ -40,22 +103,108 @@ float srgbEncode(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-}  // namespace
-
-Image readImage(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) fail(file, "no such file");
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) fail(file, "cannot read image: " + oiioMessage(""));
-  const OIIO::ImageSpec& spec = in->spec();
+// The pixels of an opened image, all channels as float; at most maxValues of them (0: no limit
+// beyond OpenImageIO's).
+Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t maxValues = 0) {
+  const OIIO::ImageSpec& spec = in.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     fail(file, "image has zero size (" + std::to_string(spec.width) + "x" +
                    std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
                    " channels)");
+  // A corrupt header can declare any size: refuse (before allocating) what OpenImageIO's own limit
+  // refuses, in double so that width x height x channels cannot overflow.
+  const double mib = static_cast<double>(spec.width) * spec.height * spec.nchannels *
+                     sizeof(float) / (1024.0 * 1024.0);
+  const int limitMib = OIIO::get_int_attribute("limits:imagesize_MB", 32768);
+  if (mib > limitMib)
+    fail(file, "image too large (" + std::to_string(spec.width) + "x" +
+                   std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
+                   " channels: " + std::to_string(static_cast<long long>(mib)) +
+                   " MiB as float, more than OpenImageIO's limits:imagesize_MB = " +
+                   std::to_string(limitMib) + ")");
+  const double values = static_cast<double>(spec.width) * spec.height * spec.nchannels;
+  if (maxValues > 0 && values > static_cast<double>(maxValues))
+    fail(file, "image too large (" + std::to_string(spec.width) + "x" +
+                   std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
+                   " channels: more than " + std::to_string(maxValues) + " values)");
   Image image(spec.width, spec.height, spec.channelnames);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    fail(file, "cannot read pixels (truncated or corrupt?): " + oiioMessage(in->geterror()));
-  in->close();
+  bool ok;
+  if (spec.tile_width > 0 || spec.depth > 1 || spec.deep || !spec.channelformats.empty()) {
+    ok = in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  } else {
+    // Scanline images: the format's own scanline reader, then conversion here. read_image would go
+    // through a conversion buffer of about 64 MiB whatever the image size: harmless while
+    // untouched, but ASan allocates and poisons all of it for every image (the height-image fuzzer
+    // spent most of its time there). The result is the same, bit for bit.
+    std::vector<unsigned char> native(spec.image_bytes(true));
+    ok = in.read_native_scanlines(0, 0, spec.y, spec.y + spec.height, spec.z, 0, spec.nchannels,
+                                  native.data());
+    constexpr size_t kBatch = size_t(1) << 24;  // convert_pixel_values counts in int
+    for (size_t i = 0; ok && i < image.pixels.size(); i += kBatch)
+      ok = OIIO::convert_pixel_values(spec.format, native.data() + i * spec.format.size(),
+                                      OIIO::TypeDesc::FLOAT, image.pixels.data() + i,
+                                      static_cast<int>(std::min(kBatch, image.pixels.size() - i)));
+  }
+  if (!ok) fail(file, "cannot read pixels (truncated or corrupt?): " + oiioMessage(in.geterror()));
+  in.close();
   return image;
+}
+
+}  // namespace
+
+Image readImage(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) fail(file, "no such file");
+  {
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(file, ec);
+    std::ifstream in(file, std::ios::binary);
+    if (!ec && in) {
+      checkFraming(
+          [&](uint64_t offset, size_t count) {
+            std::string b(count, '\0');
+            in.clear();
+            in.seekg(static_cast<std::streamoff>(offset));
+            in.read(b.data(), static_cast<std::streamsize>(count));
+            b.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+            return b;
+          },
+          size, file);
+    }
+  }
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) fail(file, "cannot read image: " + oiioMessage(""));
+  return readOpened(*in, file);
+}
+
+Image readImageFromMemory(const void* data, size_t size, const std::filesystem::path& name,
+                          size_t maxValues) {
+  const char* bytes = static_cast<const char*>(data);
+  checkFraming(
+      [&](uint64_t offset, size_t count) {
+        return offset >= size
+                   ? std::string()
+                   : std::string(bytes + offset, std::min<uint64_t>(count, size - offset));
+      },
+      size, name);
+  // Declared before the reader, so that it outlives the reader's close() in its destructor.
+  OIIO::Filesystem::IOMemReader proxy(data, size);
+  // create() with the bare extension ("png") picks that format's reader and nothing else. Given a
+  // file name it would look for the file, and ImageInput::open would try every other format when
+  // the bytes are not a valid image of this one.
+  const std::string ext = name.extension().string();
+  if (ext.size() < 2) fail(name, "no file extension to pick an image format by");
+  auto in = OIIO::ImageInput::create(ext.substr(1));
+  if (!in) fail(name, "cannot read image: " + oiioMessage(""));
+  if (!in->supports("ioproxy"))
+    fail(name, std::string("the ") + in->format_name() + " reader cannot read from memory");
+  // The proxy goes in through the open configuration: readers take it from "oiio:ioproxy" there
+  // (and drop one set by set_ioproxy() when the configuration has none).
+  OIIO::ImageSpec config, spec;
+  OIIO::Filesystem::IOProxy* proxyPointer = &proxy;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxyPointer);
+  if (!in->open(name.string(), spec, config))
+    fail(name, "cannot read image: " + oiioMessage(in->geterror()));
+  return readOpened(*in, name, maxValues);
 }
 
 void writeExr(const std::filesystem::path& file, const Image& image) {
