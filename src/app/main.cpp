@@ -3,6 +3,7 @@
 #include "consistency_command.h"
 #include "render_command.h"
 #include "tables_command.h"
+#include "trade_command.h"
 
 #include "meso/core/error.h"
 
@@ -99,6 +100,37 @@ void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
   b->callback([&o] { meso::app::runBands(o); });
 }
 
+// Options live for the whole run (CLI11 writes into them when it parses).
+void addTradeCommand(CLI::App& cli) {
+  static meso::app::TradeCommandOptions o;
+  CLI::App* t = cli.add_subcommand("trade",
+      "Speed/accuracy trade: time, peak memory, micropolygons and error against a converged displacement "
+      "reference for the hybrid over D x spp and displacement alone over dicing rate x spp; writes DIR/trade.csv, "
+      "DIR/trade.png (rmse against log time, Pareto front) and prints the default hybrid's speedup");
+  t->add_option("scene", o.scene, "Scene file")->required();
+  t->add_option("-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")->capture_default_str();
+  t->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
+                "default all");
+  t->add_option("--reference-spp", o.referenceSpp, "Samples per pixel of the reference")->capture_default_str();
+  t->add_option("--reference-dicing-rate", o.referenceDicingRate, "Dicing rate (pixels) of the reference")
+      ->capture_default_str();
+  t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")->delimiter(',')
+      ->capture_default_str();
+  t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")->delimiter(',')
+      ->capture_default_str();
+  t->add_option("--dicing-rates", o.dicingRates, "Dicing rates (pixels) of the displacement-only configurations")
+      ->delimiter(',')->capture_default_str();
+  t->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)");
+  t->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)");
+  t->add_option("--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)");
+  t->add_flag("--temporal", o.temporal, "Also the frame-to-frame change of the default hybrid and the reference in "
+              "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
+  t->add_flag("--temporal-only", o.temporalOnly, "Only the reference and the default hybrid, for --temporal");
+  t->add_option("--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
+  t->add_flag("-q,--quiet", o.quiet, "No progress on stderr");
+  t->callback([] { meso::app::runTrade(o); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -112,6 +144,7 @@ int main(int argc, char** argv) {
   addTablesCommand(cli, tablesOptions);
   meso::app::BandsCommandOptions bandsOptions;
   addBandsCommand(cli, bandsOptions);
+  addTradeCommand(cli);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);
