@@ -455,9 +455,10 @@ std::string summary(const std::vector<Result>& results) {
   if (cheapest)
     std::snprintf(buf, sizeof buf,
                   "trade: default hybrid (D %g, %d spp) %.3g s, rmse %.4g; cheapest displacement-only as accurate "
-                  "(dicing %g px, %d spp) %.3g s, rmse %.4g: speedup %.2fx",
+                  "(dicing %g px, %d spp) %.3g s, rmse %.4g: speedup %.2fx%s",
                   h.config.D, h.config.spp, h.seconds, h.rmse, cheapest->config.dicingRate, cheapest->config.spp,
-                  cheapest->seconds, cheapest->rmse, cheapest->seconds / std::max(h.seconds, 1e-9));
+                  cheapest->seconds, cheapest->rmse, cheapest->seconds / std::max(h.seconds, 1e-9),
+                  cheapest->seconds < h.seconds ? " (the hybrid is slower)" : "");
   else
     std::snprintf(buf, sizeof buf,
                   "trade: default hybrid (D %g, %d spp) %.3g s, rmse %.4g; no displacement-only configuration swept "
