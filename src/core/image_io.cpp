@@ -87,6 +87,37 @@ void checkFraming(const ByteReader& read, uint64_t size, const std::filesystem::
   }
 }
 
+// An in-memory source for OpenImageIO that checks every offset. OpenImageIO 2.4's IOMemReader
+// trusts them: OpenEXR seeking to a negative offset (a corrupt header) made it copy from before
+// the buffer (heap-buffer-overflow found by fuzz_height_image), where a file would just fail.
+class CheckedMemReader final : public OIIO::Filesystem::IOProxy {
+ public:
+  CheckedMemReader(const void* data, size_t size)
+      : IOProxy("", Read), data_(static_cast<const unsigned char*>(data)), size_(size) {}
+  const char* proxytype() const override { return "meso_memreader"; }
+  bool seek(int64_t offset) override {
+    if (offset < 0) return false;  // past the end is allowed, as for files: reads give 0 bytes
+    m_pos = offset;
+    return true;
+  }
+  size_t read(void* buf, size_t count) override {
+    const size_t n = pread(buf, count, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
+  }
+  size_t pread(void* buf, size_t count, int64_t offset) override {
+    if (offset < 0 || static_cast<uint64_t>(offset) >= size_) return 0;
+    const size_t n = static_cast<size_t>(std::min<uint64_t>(count, size_ - offset));
+    std::memcpy(buf, data_ + offset, n);
+    return n;
+  }
+  size_t size() const override { return size_; }
+
+ private:
+  const unsigned char* data_;
+  size_t size_;
+};
+
 void writeWithOiio(const std::filesystem::path& tmp, const OIIO::ImageSpec& spec,
                    OIIO::TypeDesc format, const void* data) {
   auto out = OIIO::ImageOutput::create(tmp.string());
@@ -187,7 +218,7 @@ Image readImageFromMemory(const void* data, size_t size, const std::filesystem::
       },
       size, name);
   // Declared before the reader, so that it outlives the reader's close() in its destructor.
-  OIIO::Filesystem::IOMemReader proxy(data, size);
+  CheckedMemReader proxy(data, size);
   // create() with the bare extension ("png") picks that format's reader and nothing else. Given a
   // file name it would look for the file, and ImageInput::open would try every other format when
   // the bytes are not a valid image of this one.
