@@ -23,8 +23,13 @@ LightSample sampleLight(const Light& light, const Vec3& P) {
   return s;
 }
 
-Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
-                const Vec3& N, const Vec3& V) {
+namespace {
+
+// ka + sum over lights of radiance (kd (L.N) + ks highlight(H)), H the unit half vector; lights
+// below the shading horizon add nothing, and L = -V (no half vector) has no highlight.
+template <class Highlight>
+Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Vec3& P, const Vec3& N,
+               const Vec3& V, const Highlight& highlight) {
   Vec3 I = material.ka;
   for (const Light& light : lights) {
     const LightSample s = sampleLight(light, P);
@@ -34,13 +39,19 @@ Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const V
     if (material.ks != Vec3(0.0f)) {
       const Vec3 h = s.L + V;
       const float len = glm::length(h);
-      // L = -V (light exactly behind the eye direction) has no half vector: no highlight.
-      const float HdotN = len > 1e-12f ? std::max(glm::dot(h / len, N), 0.0f) : 0.0f;
-      reflect += material.ks * std::pow(HdotN, material.phong);
+      if (len > 1e-12f) reflect += material.ks * highlight(h / len);
     }
     I += reflect * s.radiance;
   }
   return I;
+}
+
+}  // namespace
+
+Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
+                const Vec3& N, const Vec3& V) {
+  return shadeWith(material, lights, P, N, V,
+                   [&](const Vec3& H) { return std::pow(std::max(glm::dot(H, N), 0.0f), material.phong); });
 }
 
 Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
@@ -53,21 +64,9 @@ Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, con
   // 2 pi sqrt(det(K / m)), equal to the smooth one so that filtering preserves mean intensity.
   const float det = K.a * K.c - K.b * K.b;
   const float energy = det > 1.0f && std::isfinite(det) ? 1.0f / std::sqrt(det) : 1.0f;
-  Vec3 I = material.ka;
-  for (const Light& light : lights) {
-    const LightSample s = sampleLight(light, P);
-    const float LdotN = glm::dot(s.L, N);
-    if (LdotN <= 0.0f) continue;
-    Vec3 reflect = material.kd * LdotN;
-    if (material.ks != Vec3(0.0f)) {
-      const Vec3 h = s.L + V;
-      const float len = glm::length(h);
-      if (len > 1e-12f)
-        reflect += (material.ks * energy) * schillingSpecular(modifiedCos2Alpha(N, h / len, e1, e2, D), m);
-    }
-    I += reflect * s.radiance;
-  }
-  return I;
+  return shadeWith(material, lights, P, N, V, [&](const Vec3& H) {
+    return energy * schillingSpecular(modifiedCos2Alpha(N, H, e1, e2, D), m);
+  });
 }
 
 }  // namespace meso

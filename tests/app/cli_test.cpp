@@ -1,5 +1,6 @@
 // The meso executable as a user meets it: exit status, messages and output files, for good and bad
 // input. Each bad input must give status 2, a message naming FILE[:LINE:COL]: key, and no output.
+#include "support/run_meso.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -16,22 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-  const std::string cmd = std::string(MESO_EXE) + " " + args + " 2>&1";
-  RunResult r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int raw = pclose(p);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
+using meso::testing::RunResult;
+RunResult run(const std::string& args) { return meso::testing::runMeso(args); }
 
 class CliTest : public meso::testing::TempDirTest {
  protected:

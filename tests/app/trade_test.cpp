@@ -1,6 +1,7 @@
 // `meso trade` from the command line on a tiny default scene: the CSV's exact header, one row per
 // configuration, finite non-negative errors, zero error for a configuration identical to the
 // reference, the plot, the summary, --temporal, and status 2 naming the option for bad values.
+#include "support/run_meso.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -20,22 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-  const std::string cmd = std::string(MESO_EXE) + " " + args + " 2>&1";
-  RunResult r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int raw = pclose(p);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
+using meso::testing::RunResult;
+RunResult run(const std::string& args) { return meso::testing::runMeso(args); }
 
 std::vector<std::string> split(const std::string& line, char sep) {
   std::vector<std::string> fields;
