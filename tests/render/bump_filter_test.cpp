@@ -7,13 +7,13 @@
 
 #include "meso/core/rng.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
-#include <unistd.h>
 
 namespace meso {
 namespace {
@@ -21,36 +21,19 @@ namespace {
 namespace fs = std::filesystem;
 
 Scene farReliefScene() {
-  const fs::path obj = fs::temp_directory_path() / ("meso_bumpf_plane_" + std::to_string(::getpid()) + ".obj");
-  std::ofstream(obj) << "v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\nvt 0 0\nvt 40 0\nvt 40 40\nvt 0 40\n"
-                        "f 1/1 2/2 3/3 4/4\n";
-  Scene s;
-  s.camera.position = {0.0f, -12.0f, 5.0f};
-  s.camera.lookAt = {0.0f, 2.0f, 0.0f};
-  s.camera.up = {0.0f, 0.0f, 1.0f};
-  s.camera.width = 40;
-  s.camera.height = 30;
-  s.camera.fovY = 40.0f;
-  Light l;
-  l.direction = glm::normalize(Vec3(0.0f, -0.6f, -0.5f));  // towards the eye: a broad highlight
-  s.lights = {l};
   Material m;
   m.kd = Vec3(0.3f);
   m.ks = Vec3(0.7f);
   m.phong = 40.0f;
-  ReliefLevelDecl d;
-  d.source = "noise";
-  d.octaves = 2;
-  d.amplitude = 0.02f;  // slopes about 0.5: strong, many waves per pixel far away
-  d.scale = 2.0f;
-  m.relief = {d};
-  s.materials = {m};
-  Object o;
-  o.mesh = obj;
-  o.scheme = SubdivisionScheme::Bilinear;
-  s.objects = {o};
-  s.render.algorithm = "bump";
-  s.render.cacheDir = fs::temp_directory_path() / ("meso_bumpf_cache_" + std::to_string(::getpid()));
+  m.relief = {testing::noiseLevel(0.02f, 2.0f)};  // slopes about 0.5: strong, many waves per pixel far away
+  // Light towards the eye: a broad highlight.
+  Scene s = testing::planeScene(testing::writePlaneObj("bumpf", 20.0f, 0.0f, 40.0f), "bump", m,
+                                Vec3(0.0f, -0.6f, -0.5f), "bumpf");
+  s.camera.position = {0.0f, -12.0f, 5.0f};
+  s.camera.lookAt = {0.0f, 2.0f, 0.0f};
+  s.camera.width = 40;
+  s.camera.height = 30;
+  s.camera.fovY = 40.0f;
   return s;
 }
 

@@ -8,13 +8,13 @@
 
 #include "meso/core/rng.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
-#include <unistd.h>
 
 namespace meso {
 namespace {
@@ -23,21 +23,7 @@ namespace fs = std::filesystem;
 
 const fs::path kTorus = fs::path(MESO_SOURCE_DIR) / "scenes" / "torus.obj";
 
-fs::path planeObj() {
-  const fs::path file = fs::temp_directory_path() / ("meso_disp_plane_" + std::to_string(::getpid()) + ".obj");
-  std::ofstream out(file);
-  out << "v -4 -4 0\nv 4 -4 0\nv 4 4 0\nv -4 4 0\nvt 0 0\nvt 8 0\nvt 8 8\nvt 0 8\nf 1/1 2/2 3/3 4/4\n";
-  return file;
-}
-
-ReliefLevelDecl noiseLevel(float amplitude, float scale, int octaves = 2) {
-  ReliefLevelDecl d;
-  d.source = "noise";
-  d.octaves = octaves;
-  d.amplitude = amplitude;
-  d.scale = scale;
-  return d;
-}
+using testing::noiseLevel;
 
 MaterialRelief levelsOnly(std::vector<ReliefLevelDecl> decls) {
   MaterialRelief r;
@@ -46,29 +32,19 @@ MaterialRelief levelsOnly(std::vector<ReliefLevelDecl> decls) {
 }
 
 Scene planeScene(const std::string& algorithm) {
-  Scene s;
-  s.camera.position = {0.0f, -1.5f, 1.6f};
-  s.camera.lookAt = {0.0f, 0.8f, 0.0f};
-  s.camera.up = {0.0f, 0.0f, 1.0f};
-  s.camera.width = 48;
-  s.camera.height = 32;
-  s.camera.fovY = 50.0f;
-  s.camera.spp = 2;
-  Light l;
-  l.direction = glm::normalize(Vec3(0.3f, 0.6f, -0.7f));
-  s.lights = {l};
   Material m;
   m.kd = Vec3(0.7f);
   m.ks = Vec3(0.3f);
   m.phong = 20.0f;
   m.relief = {noiseLevel(0.004f, 1.0f)};
-  s.materials = {m};
-  Object o;
-  o.mesh = planeObj();
-  o.scheme = SubdivisionScheme::Bilinear;
-  s.objects = {o};
-  s.render.algorithm = algorithm;
-  s.render.cacheDir = fs::temp_directory_path() / ("meso_disp_cache_" + std::to_string(::getpid()));
+  Scene s = testing::planeScene(testing::writePlaneObj("disp", 4.0f, 0.0f, 8.0f), algorithm, m,
+                                Vec3(0.3f, 0.6f, -0.7f), "disp");
+  s.camera.position = {0.0f, -1.5f, 1.6f};
+  s.camera.lookAt = {0.0f, 0.8f, 0.0f};
+  s.camera.width = 48;
+  s.camera.height = 32;
+  s.camera.fovY = 50.0f;
+  s.camera.spp = 2;
   return s;
 }
 

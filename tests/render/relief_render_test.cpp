@@ -2,54 +2,31 @@
 // redistribution in mean intensity on a flat patch, and auto is continuous across the thresholds.
 #include "meso/render/integrator.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
-#include <unistd.h>
 
 namespace meso {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path planeObj() {
-  // One file per process: ctest runs tests in parallel processes.
-  const fs::path file = fs::temp_directory_path() / ("meso_relief_plane_" + std::to_string(::getpid()) + ".obj");
-  std::ofstream out(file);
-  out << "v -50 -50 0\nv 50 -50 0\nv 50 50 0\nv -50 50 0\nvt 0 0\nvt 100 0\nvt 100 100\nvt 0 100\nf 1/1 2/2 3/3 4/4\n";
-  return file;
-}
-
 Scene reliefScene(const std::string& algorithm, float amplitude) {
-  Scene s;
-  s.camera.position = {0.0f, -6.0f, 1.2f};
-  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
-  s.camera.up = {0.0f, 0.0f, 1.0f};
-  s.camera.width = 64;
-  s.camera.height = 48;
-  s.camera.fovY = 50.0f;
-  Light l;
-  l.direction = glm::normalize(Vec3(0.2f, 0.7f, -0.6f));
-  s.lights = {l};
   Material m;
   m.kd = Vec3(0.8f);
   m.ks = Vec3(0.2f);
-  ReliefLevelDecl d;
-  d.source = "noise";
-  d.octaves = 2;
-  d.amplitude = amplitude;
-  d.scale = 1.0f;
-  m.relief = {d};
-  s.materials = {m};
-  Object o;
-  o.mesh = planeObj();
-  o.scheme = SubdivisionScheme::Bilinear;
-  s.objects = {o};
-  s.render.algorithm = algorithm;
-  s.render.cacheDir = fs::temp_directory_path() / ("meso_relief_cache_" + std::to_string(::getpid()));
+  m.relief = {testing::noiseLevel(amplitude, 1.0f)};
+  Scene s = testing::planeScene(testing::writePlaneObj("relief", 50.0f, 0.0f, 100.0f), algorithm, m,
+                                Vec3(0.2f, 0.7f, -0.6f), "relief");
+  s.camera.position = {0.0f, -6.0f, 1.2f};
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.width = 64;
+  s.camera.height = 48;
+  s.camera.fovY = 50.0f;
   s.render.tessellationRate = 1;
   return s;
 }

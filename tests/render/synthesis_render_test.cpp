@@ -6,40 +6,21 @@
 
 #include "meso/core/rng.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
-#include <unistd.h>
 
 namespace meso {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path bigPlane() {
-  const fs::path obj = fs::temp_directory_path() / ("meso_synth_plane_" + std::to_string(::getpid()) + ".obj");
-  std::ofstream(obj) << "v -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\n"
-                        "vt -100 -100\nvt 100 -100\nvt 100 100\nvt -100 100\nf 1/1 2/2 3/3 4/4\n";
-  return obj;
-}
-
 // A plane seen at 30 degrees from its normal from `distance`, lit so that the highlight is in view.
 Scene zoomScene(const std::string& ndfType, float distance) {
-  Scene s;
-  const Vec3 towardsEye = glm::normalize(Vec3(0.0f, -0.5f, 0.8660254f));
-  s.camera.lookAt = Vec3(0.0f);
-  s.camera.position = distance * towardsEye;
-  s.camera.up = {0.0f, 0.0f, 1.0f};
-  s.camera.width = 64;
-  s.camera.height = 48;
-  s.camera.fovY = 10.0f;
-  s.camera.spp = 4;
-  Light l;
-  l.direction = -glm::normalize(Vec3(0.0f, 0.35f, 0.9367f));  // near the mirror direction of V
-  s.lights = {l};
   Material m;
   m.ka = Vec3(0.02f);
   m.kd = Vec3(0.3f);
@@ -52,14 +33,17 @@ Scene zoomScene(const std::string& ndfType, float distance) {
   m.ndf.scale = 16.0f;
   m.ndf.octaves = 10;
   m.ndf.seed = 4;
-  s.materials = {m};
-  Object o;
-  o.mesh = bigPlane();
-  o.scheme = SubdivisionScheme::Bilinear;
-  s.objects = {o};
-  s.render.algorithm = "auto";
+  // Light near the mirror direction of V.
+  Scene s = testing::planeScene(testing::writePlaneObj("synth", 100.0f, -100.0f, 100.0f), "auto", m,
+                                -Vec3(0.0f, 0.35f, 0.9367f), "synth");
+  const Vec3 towardsEye = glm::normalize(Vec3(0.0f, -0.5f, 0.8660254f));
+  s.camera.lookAt = Vec3(0.0f);
+  s.camera.position = distance * towardsEye;
+  s.camera.width = 64;
+  s.camera.height = 48;
+  s.camera.fovY = 10.0f;
+  s.camera.spp = 4;
   s.render.tessellationRate = 1;
-  s.render.cacheDir = fs::temp_directory_path() / ("meso_synth_cache_" + std::to_string(::getpid()));
   return s;
 }
 
@@ -116,8 +100,12 @@ TEST(SynthesisRender, MeanIntensityHoldsFromFarToDeepZoom) {
       std::printf("  %s distance d/%g: mean %.4f (far %.4f, %+.2f%%), synthesis share %.2f\n", type, zoom, m.intensity,
                   reference.intensity, 100.0 * (m.intensity / reference.intensity - 1.0), m.synthesis);
       EXPECT_NEAR(m.intensity, reference.intensity, tolerance * reference.intensity) << type << " zoom " << zoom;
-      if (zoom == 16.0f) EXPECT_GT(m.synthesis, 0.2) << type << " zoom " << zoom;  // fading in
-      if (zoom >= 64.0f) EXPECT_GT(m.synthesis, 0.99) << type << " zoom " << zoom;
+      if (zoom == 16.0f) {
+        EXPECT_GT(m.synthesis, 0.2) << type << " zoom " << zoom;  // fading in
+      }
+      if (zoom >= 64.0f) {
+        EXPECT_GT(m.synthesis, 0.99) << type << " zoom " << zoom;
+      }
     }
   }
 }
@@ -150,9 +138,13 @@ TEST(SynthesisRender, IndexTextureContinuesTheReliefsOwnNormals) {
     }
     angle = degrees(static_cast<float>(angle / 2000));
     std::printf("  octave count %.1f: mean deviation from the relief's own normal %.3f degrees\n", c, angle);
-    if (c == 0.0f) EXPECT_EQ(angle, 0.0);
-    if (c > 0.0f && c <= 1.0f) EXPECT_GT(angle, previous + 0.1);  // noise grows as the first octave fades in
-    if (c > 1.0f) EXPECT_NEAR(angle, previous, 0.2 * previous);   // then holds its spread (t is normalized)
+    if (c == 0.0f) {
+      EXPECT_EQ(angle, 0.0);
+    } else if (c <= 1.0f) {
+      EXPECT_GT(angle, previous + 0.1);  // noise grows as the first octave fades in
+    } else {
+      EXPECT_NEAR(angle, previous, 0.2 * previous);  // then holds its spread (t is normalized)
+    }
     previous = angle;
   }
 }
