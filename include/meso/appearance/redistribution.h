@@ -3,6 +3,7 @@
 // R_theta^-1 = F^-1 o G_theta (the paper's q) goes back. Both are table lookups.
 #pragma once
 
+#include "meso/appearance/piecewise_cdf.h"
 #include "meso/appearance/visible_normal_histogram.h"
 
 #include <vector>
@@ -11,7 +12,8 @@ namespace meso {
 
 enum class RedistributionVariant {
   Separable,    // theta_N and phi mapped by their marginals, independently (the paper's maps)
-  Conditional,  // phi by its marginal first, then theta_N by its distribution in that phi bin
+  Conditional,  // phi by its marginal first, then theta_N by its distribution at that phi,
+                // interpolated linearly between phi-bin centres so the map is continuous
                 // (meso's default: see TableSettings)
 };
 
@@ -40,6 +42,9 @@ class Redistribution {
   std::span<const float> thetaCdf(int k, int phiBin) const;
   std::span<const float> phiCdf(int k) const;
   int phiBinOf(float phi) const;
+  // The theta_N CDF at azimuth phi of slice mix (k0, k1, w): the marginal (separable), or the
+  // conditionals of the two phi bins whose centres bracket phi, mixed linearly (conditional).
+  CdfMix thetaCdfAt(int k0, int k1, float w, float phi) const;
 
   VisibleNormalHistogram layout_;  // resolution and bin geometry (masses unused)
   RedistributionVariant variant_;
