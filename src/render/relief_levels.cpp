@@ -70,8 +70,9 @@ std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
 
 TableSettings tableSettings(const TableResolution& q) {
   TableSettings t;
-  t.histogram.resolution = {q.thetaVBins, q.thetaNBins, q.phiBins};
-  t.histogram.azimuths = q.azimuths;
+  t.histogram.resolution = {q.thetaVBins, q.thetaNBins, q.phiBins, q.phiVBins};
+  // Every view-azimuth slice gets the same number of traced azimuths.
+  t.histogram.azimuths = (q.azimuths + q.phiVBins - 1) / q.phiVBins * q.phiVBins;
   t.histogram.raysPerView = q.raysPerView;
   t.histogram.meshResolution = q.meshResolution;
   t.brdf.thetaL = q.brdfThetaL;

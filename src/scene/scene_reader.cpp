@@ -389,6 +389,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.thetaVBins = static_cast<int>(tr.integer("theta_v_bins", q.thetaVBins, 2, 90));
     q.thetaNBins = static_cast<int>(tr.integer("theta_n_bins", q.thetaNBins, 4, 1024));
     q.phiBins = static_cast<int>(tr.integer("phi_bins", q.phiBins, 4, 1024));
+    q.phiVBins = static_cast<int>(tr.integer("phi_v_bins", q.phiVBins, 1, 64));
     q.azimuths = static_cast<int>(tr.integer("azimuths", q.azimuths, 1, 1024));
     q.raysPerView = static_cast<int>(tr.integer("rays_per_view", q.raysPerView, 16, 1 << 22));
     q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));

@@ -25,14 +25,14 @@ float cdfForward(std::span<const float> a, std::span<const float> b, float w, fl
 float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
                  float p, BinShape shape = BinShape::Uniform);
 
-// A mixture sum_k w_k C_k of up to four cumulative tables of one length (weights >= 0, summing to
+// A mixture sum_k w_k C_k of up to eight cumulative tables of one length (weights >= 0, summing to
 // 1): a monotone CDF again, so conditional maps can be interpolated between slices and bins.
 struct CdfMix {
-  std::array<std::span<const float>, 4> cdf{};
-  std::array<float, 4> w{};
+  std::array<std::span<const float>, 8> cdf{};
+  std::array<float, 8> w{};
   int count = 0;
   void add(std::span<const float> c, float weight) {
-    if (!(weight > 0.0f) || count == 4) return;  // weights sum to 1: at least one is positive
+    if (!(weight > 0.0f) || count == 8) return;  // weights sum to 1: at least one is positive
     cdf[count] = c;
     w[count++] = weight;
   }

@@ -106,6 +106,7 @@ struct TableResolution {
   int thetaVBins = 16;      // view slices of the visible-normal histogram and the BRDF
   int thetaNBins = 96;      // normal polar bins
   int phiBins = 32;         // normal azimuth bins
+  int phiVBins = 16;        // view azimuth slices (1: isotropic tables, the paper's)
   int azimuths = 32;        // view azimuths traced per slice
   int raysPerView = 2048;   // rays per (theta_V, phi_V)
   int meshResolution = 192; // quads per tile side of the traced relief
