@@ -14,6 +14,7 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
   hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
   hash.value(s.brdf.thetaL).value(s.brdf.phi);
   if (h.resolution.phiV != 1) hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
+  if (!h.shape.identity()) hash.string("shape").value(h.shape.a).value(h.shape.b);
   // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
   if (finer)
     hash.value(finer->key);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <tuple>
 
 namespace meso {
 
@@ -81,23 +83,76 @@ TableSettings tableSettings(const TableResolution& q) {
   return t;
 }
 
-MetricPosition MaterialRelief::metricAt(float lengthPerU) const {
+MetricClass metricOf(const Vec3& Pu, const Vec3& Pv) {
+  MetricClass m;
+  const float lu = glm::length(Pu);
+  const float area = glm::length(glm::cross(Pu, Pv));
+  if (!(lu > 0.0f) || !(area > 0.0f) || !std::isfinite(area) || !std::isfinite(lu)) return m;
+  m.lengthPerU = std::sqrt(area);
+  m.shape.a = lu / m.lengthPerU;
+  m.shape.b = glm::dot(Pv, Pu / lu) / m.lengthPerU;
+  return m;
+}
+
+MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
   MetricPosition p;
   const int n = static_cast<int>(metrics.size());
-  if (n <= 1 || !(lengthPerU > 0.0f) || !std::isfinite(lengthPerU)) return p;
-  if (lengthPerU <= metrics.front().lengthPerU) return p;
-  if (lengthPerU >= metrics.back().lengthPerU) {
-    p.k0 = p.k1 = p.nearest = n - 1;
+  if (n <= 1 || !(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU)) return p;
+  // The nearest shape, then the run of classes with that shape (sorted by length).
+  int best = 0;
+  float bestD = std::numeric_limits<float>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const MetricShape& s = metrics[k].shape;
+    const float da = std::log2(s.a / m.shape.a), db = s.b - m.shape.b;
+    const float d = da * da + 4.0f * db * db;
+    if (d < bestD) bestD = d, best = k;
+  }
+  int first = best, last = best;
+  while (first > 0 && metrics[first - 1].shape == metrics[best].shape) --first;
+  while (last + 1 < n && metrics[last + 1].shape == metrics[best].shape) ++last;
+  const float l = m.lengthPerU;
+  p.k0 = p.k1 = p.nearest = first;
+  if (l <= metrics[first].lengthPerU) return p;
+  if (l >= metrics[last].lengthPerU) {
+    p.k0 = p.k1 = p.nearest = last;
     return p;
   }
-  int k = 0;
-  while (k + 2 < n && metrics[k + 1].lengthPerU <= lengthPerU) ++k;
+  int k = first;
+  while (k + 2 <= last && metrics[k + 1].lengthPerU <= l) ++k;
   p.k0 = k;
   p.k1 = k + 1;
-  p.w = std::log(lengthPerU / metrics[k].lengthPerU) / std::log(metrics[k + 1].lengthPerU / metrics[k].lengthPerU);
+  p.w = std::log(l / metrics[k].lengthPerU) / std::log(metrics[k + 1].lengthPerU / metrics[k].lengthPerU);
   p.w = std::clamp(p.w, 0.0f, 1.0f);
   p.nearest = p.w < 0.5f ? p.k0 : p.k1;
   return p;
+}
+
+std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves) {
+  struct Range {
+    MetricShape shape;
+    float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+  };
+  std::vector<Range> ranges;
+  const float step = std::max(stepOctaves, 1e-3f);
+  for (const MetricClass& m : samples) {
+    if (!(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU) || !std::isfinite(m.shape.a) ||
+        !std::isfinite(m.shape.b) || !(m.shape.a > 0.0f))
+      continue;
+    // Quantized shape; an isotropic, orthogonal uv stays exactly the identity.
+    MetricShape q;
+    q.a = std::exp2(step * std::round(std::log2(m.shape.a) / step));
+    q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
+    if (std::abs(std::log2(m.shape.a)) < 1e-3f) q.a = 1.0f;
+    if (std::abs(m.shape.b) < 1e-3f) q.b = 0.0f;
+    auto it = std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.shape == q; });
+    if (it == ranges.end()) it = ranges.insert(ranges.end(), Range{q});
+    it->lo = std::min(it->lo, m.lengthPerU);
+    it->hi = std::max(it->hi, m.lengthPerU);
+  }
+  std::vector<MetricClass> out;
+  for (const Range& r : ranges)
+    for (float l : metricClasses(r.lo, r.hi, stepOctaves)) out.push_back({l, r.shape});
+  return out;
 }
 
 std::vector<float> metricClasses(float lo, float hi, float stepOctaves) {
@@ -115,10 +170,13 @@ namespace {
 
 // The tables of every level for one metric class, finest first in the build (each coarser BRDF
 // integrates the finer one), stored coarsest first.
-MetricTables buildMetricTables(const MaterialRelief& r, const Material& material, float lengthPerU,
+MetricTables buildMetricTables(const MaterialRelief& r, const Material& material, const MetricClass& metric,
                                const TableCache& cache, std::vector<std::string>* warnings,
-                               const TableSettings& settings, const SpecularLobe* lobe, int* built, int* loaded,
+                               const TableSettings& shapeless, const SpecularLobe* lobe, int* built, int* loaded,
                                double* seconds) {
+  const float lengthPerU = metric.lengthPerU;
+  TableSettings settings = shapeless;
+  settings.histogram.shape = metric.shape;
   const size_t n = r.levels.size();
   std::vector<LevelTables> reversed;
   for (size_t k = 0; k < n; ++k) {
@@ -131,6 +189,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   }
   MetricTables m;
   m.lengthPerU = lengthPerU;
+  m.shape = metric.shape;
   for (size_t k = 0; k < n; ++k) m.levels.push_back(std::move(reversed[n - 1 - k]));
   return m;
 }
@@ -139,7 +198,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings, const TableSettings& settings,
-                                   std::vector<float> lengthsPerU) {
+                                   std::vector<MetricClass> classes) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
   const size_t n = r.levels.size();
@@ -155,13 +214,16 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                                       finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f);
   }
   const SpecularLobe lobe = r.synthesis ? r.synthesis->lobe() : SpecularLobe{};
-  std::erase_if(lengthsPerU, [](float l) { return !(l > 0.0f) || !std::isfinite(l); });
-  if (lengthsPerU.empty()) lengthsPerU.push_back(1.0f);
-  std::sort(lengthsPerU.begin(), lengthsPerU.end());
-  lengthsPerU.erase(std::unique(lengthsPerU.begin(), lengthsPerU.end()), lengthsPerU.end());
+  std::erase_if(classes, [](const MetricClass& m) { return !(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU); });
+  if (classes.empty()) classes.push_back({});
+  const auto key = [](const MetricClass& m) { return std::tuple(m.shape.a, m.shape.b, m.lengthPerU); };
+  std::sort(classes.begin(), classes.end(), [&](const MetricClass& x, const MetricClass& y) { return key(x) < key(y); });
+  classes.erase(std::unique(classes.begin(), classes.end(),
+                            [&](const MetricClass& x, const MetricClass& y) { return key(x) == key(y); }),
+                classes.end());
   if (n == 0) return r;
-  for (float l : lengthsPerU)
-    r.metrics.push_back(buildMetricTables(r, material, l, cache, warnings, settings, r.synthesis ? &lobe : nullptr,
+  for (const MetricClass& m : classes)
+    r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings, r.synthesis ? &lobe : nullptr,
                                           &r.tablesBuilt, &r.tablesFromCache, &r.tablesSeconds));
   return r;
 }

@@ -21,9 +21,9 @@ namespace {
 
 bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::Displacement; }
 
-// Grows [lo, hi] by the isotropic lengths per unit of u (sqrt |P_u x P_v|) of a surface, sampled at
-// every face's corners, edge midpoints and centre: the metric classes its tables need.
-void metricRange(const LimitSurface& surface, float& lo, float& hi) {
+// The metrics (length per unit of u and shape) of a surface, sampled at every face's corners, edge
+// midpoints and centre: the metric classes its tables need.
+void sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
   for (int face = 0; face < surface.numFaces(); ++face) {
     const int n = surface.faceSize(face);
     Vec2 centre(0.0f);
@@ -32,13 +32,11 @@ void metricRange(const LimitSurface& surface, float& lo, float& hi) {
       centre += a / static_cast<float>(n);
       for (const Vec2 st : {a, 0.5f * (a + b)}) {
         const SurfacePoint sp = surface.evaluate(face, st);
-        const float l = areaLengthPerU(sp.Pu, sp.Pv);
-        if (l > 0.0f && std::isfinite(l)) lo = std::min(lo, l), hi = std::max(hi, l);
+        out.push_back(metricOf(sp.Pu, sp.Pv));
       }
     }
     const SurfacePoint sp = surface.evaluate(face, centre);
-    const float l = areaLengthPerU(sp.Pu, sp.Pv);
-    if (l > 0.0f && std::isfinite(l)) lo = std::min(lo, l), hi = std::max(hi, l);
+    out.push_back(metricOf(sp.Pu, sp.Pv));
   }
 }
 
@@ -67,13 +65,13 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   Timer tables;
   const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
   for (size_t m = 0; m < scene.materials.size(); ++m) {
-    float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+    std::vector<MetricClass> samples;
     bool used = false;
     for (const PreparedObject& o : ctx.objects)
-      if (o.material == static_cast<int>(m)) metricRange(o.surface, lo, hi), used = true;
+      if (o.material == static_cast<int>(m)) sampleMetrics(o.surface, samples), used = true;
     if (!used || !hasRelief(scene.materials[m])) continue;
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables),
-                                         metricClasses(lo, hi, scene.render.tables.metricStep));
+                                         metricClassesFor(samples, scene.render.tables.metricStep));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;

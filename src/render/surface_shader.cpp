@@ -32,8 +32,16 @@ struct LevelContext {
   MetricPosition metric;                // where the surface's metric falls between table classes
 };
 
+// The frame's tangents as the class's shape sees them: [P_u, P_v] [[a, b], [0, 1/a]]^-1, so that a
+// surface of exactly the class's metric has orthonormal tangents (times its length).
+LevelFrame unshaped(const LevelFrame& f, const MetricShape& s) {
+  if (s.identity()) return f;
+  return {f.Pu / s.a, s.a * f.Pv - s.b * f.Pu, f.N};
+}
+
 // The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
-Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& f) {
+Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped) {
+  const LevelFrame f = unshaped(shaped, c.relief.metrics[c.metric.k0].shape);
   const TileMap m = makeTileMap(f.Pu, f.Pv, f.N, areaLengthPerU(f.Pu, f.Pv));
   return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, c.relief.tables(i, c.metric.k0).brdf,
                    c.relief.tables(i, c.metric.k1).brdf, c.metric.w);
@@ -44,7 +52,8 @@ Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& f) {
 // surface whose metric varies.
 Vec3 levelRedistribution(const LevelContext& c, size_t i, const LevelFrame& f, float disp, const Vec3& nBump) {
   const auto at = [&](int k) {
-    const TileMap m = makeTileMap(f.Pu, f.Pv, f.N, c.relief.metrics[k].lengthPerU);
+    const LevelFrame g = unshaped(f, c.relief.metrics[k].shape);
+    const TileMap m = makeTileMap(g.Pu, g.Pv, g.N, c.relief.metrics[k].lengthPerU);
     return redistributeNormal(c.relief.tables(i, k).redistribution, m, c.V, disp, nBump);
   };
   const float t = std::clamp((c.metric.w - 0.4f) / 0.2f, 0.0f, 1.0f);
@@ -246,7 +255,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   const LevelContext c{ctx,      material,     relief,
                        sp,       V,            glm::length(sp.P - ctx.camera.position()),
                        object.displaced, footprint, &transitions,
-                       relief.metricAt(areaLengthPerU(sp.Pu, sp.Pv))};
+                       relief.metricAt(metricOf(sp.Pu, sp.Pv))};
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 

@@ -9,6 +9,7 @@
 #include "meso/scene/scene.h"
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -62,11 +63,23 @@ std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
 // a surface whose unit of u is lengthPerU world units long.
 struct MetricTables {
   float lengthPerU = 1.0f;
+  MetricShape shape;                // the area-preserving stretch and shear of the class
   std::vector<LevelTables> levels;  // levels[i] belongs to MaterialRelief::levels[i]
 };
 
-// Where a surface's own length per unit of u falls between the metric classes: classes k0 and k1
-// (equal at the ends) mixed by w in log length; `nearest` is the closer one.
+// A metric class to build: isotropic length and shape.
+struct MetricClass {
+  float lengthPerU = 1.0f;
+  MetricShape shape;
+};
+
+// The shape and length of a frame: [P_u, P_v] in the orthonormal frame (P_u / |P_u|, N x that) is
+// l [[a, b], [0, 1 / a]] with l = sqrt |P_u x P_v|.
+MetricClass metricOf(const Vec3& Pu, const Vec3& Pv);
+
+// Where a surface's own metric falls between the classes: the classes of the nearest shape (in
+// log a and b) whose lengths bracket the surface's, k0 and k1 (equal at the ends), mixed by w in log
+// length; `nearest` is the closer one.
 struct MetricPosition {
   int k0 = 0, k1 = 0, nearest = 0;
   float w = 0.0f;
@@ -78,7 +91,7 @@ struct MaterialRelief {
   std::vector<ReliefLevel> levels;
   std::vector<MetricTables> metrics;  // sorted by lengthPerU; one class when the metric is constant
   const LevelTables& tables(size_t level, int metric = 0) const { return metrics[metric].levels[level]; }
-  MetricPosition metricAt(float lengthPerU) const;
+  MetricPosition metricAt(const MetricClass& m) const;
   // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
   // material declares [materials.ndf].
   std::unique_ptr<SynthesisLevel> synthesis;
@@ -90,11 +103,15 @@ struct MaterialRelief {
 // The library's table settings for a scene's [render.tables].
 TableSettings tableSettings(const TableResolution& resolution);
 
-// Builds (or loads) the tables of every level for each metric class in `lengthsPerU` (world
-// lengths per unit of u; sorted and deduplicated here). Empty means the unit metric only.
+// Builds (or loads) the tables of every level for each metric class (sorted by shape, then length,
+// here). Empty means the unit metric only.
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings, const TableSettings& settings = {},
-                                   std::vector<float> lengthsPerU = {});
+                                   std::vector<MetricClass> classes = {});
+
+// The classes for the metrics sampled on a material's surfaces: shapes quantized to stepOctaves in
+// a and stepOctaves / 2 in b, and for each shape metricClasses over its range of lengths.
+std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves);
 
 // The metric classes that cover lengths per unit of u in [lo, hi]: one class at sqrt(lo hi) when
 // hi / lo < 1 + 1e-3, else a geometric series from lo to hi with ratio at most 2^stepOctaves.
