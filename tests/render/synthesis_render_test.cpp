@@ -166,3 +166,28 @@ TEST(SynthesisRender, FarBlinnPhongNdfIsTheLocalModel) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// The filtered bump renderer continues into the level below the finest relief: with an NDF it
+// shades synthesized detail (the magenta share of the algorithm layer is > 0 up close), as auto
+// does, instead of falling back to (H.N)^phong.
+TEST(SynthesisRender, FilteredBumpReachesSynthesis) {
+  Scene s = zoomScene("beckmann", 0.05f);
+  s.materials[0].relief = {testing::noiseLevel(0.002f, 2.0f, 2)};
+  s.render.algorithm = "bump";
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(s, times);
+  RenderCounters counters;
+  const Image img = renderFrame(ctx, {s.camera.spp, 3, false}, counters);
+  ASSERT_TRUE(img.allFinite());
+  const int R = img.channelIndex("algorithm.R"), B = img.channelIndex("algorithm.B");
+  double magenta = 0.0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) magenta += std::min(img.at(x, y, R), img.at(x, y, B));
+  EXPECT_GT(magenta / (img.width * img.height), 0.5) << "synthesis should show up close";
+}
+
+}  // namespace
+}  // namespace meso

@@ -1,0 +1,62 @@
+// meso consistency SCENE: each renderer against the displacement reference, per object and band.
+#include "meso/render/scene_consistency.h"
+
+#include "support/plane_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace meso {
+namespace {
+
+Scene smallScene() {
+  Material m;
+  m.kd = Vec3(0.7f);
+  m.relief = {testing::noiseLevel(0.01f, 2.0f, 2)};
+  Scene s = testing::planeScene(testing::writePlaneObj("scons", 10.0f, 0.0f, 20.0f), "auto", m,
+                                Vec3(0.3f, 0.5f, -0.8f), "scons");
+  s.camera.position = {0.0f, -9.0f, 2.0f};
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.width = 48;
+  s.camera.height = 27;
+  s.camera.fovY = 40.0f;
+  s.camera.spp = 1;
+  s.render.tables.raysPerView = 256;
+  s.render.tables.phiVBins = 4;
+  return s;
+}
+
+// The displacement renderer at the reference's own dicing is the reference: zero difference in
+// every region; regions partition the pixels that hit; the coarse reference differs a little.
+TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
+  Scene s = smallScene();
+  s.render.dicingRate = 0.5f;
+  SceneConsistencyOptions o;
+  o.algorithms = {"displacement", "bump"};
+  o.bands = 3;
+  o.referenceDicing = 0.5f;
+  const SceneConsistencyReport r = sceneConsistency(s, o);
+  ASSERT_EQ(r.renderers.size(), 4u);
+  EXPECT_EQ(r.renderers[0], "reference");
+  ASSERT_EQ(r.regions.size(), 4u);  // one object, three bands
+  int64_t bandPixels = 0;
+  for (size_t k = 1; k < r.regions.size(); ++k) bandPixels += r.regions[k].pixels;
+  EXPECT_EQ(bandPixels, r.regions[0].pixels);
+  EXPECT_GT(r.regions[0].pixels, 48 * 27 / 3);
+  for (const ConsistencyRegion& region : r.regions) {
+    if (region.pixels == 0) continue;
+    EXPECT_EQ(region.mean[2], region.mean[0]) << region.name;  // displacement at the reference's dicing
+    EXPECT_GT(region.mean[0], 0.0);
+    for (double m : region.mean) EXPECT_TRUE(std::isfinite(m));
+  }
+  EXPECT_GT(r.referenceChange, 0.0);
+  EXPECT_LT(r.referenceChange, 0.05);
+  EXPECT_EQ(r.worstRenderer, "bump");  // displacement is exact, so bump is the worst
+  const std::string csv = formatSceneConsistency(r, false), md = formatSceneConsistency(r, true);
+  EXPECT_NE(csv.find("region,pixels,reference,coarse reference,displacement,bump"), std::string::npos) << csv;
+  EXPECT_NE(md.find("| region | pixels | reference"), std::string::npos) << md;
+}
+
+}  // namespace
+}  // namespace meso
