@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # A real one-node Slurm cluster on this machine for the farm test, sourced by farm_slurm_test.sh:
 # munged with its own key and socket, slurmctld and slurmd with a generated slurm.conf for this
 # host (no cgroups: proctrack/linuxproc, task/none), every state, spool, log and pid file in one
@@ -68,6 +69,8 @@ JobCompType=jobcomp/none
 SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 SchedulerType=sched/backfill
+# a requeued job, eligible again after cred_expire, waits for the next backfill pass (default 30 s)
+SchedulerParameters=bf_interval=1
 MpiDefault=none
 MailProg=/bin/true
 ReturnToService=2
