@@ -4,7 +4,11 @@
 #include "meso/core/error.h"
 #include "meso/core/math.h"
 #include "meso/render/consistency.h"
+#include "meso/render/integrator.h"
 #include "meso/render/relief_levels.h"
+#include "meso/render/scene_consistency.h"
+#include "meso/scene/scene_parser.h"
+#include "render_command.h"
 
 #include <cmath>
 #include <cstdio>
@@ -32,7 +36,31 @@ Component componentFrom(const std::string& c) {
 
 }  // namespace
 
+void runSceneConsistency(const ConsistencyCommandOptions& o) {
+  const Scene scene = loadScene(o.scene);
+  SceneConsistencyOptions so;
+  so.algorithms = o.algorithms;
+  so.bands = o.bands;
+  so.referenceDicing = o.referenceDicing;
+  so.referenceSpp = o.referenceSpp;
+  so.cancel = &interruptRequested();
+  SceneConsistencyReport report;
+  try {
+    report = sceneConsistency(scene, so);
+  } catch (const Interrupted&) {
+    throw RenderInterrupted();
+  }
+  std::fputs(formatSceneConsistency(report, o.format == "markdown").c_str(), stdout);
+  std::fprintf(stderr, "meso: worst: %s in %s, %.2f%% from the reference; reference (dicing %g px) moves %.2f%% when diced at %g px\n",
+               report.worstRenderer.c_str(), report.worstRegion.c_str(), 100.0 * report.worst, o.referenceDicing,
+               100.0 * report.referenceChange, 2.0 * o.referenceDicing);
+  if (report.referenceChange > 0.01)
+    std::fprintf(stderr, "meso: warning: the reference is not converged (%.2f%% change over one halving of dicing); "
+                         "lower --reference-dicing\n", 100.0 * report.referenceChange);
+}
+
 void runConsistency(const ConsistencyCommandOptions& o) {
+  if (!o.scene.empty()) return runSceneConsistency(o);
   for (float t : o.thetaV)
     if (!(t >= 0.0f && t <= 90.0f)) throw Error("--theta-v: expected angles in [0, 90] degrees, got " + std::to_string(t));
   const ReliefLevelDecl decl = reliefFrom(o);

@@ -8,6 +8,13 @@
 namespace meso::app {
 
 struct ConsistencyCommandOptions {
+  // A scene: Figure 6 for the whole scene (each renderer against a displacement reference, per
+  // object and per band of rows) instead of the periodic patch.
+  std::filesystem::path scene;
+  int bands = 6;
+  float referenceDicing = 0.25f;
+  int referenceSpp = 0;
+  std::vector<std::string> algorithms{"bump", "redistribution", "brdf", "auto"};
   std::filesystem::path height;  // empty: procedural noise
   float amplitude = 0.05f;
   float scale = 1.0f;

@@ -55,7 +55,18 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
 void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& o) {
   CLI::App* c = cli.add_subcommand("consistency",
       "Becker & Max's Figure 6 for any relief: area-averaged intensity of a flat periodic patch for "
-      "bump, redistribution, brdf and displacement at each theta_V");
+      "bump, redistribution, brdf and displacement at each theta_V; given a SCENE, the same for the "
+      "whole scene: each renderer against a full-displacement reference, per object and band of rows");
+  c->add_option("scene", o.scene, "Scene file (TOML): compare renderers on the whole scene instead of the patch")
+      ->check(CLI::ExistingFile);
+  c->add_option("--bands", o.bands, "SCENE: bands of image rows")->check(CLI::Range(1, 4096))->capture_default_str();
+  c->add_option("--reference-dicing", o.referenceDicing, "SCENE: dicing rate of the displacement reference, pixels")
+      ->check(CLI::Range(0.01f, 100.0f))->capture_default_str();
+  c->add_option("--reference-spp", o.referenceSpp, "SCENE: samples per pixel of the reference (0: the scene's)")
+      ->check(CLI::Range(0, 65536))->capture_default_str();
+  c->add_option("--algorithms", o.algorithms, "SCENE: renderers compared with the reference, comma separated")
+      ->delimiter(',')->check(CLI::IsMember({"bump", "redistribution", "brdf", "displacement", "auto"}))
+      ->capture_default_str();
   c->add_option("--height", o.height, "Height image (any format OpenImageIO reads); default: procedural fBm noise")
       ->check(CLI::ExistingFile);
   c->add_option("--amplitude", o.amplitude, "Relief amplitude in units of one tile (the tile is 1 x 1)")

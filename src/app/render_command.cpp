@@ -99,6 +99,12 @@ std::atomic<bool> gInterrupted{false};
 
 extern "C" void onInterrupt(int) { gInterrupted.store(true); }
 
+}  // namespace
+
+const std::atomic<bool>& interruptRequested() { return gInterrupted; }
+
+namespace {
+
 std::filesystem::path frameOutput(const std::filesystem::path& output, int frame, bool animated) {
   if (!animated) return output;
   char suffix[32];

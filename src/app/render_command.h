@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <exception>
+#include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -36,6 +37,8 @@ struct RenderCommandOptions {
 
 // Set by SIGINT/SIGTERM: the frame in progress stops, nothing partial is written, status 130.
 void installInterruptHandler();
+// True once SIGINT or SIGTERM arrived (for commands that poll it in their long loops).
+const std::atomic<bool>& interruptRequested();
 struct RenderInterrupted : std::exception {
   const char* what() const noexcept override { return "interrupted"; }
 };

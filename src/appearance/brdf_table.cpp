@@ -24,58 +24,73 @@ Axis locate(float x, float lo, float hi, int n) {
   return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
 }
 
+// An angle in [-pi, pi] (pi stays pi, so the last node of a signed axis is reachable).
+float wrapAngle(float a) {
+  if (!std::isfinite(a)) return 0.0f;
+  a = std::fmod(a, 2.0f * kPi);
+  if (a > kPi) a -= 2.0f * kPi;
+  if (a < -kPi) a += 2.0f * kPi;
+  return a;
+}
+
 Vec3 direction(float theta, float phi) {
   const float s = std::sin(theta);
   return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
 }
 
 // Sums f(V, L, N) * mass over the visible normals of each view slice, for every table entry.
-// V has azimuth 0 (the histogram's phi axis is phi_N - phi_V) and L azimuth -phi_{V-L}.
+// V has azimuth 0 (the histogram's phi axis is phi_N - phi_V) and L azimuth -phi_{V-L}; perNormal
+// also gets the slice's view azimuth phi_V about the relief's axes.
 template <typename PerNormal>
 BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, PerNormal perNormal) {
   const HistogramResolution& h = distr.resolution();
   std::vector<float> thetaV(h.thetaV);
   for (int k = 0; k < h.thetaV; ++k) thetaV[k] = distr.thetaV(k);
-  std::vector<float> data(2 * static_cast<size_t>(h.thetaV) * res.thetaL * res.phi, 0.0f);
+  const int nPhi = BrdfTable::phiNodes(res, h.phiV);
+  const float phiLo = h.phiV > 1 ? -kPi : 0.0f;
+  std::vector<float> data(2 * static_cast<size_t>(distr.numSlices()) * res.thetaL * nPhi, 0.0f);
   const size_t half = data.size() / 2;
   // Slices are independent: parallel, and the same bits for any thread count.
-  tbb::parallel_for(0, h.thetaV, [&](int k) {
-    const Vec3 V = direction(thetaV[k], 0.0f);
+  tbb::parallel_for(0, distr.numSlices(), [&](int k) {
+    const Vec3 V = direction(distr.sliceThetaV(k), 0.0f);
+    const float phiV = h.phiV > 1 ? distr.slicePhiV(k) : 0.0f;
     for (int i = 0; i < res.thetaL; ++i)
-      for (int j = 0; j < res.phi; ++j) {
+      for (int j = 0; j < nPhi; ++j) {
         const float tl = 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res.thetaL - 1);
-        const float pvl = kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
+        const float pvl = phiLo + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
         const Vec3 L = direction(tl, -pvl);
         double diff = 0.0, spec = 0.0;
         for (int a = 0; a < h.thetaN; ++a)
           for (int b = 0; b < h.phi; ++b) {
             const float m = distr.mass(k, a, b);
             if (m == 0.0f) continue;
-            const BrdfTable::Value v = perNormal(V, L, distr.meanNormal(k, a, b));
+            const BrdfTable::Value v = perNormal(V, L, distr.meanNormal(k, a, b), phiV);
             diff += m * v.diffuse;
             spec += m * v.specular;
           }
-        const size_t idx = (static_cast<size_t>(k) * res.thetaL + i) * res.phi + j;
+        const size_t idx = (static_cast<size_t>(k) * res.thetaL + i) * nPhi + j;
         data[idx] = static_cast<float>(diff);
         data[half + idx] = static_cast<float>(spec);
       }
   });
-  return BrdfTable::fromData(std::move(thetaV), res, std::move(data));
+  return BrdfTable::fromData(std::move(thetaV), res, std::move(data), h.phiV);
 }
 
 }  // namespace
 
-BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data) {
+BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data, int phiV) {
   BrdfTable t;
   t.thetaV_ = std::move(thetaV);
   t.res_ = res;
+  t.phiV_ = std::max(phiV, 1);
+  t.nPhi_ = phiNodes(res, t.phiV_);
   t.data_ = std::move(data);
   return t;
 }
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
                                       const SpecularLobe& lobe) {
-  return integrate(distr, res, [&lobe](const Vec3& V, const Vec3& L, const Vec3& nMean) {
+  return integrate(distr, res, [&lobe](const Vec3& V, const Vec3& L, const Vec3& nMean, float) {
     Value v;
     v.diffuse = std::max(glm::dot(L, nMean), 0.0f);
     const float len = glm::length(nMean);
@@ -90,7 +105,7 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
 }
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong) {
-  return integrate(distr, res, [phong](const Vec3& V, const Vec3& L, const Vec3& nMean) {
+  return integrate(distr, res, [phong](const Vec3& V, const Vec3& L, const Vec3& nMean, float) {
     // The diffuse term is linear in N: the bin's mean normal (unnormalized) makes it exact.
     Value v;
     v.diffuse = std::max(glm::dot(L, nMean), 0.0f);
@@ -104,25 +119,29 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
 
 BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
                                     const BrdfTable& finer) {
-  return integrate(distr, res, [&finer](const Vec3& V, const Vec3& L, const Vec3& nMean) {
+  return integrate(distr, res, [&finer](const Vec3& V, const Vec3& L, const Vec3& nMean, float phiV) {
     const float len = glm::length(nMean);
     if (len == 0.0f) return Value{};
     const Vec3 N = nMean / len;
     // Eq. (1): angles of V and L measured from the bin normal; azimuths in the plane perpendicular
-    // to N, against the table axes x and y.
-    const Vec3 x(1.0f, 0.0f, 0.0f), y(0.0f, 1.0f, 0.0f);
+    // to N, against the relief's axes x and y (seen from the view-aligned frame, they are turned by
+    // -phi_V; with isotropic tables phi_V is 0 and only phi_{V-L} matters).
+    const float c = std::cos(phiV), sn = std::sin(phiV);
+    const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
     const float tv = std::acos(std::clamp(glm::dot(V, N), -1.0f, 1.0f));
     const float tl = std::acos(std::clamp(glm::dot(L, N), -1.0f, 1.0f));
     if (tl >= 0.5f * kPi || tv >= 0.5f * kPi) return Value{};  // lit or seen from behind the facet
     const float pl = std::atan2(glm::dot(L, glm::cross(N, x)), glm::dot(L, glm::cross(y, N)));
     const float pv = std::atan2(glm::dot(V, glm::cross(N, x)), glm::dot(V, glm::cross(y, N)));
     const float pvl = std::fmod(pv - pl + 3.0f * kPi, 2.0f * kPi) - kPi;
-    return finer.lookup(tv, tl, std::abs(pvl));
+    return finer.numPhiV() > 1 ? finer.lookup(tv, pv, tl, pvl) : finer.lookup(tv, tl, std::abs(pvl));
   });
 }
 
 float BrdfTable::thetaL(int i) const { return 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res_.thetaL - 1); }
-float BrdfTable::phi(int j) const { return kPi * static_cast<float>(j) / static_cast<float>(res_.phi - 1); }
+float BrdfTable::phi(int j) const {
+  return (phiV_ > 1 ? -kPi : 0.0f) + kPi * static_cast<float>(j) / static_cast<float>(res_.phi - 1);
+}
 
 BrdfTable::Value BrdfTable::entry(int k, int i, int j) const {
   return {data_[index(k, i, j)], data_[data_.size() / 2 + index(k, i, j)]};
@@ -133,12 +152,36 @@ BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) cons
   const Axis b = locate(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
   const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
   const Axis c = locate(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
+  if (phiV_ > 1) return lookup(thetaV, 0.0f, thetaL, phiVL);
   Value out;
   for (int corner = 0; corner < 8; ++corner) {
     const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? b.w : 1.0f - b.w) *
                     ((corner & 4) ? c.w : 1.0f - c.w);
     if (w == 0.0f) continue;
     const Value e = entry((corner & 1) ? a.i1 : a.i0, (corner & 2) ? b.i1 : b.i0, (corner & 4) ? c.i1 : c.i0);
+    out.diffuse += w * e.diffuse;
+    out.specular += w * e.specular;
+  }
+  return out;
+}
+
+BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float phiVL) const {
+  if (phiV_ == 1) return lookup(thetaV, thetaL, phiVL);
+  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  // View azimuth: periodic, between the two slice centres 2 pi (m + 1/2) / phiV around phiV.
+  float s = (std::isfinite(phiV) ? phiV : 0.0f) / (2.0f * kPi) * static_cast<float>(phiV_) - 0.5f;
+  s -= static_cast<float>(phiV_) * std::floor(s / static_cast<float>(phiV_));
+  const int m0 = std::min(static_cast<int>(s), phiV_ - 1), m1 = (m0 + 1) % phiV_;
+  const float wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
+  const Axis b = locate(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
+  const Axis c = locate(wrapAngle(phiVL), -kPi, kPi, nPhi_);
+  Value out;
+  for (int corner = 0; corner < 16; ++corner) {
+    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? wm : 1.0f - wm) *
+                    ((corner & 4) ? b.w : 1.0f - b.w) * ((corner & 8) ? c.w : 1.0f - c.w);
+    if (w == 0.0f) continue;
+    const int k = ((corner & 1) ? a.i1 : a.i0) * phiV_ + ((corner & 2) ? m1 : m0);
+    const Value e = entry(k, (corner & 4) ? b.i1 : b.i0, (corner & 8) ? c.i1 : c.i0);
     out.diffuse += w * e.diffuse;
     out.specular += w * e.specular;
   }

@@ -17,7 +17,9 @@ namespace {
 void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const HistogramSettings& s, int k,
                 VisibleNormalHistogram& h) {
   const float thetaV = h.thetaV(k);
+  const int phiV = h.resolution().phiV;
   for (int a = 0; a < s.azimuths; ++a) {
+    const int slice = h.sliceOf(k, a * phiV / s.azimuths);
     Rng rng(s.seed, static_cast<uint64_t>(k) * s.azimuths + a);
     const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
     const Vec3 towardEye(std::sin(thetaV) * std::cos(phiV), std::sin(thetaV) * std::sin(phiV), std::cos(thetaV));
@@ -30,7 +32,7 @@ void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const Hi
       const Vec2 g = relief.gradient(xy.x, xy.y);
       const Vec3 n = glm::normalize(Vec3(-g.x, -g.y, 1.0f));
       // Into the view-aligned frame: rotate by -phi_V about z.
-      h.add(k, Vec3(c * n.x - sn * n.y, sn * n.x + c * n.y, n.z));
+      h.add(slice, Vec3(c * n.x - sn * n.y, sn * n.x + c * n.y, n.z));
     }
   }
 }

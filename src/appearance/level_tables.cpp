@@ -13,6 +13,7 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
   hash.value(h.resolution.thetaV).value(h.resolution.thetaN).value(h.resolution.phi);
   hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
   hash.value(s.brdf.thetaL).value(s.brdf.phi);
+  if (h.resolution.phiV != 1) hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
   // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
   if (finer)
     hash.value(finer->key);
@@ -52,9 +53,10 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
   }
   std::vector<float> thetaV(distr.resolution().thetaV);
   for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
-  const size_t brdfSize = 2 * thetaV.size() * settings.brdf.thetaL * settings.brdf.phi;
+  const int phiV = distr.resolution().phiV;
+  const size_t brdfSize = 2 * thetaV.size() * phiV * settings.brdf.thetaL * BrdfTable::phiNodes(settings.brdf, phiV);
   BrdfTable brdf = fromCache && brdfData.size() == brdfSize
-                       ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData))
+                       ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, lobe);
   fromCache = fromCache && brdf.data().size() == brdfSize;
   std::vector<float> payload = distr.toData();

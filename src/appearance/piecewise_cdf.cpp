@@ -68,4 +68,34 @@ float cdfInverse(std::span<const float> a, std::span<const float> b, float w, fl
   return positionIn(loI, lo, width, f, shape);
 }
 
+float cdfForward(const CdfMix& mix, float lo, float width, float x, BinShape shape) {
+  const size_t n = mix.edges() - 1;
+  const float t = (x - lo) / width;
+  if (!(t > 0.0f)) return 0.0f;
+  if (t >= static_cast<float>(n)) return 1.0f;
+  const size_t i = std::min(static_cast<size_t>(t), n - 1);
+  const float f = fractionIn(i, lo, width, x, shape);
+  const float c0 = mix.at(i), c1 = mix.at(i + 1);
+  const float c = c0 + f * (c1 - c0);
+  // At the top edge of the support the mixture sums to 1 only up to rounding; snap, so that a
+  // normal beyond the support and one on its edge both map to the inverse's top (which may lie
+  // past a run of empty bins).
+  return c > 1.0f - 1e-6f ? 1.0f : c;
+}
+
+float cdfInverse(const CdfMix& mix, float lo, float width, float p, BinShape shape) {
+  const size_t n = mix.edges() - 1;
+  // The top 1e-6 of mass is left out: a stray bin far in the tail, mixed in by a tiny slice weight,
+  // would otherwise decide where every normal at p = 1 goes (by float rounding of that weight).
+  p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f - 1e-6f);
+  size_t loI = 0, hiI = n;
+  while (hiI - loI > 1) {
+    const size_t mid = (loI + hiI) / 2;
+    if (mix.at(mid) < p) loI = mid; else hiI = mid;
+  }
+  const float c0 = mix.at(loI), c1 = mix.at(loI + 1);
+  const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
+  return positionIn(loI, lo, width, f, shape);
+}
+
 }  // namespace meso

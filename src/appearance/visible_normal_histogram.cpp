@@ -22,7 +22,8 @@ VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float th
   res_.thetaV = std::max(res_.thetaV, 2);
   res_.thetaN = std::max(res_.thetaN, 1);
   res_.phi = std::max(res_.phi, 1);
-  data_.assign(static_cast<size_t>(res_.thetaV) * res_.thetaN * res_.phi, 0.0f);
+  res_.phiV = std::max(res_.phiV, 1);
+  data_.assign(static_cast<size_t>(numSlices()) * res_.thetaN * res_.phi, 0.0f);
   normalSums_.assign(data_.size(), Vec3(0.0f));
 }
 
@@ -82,7 +83,7 @@ void VisibleNormalHistogram::add(int k, const Vec3& normal, float weight) {
 
 void VisibleNormalHistogram::normalize() {
   const size_t n = static_cast<size_t>(res_.thetaN) * res_.phi;
-  for (int k = 0; k < res_.thetaV; ++k) {
+  for (int k = 0; k < numSlices(); ++k) {
     float* s = data_.data() + k * n;
     const double sum = std::accumulate(s, s + n, 0.0);
     if (sum > 0.0) {

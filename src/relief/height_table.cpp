@@ -71,7 +71,12 @@ HeightTable::HeightTable(int width, int height, std::vector<float> texels,
     if (!std::isfinite(texels_[k]))
       throw Error("height table: texel " + std::to_string(k) + " is NaN or infinite");
   freq_ = estimateFrequency(texels_, width_, height_, options_);
-  for (float t : texels_) maxAbs_ = std::max(maxAbs_, std::abs(t));
+  double sum = 0.0;
+  for (float t : texels_) {
+    maxAbs_ = std::max(maxAbs_, std::abs(t));
+    sum += t;
+  }
+  mean_ = static_cast<float>(sum / static_cast<double>(texels_.size()));
 }
 
 HeightTable::HeightTable(int width, int height, std::vector<float> texels, bool periodic,

@@ -24,7 +24,8 @@ float levelTransition(const ReliefLevel& level, float lengthPerU, float cosTheta
 float displacementBound(const MaterialRelief& relief) {
   double sum = 0.0;
   for (const ReliefLevel& level : relief.levels)
-    sum += std::abs(static_cast<double>(level.amplitude)) * level.source->maxAbsHeight();
+    sum += std::abs(static_cast<double>(level.amplitude)) *
+           (static_cast<double>(level.source->maxAbsHeight()) + std::abs(level.midlevel));
   return std::isfinite(sum) ? static_cast<float>(sum) : std::numeric_limits<float>::infinity();
 }
 
@@ -46,41 +47,46 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       pixelsPerRadian_(pixelsPerRadian),
       bound_(displacementBound(relief)) {}
 
-LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
-  LevelDisplacement out;
-  const size_t n = std::min(relief_.levels.size(), static_cast<size_t>(kMaxReliefLevels));
-  if (mode_ == DisplacementMode::Full) {
-    std::fill(out.disp.begin(), out.disp.begin() + static_cast<long>(n), 1.0f);
-    out.raised = static_cast<int>(n);
-    return out;
-  }
-  const Vec3 toEye = eye_ - sp.P;
+LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
+                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode) {
+  LevelTransitions out;
+  const int n = static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
+  out.count = n;
+  const Vec3 toEye = eye - sp.P;
   const float distance = glm::length(toEye);
-  const Vec3 V = distance > 0.0f ? toEye / distance : sp.N;
+  const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
   const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
-  SurfaceFrame f{sp.Pu, sp.Pv, sp.N};
-  for (size_t i = 0; i < n; ++i) {
-    const ReliefLevel& level = relief_.levels[i];
-    const float T = levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian_,
-                                    transition_);
-    const float disp = ramp(T, transition_.e3, transition_.e4);
-    if (!(disp > 0.0f)) break;
-    out.disp[i] = disp;
-    out.raised = static_cast<int>(i) + 1;
-    f = nextFrame(f, disp * level.derivatives(sp.uv));
+  out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
+  bool flat = false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
+  for (int i = 0; i < n; ++i) {
+    const ReliefLevel& level = relief.levels[i];
+    const SurfaceFrame& f = out.frames[i];
+    out.T[i] = levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian, settings);
+    out.weights[i] = transitionWeights(out.T[i], settings);
+    out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
+    if (out.disp[i] > 0.0f) {
+      out.raised = i + 1;
+      out.frames[i + 1] = nextFrame(f, out.disp[i] * level.derivatives(sp.uv));
+    } else {
+      flat = true;
+      out.frames[i + 1] = f;
+    }
   }
   return out;
 }
 
+LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
+  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_);
+  LevelDisplacement out;
+  out.disp = t.disp;
+  out.raised = t.raised;
+  return out;
+}
+
 Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
-  const LevelDisplacement d = levels(sp);
-  SurfaceFrame f{sp.Pu, sp.Pv, sp.N};
+  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_);
   Vec3 offset(0.0f);
-  for (int i = 0; i < d.raised; ++i) {
-    const ReliefLevel& level = relief_.levels[i];
-    offset += (d.disp[i] * level.height(sp.uv)) * f.N;
-    if (i + 1 < d.raised) f = nextFrame(f, d.disp[i] * level.derivatives(sp.uv));
-  }
+  for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset : Vec3(0.0f);
 }

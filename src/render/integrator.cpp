@@ -45,6 +45,7 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   const int face = object.mesh.triangleFace[hit.triangle];
   SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
   Vec3 facet(0.0f);
+  const Vec3 limitP = sp.P;
   if (object.displaced) {
     sp.P = ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
     if (ctx.facetNormals) {
@@ -60,7 +61,7 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
     footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy), ctx.camera.generateRay(fx, fy + 1.0f),
                             footprintScale);
   const ShadeResult r =
-      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint);
+      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint, &limitP);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;

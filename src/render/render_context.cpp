@@ -1,7 +1,11 @@
 #include "meso/render/render_context.h"
 
 #include "meso/core/timer.h"
+#include "meso/render/tile_map.h"
 #include "meso/scene/mesh_io.h"
+
+#include <algorithm>
+#include <limits>
 
 namespace meso {
 
@@ -17,6 +21,27 @@ namespace {
 
 bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::Displacement; }
 
+// Grows [lo, hi] by the isotropic lengths per unit of u (sqrt |P_u x P_v|) of a surface, sampled at
+// every face's corners, edge midpoints and centre: the metric classes its tables need.
+void metricRange(const LimitSurface& surface, float& lo, float& hi) {
+  for (int face = 0; face < surface.numFaces(); ++face) {
+    const int n = surface.faceSize(face);
+    Vec2 centre(0.0f);
+    for (int k = 0; k < n; ++k) {
+      const Vec2 a = surface.cornerSt(face, k), b = surface.cornerSt(face, (k + 1) % n);
+      centre += a / static_cast<float>(n);
+      for (const Vec2 st : {a, 0.5f * (a + b)}) {
+        const SurfacePoint sp = surface.evaluate(face, st);
+        const float l = areaLengthPerU(sp.Pu, sp.Pv);
+        if (l > 0.0f && std::isfinite(l)) lo = std::min(lo, l), hi = std::max(hi, l);
+      }
+    }
+    const SurfacePoint sp = surface.evaluate(face, centre);
+    const float l = areaLengthPerU(sp.Pu, sp.Pv);
+    if (l > 0.0f && std::isfinite(l)) lo = std::min(lo, l), hi = std::max(hi, l);
+  }
+}
+
 }  // namespace
 
 bool RenderContext::viewDependent() const {
@@ -28,20 +53,7 @@ bool RenderContext::viewDependent() const {
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame) {
   RenderContext ctx{&scene, Camera(scene.camera), {}, nullptr, {}, {}, parseAlgorithm(scene.render.algorithm),
                     scene.render.normals == "facet"};
-  Timer tables;
-  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
   ctx.reliefs.resize(scene.materials.size());
-  std::vector<bool> used(scene.materials.size(), false);
-  for (const Object& o : scene.objects) used[o.material] = true;
-  for (size_t m = 0; m < scene.materials.size(); ++m) {
-    if (!used[m] || !hasRelief(scene.materials[m])) continue;
-    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables));
-    if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
-    times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
-    times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
-  }
-  times.tables += tables.seconds();
-
   for (const Object& object : scene.objects) {
     Timer load;
     ControlMesh mesh = loadControlMesh(object.mesh);
@@ -50,9 +62,25 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     Timer tess;
     LimitSurface surface(mesh, object.scheme);
     times.tessellate += tess.seconds();
-    const bool displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[object.material].levels.empty();
-    ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, displaced});
+    ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, false});
   }
+  Timer tables;
+  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+    bool used = false;
+    for (const PreparedObject& o : ctx.objects)
+      if (o.material == static_cast<int>(m)) metricRange(o.surface, lo, hi), used = true;
+    if (!used || !hasRelief(scene.materials[m])) continue;
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables),
+                                         metricClasses(lo, hi, scene.render.tables.metricStep));
+    if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
+    times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
+    times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
+  }
+  times.tables += tables.seconds();
+  for (PreparedObject& o : ctx.objects)
+    o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();
   if (buildFrame) prepareFrame(ctx, scene.camera, times);
   return ctx;
 }

@@ -28,7 +28,32 @@ struct LevelContext {
   float distance;
   bool raised;  // the object's geometry carries the displacement of levels whose T exceeds e3
   const Footprint* footprint;
+  const LevelTransitions* transitions;  // T, weights and disp per level (auto mode only)
+  MetricPosition metric;                // where the surface's metric falls between table classes
 };
+
+// The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
+Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& f) {
+  const TileMap m = makeTileMap(f.Pu, f.Pv, f.N, areaLengthPerU(f.Pu, f.Pv));
+  return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, c.relief.tables(i, c.metric.k0).brdf,
+                   c.relief.tables(i, c.metric.k1).brdf, c.metric.w);
+}
+
+// The level's redistributed normal on frame f. Each class's map is exact in distribution; near the
+// middle between two classes their normals are mixed so that the map stays continuous over a
+// surface whose metric varies.
+Vec3 levelRedistribution(const LevelContext& c, size_t i, const LevelFrame& f, float disp, const Vec3& nBump) {
+  const auto at = [&](int k) {
+    const TileMap m = makeTileMap(f.Pu, f.Pv, f.N, c.relief.metrics[k].lengthPerU);
+    return redistributeNormal(c.relief.tables(i, k).redistribution, m, c.V, disp, nBump);
+  };
+  const float t = std::clamp((c.metric.w - 0.4f) / 0.2f, 0.0f, 1.0f);
+  if (c.metric.k0 == c.metric.k1 || t <= 0.0f) return at(c.metric.k0);
+  if (t >= 1.0f) return at(c.metric.k1);
+  const Vec3 n = glm::mix(at(c.metric.k0), at(c.metric.k1), t);
+  const float len = glm::length(n);
+  return len > 1e-6f && std::isfinite(len) ? n / len : at(c.metric.k0);
+}
 
 // The level's Blinn normal on frame f and the frame of the next level.
 Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
@@ -37,12 +62,6 @@ Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
   f.Pu += B.x * f.N;
   f.Pv += B.y * f.N;
   return n;
-}
-
-float levelT(const LevelContext& c, const ReliefLevel& level, const LevelFrame& f) {
-  const float lengthPerU = std::min(glm::length(c.sp.Pu), glm::length(c.sp.Pv));
-  return transitionParameter(level.wavelength() * lengthPerU, c.ctx.camera.pixelsPerRadian(), c.distance,
-                             glm::dot(f.N, c.V), c.ctx.scene->render.transition);
 }
 
 // Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
@@ -78,13 +97,13 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth);
   ShadeResult r;
   const ReliefLevel& level = c.relief.levels[i];
-  const float T = levelT(c, level, f);
-  const TransitionWeights w = transitionWeights(T, c.ctx.scene->render.transition);
-  const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
+  const float T = c.transitions->T[i];
+  const TransitionWeights& w = c.transitions->weights[i];
   const bool finest = i + 1 == c.relief.levels.size();
-  const float disp = c.raised ? w.disp : 0.0f;
+  const float disp = c.raised ? c.transitions->disp[i] : 0.0f;
+  r.disp[i] = disp;
   if (w.brdf > 0.0f) {
-    r.colour = w.brdf * shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, vf, c.relief.tables[i].brdf, &f.Pu, &f.Pv);
+    r.colour = w.brdf * levelBrdf(c, i, f);
     r.algorithm = w.brdf * algorithm_colour::kBrdf;
   }
   r.T = T;
@@ -92,13 +111,14 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   if (w.brdf < 1.0f) {
     LevelFrame next = f;
     const Vec3 nBump = bumpNormal(level, c.sp.uv, next);
-    next.N = disp >= 1.0f ? nBump : redistributeNormal(c.relief.tables[i].redistribution, vf, disp, nBump);
+    next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
     const ShadeResult finer = shadeAuto(c, i + 1, next);
     r.colour += (1.0f - w.brdf) * finer.colour;
     const Vec3 own = glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
     r.algorithm += (1.0f - w.brdf) * (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
     r.synthesis = (1.0f - w.brdf) * finer.synthesis;
     r.normal = finer.normal;
+    for (size_t k = i + 1; k < c.relief.levels.size() && k < kMaxReliefLevels; ++k) r.disp[k] = finer.disp[k];
     if (!finest && w.brdf == 0.0f) r.T = finer.T;
   }
   return r;
@@ -133,6 +153,9 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
   const float len = glm::length(e1);
   e1 = len > 1e-12f && std::isfinite(len) ? e1 / len : glm::normalize(glm::cross(f.N, std::abs(f.N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
   const Vec3 e2 = glm::cross(f.N, e1);
+  // Below the finest level: synthesized detail continues the relief (its own lobe replaces the
+  // roughness that filtering removed); without it, Schilling's widened highlight.
+  if (c.relief.synthesis) return shadeBottom(c, f, algorithm_colour::kBump);
   SlopeCovariance roughness;
   for (size_t i = 0; i < n; ++i) roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
   ShadeResult r;
@@ -146,16 +169,15 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
   if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid) return shadeFilteredBump(c, f);
   ShadeResult r;
   if (algorithm == Algorithm::Brdf) {
-    r.colour = shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, makeViewFrame(f.N, c.V, f.Pu), c.relief.tables[0].brdf,
-                         &f.Pu, &f.Pv);
+    r.colour = levelBrdf(c, 0, f);
     r.algorithm = algorithm_colour::kBrdf;
     r.normal = f.N;
     return r;
   }
   for (size_t i = 0; i < c.relief.levels.size(); ++i) {
-    const ViewFrame vf = makeViewFrame(f.N, c.V, f.Pu);
+    const LevelFrame before = f;
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
-    f.N = algorithm == Algorithm::Redistribution ? redistributeNormal(c.relief.tables[i].redistribution, vf, 0.0f, nBump) : nBump;
+    f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump) : nBump;
   }
   return shadeBottom(c, f,
                      algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
@@ -188,7 +210,7 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
 }
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint) {
+                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP) {
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
@@ -209,9 +231,22 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     r.algorithm = algorithm_colour::kDisplacement;
     return r;
   }
-  const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
-                       footprint};
-  if (relief.levels.empty()) return shadeBottom(c, frame, algorithm_colour::kSmooth);  // an NDF alone
+  if (relief.levels.empty()) {  // an NDF alone
+    const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
+                         footprint, nullptr, {}};
+    return shadeBottom(c, frame, algorithm_colour::kSmooth);
+  }
+  // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
+  // coordinates), exactly as the tessellator raised the geometry.
+  const SurfacePoint limit{limitP ? *limitP : sp.P, sp.Pu, sp.Pv, sp.N, sp.uv};
+  LevelTransitions transitions;
+  if (ctx.algorithm == Algorithm::Auto)
+    transitions = levelTransitions(relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
+                                   ctx.scene->render.transition, DisplacementMode::ByTransition);
+  const LevelContext c{ctx,      material,     relief,
+                       sp,       V,            glm::length(sp.P - ctx.camera.position()),
+                       object.displaced, footprint, &transitions,
+                       relief.metricAt(areaLengthPerU(sp.Pu, sp.Pv))};
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
 }
 

@@ -257,6 +257,7 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t, const std::file
   d.amplitude = static_cast<float>(r.number("amplitude", d.amplitude, 0.0, 1e6));
   d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e6, true));
   d.freq = static_cast<float>(r.number("freq", d.freq, 0.0, 1e6));
+  if (r.get("midlevel")) d.midlevel = static_cast<float>(r.number("midlevel", 0.0, -1e6, 1e6));
   r.finish();
   return d;
 }
@@ -388,12 +389,14 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.thetaVBins = static_cast<int>(tr.integer("theta_v_bins", q.thetaVBins, 2, 90));
     q.thetaNBins = static_cast<int>(tr.integer("theta_n_bins", q.thetaNBins, 4, 1024));
     q.phiBins = static_cast<int>(tr.integer("phi_bins", q.phiBins, 4, 1024));
+    q.phiVBins = static_cast<int>(tr.integer("phi_v_bins", q.phiVBins, 1, 64));
     q.azimuths = static_cast<int>(tr.integer("azimuths", q.azimuths, 1, 1024));
     q.raysPerView = static_cast<int>(tr.integer("rays_per_view", q.raysPerView, 16, 1 << 22));
     q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));
     q.brdfThetaL = static_cast<int>(tr.integer("brdf_theta_l", q.brdfThetaL, 2, 512));
     q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));
     q.variant = tr.choice("variant", q.variant, {"conditional", "separable"});
+    q.metricStep = static_cast<float>(tr.number("metric_step", q.metricStep, 0.01, 4.0));
     tr.finish();
   }
   r.finish();

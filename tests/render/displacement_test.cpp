@@ -130,7 +130,7 @@ TEST(Displacement, PartialDisplacementHasExactLimits) {
   Scene s = planeScene("redistribution");
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(s, times, false);
-  const Redistribution& r = ctx.reliefs[0].tables[0].redistribution;
+  const Redistribution& r = ctx.reliefs[0].tables(0).redistribution;
   Rng rng(4);
   for (int k = 0; k < 200; ++k) {
     const Vec3 N(0.0f, 0.0f, 1.0f);

@@ -44,7 +44,15 @@ class BrdfTable {
     float specular = 0.0f;
   };
   // Trilinear lookup; angles are clamped to the table (theta_V beyond the last slice uses it).
+  // On a table with view-azimuth slices, the phi_V = 0 ones (use the overload below).
   Value lookup(float thetaV, float thetaL, float phiVL) const;
+  // With the view's azimuth phiV about the relief's own axes (tile x = 0): interpolated between
+  // view-azimuth slices too; phiVL = phi_V - phi_L is signed on such a table (an anisotropic relief
+  // is not mirror-symmetric about the view plane), |phiVL| on an isotropic one.
+  Value lookup(float thetaV, float phiV, float thetaL, float phiVL) const;
+  int numPhiV() const { return phiV_; }
+  // Nodes on the phi_{V-L} axis: res.phi over [0, pi] (isotropic), 2 res.phi - 1 over [-pi, pi].
+  static int phiNodes(const BrdfResolution& res, int phiV) { return phiV > 1 ? 2 * res.phi - 1 : res.phi; }
 
   int numThetaV() const { return static_cast<int>(thetaV_.size()); }
   const BrdfResolution& resolution() const { return res_; }
@@ -54,14 +62,17 @@ class BrdfTable {
   Value entry(int k, int i, int j) const;
   // Raw storage for the cache and for checks (diffuse then specular, k-major).
   const std::vector<float>& data() const { return data_; }
-  static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data);
+  static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data, int phiV = 1);
 
  private:
+  // k is a view slice: iThetaV * phiV + iPhiV.
   size_t index(int k, int i, int j) const {
-    return (static_cast<size_t>(k) * res_.thetaL + i) * res_.phi + j;
+    return (static_cast<size_t>(k) * res_.thetaL + i) * nPhi_ + j;
   }
   std::vector<float> thetaV_;
   BrdfResolution res_;
+  int phiV_ = 1;
+  int nPhi_ = 16;
   std::vector<float> data_;  // 2 * thetaV * thetaL * phi
 };
 

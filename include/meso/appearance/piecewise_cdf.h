@@ -1,6 +1,7 @@
 // Monotone piecewise-linear CDFs over equal bins, and their exact inverses (used by redistribution).
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -23,5 +24,27 @@ float cdfForward(std::span<const float> a, std::span<const float> b, float w, fl
 // over the edges and linear interpolation inside the bin. Allocation-free.
 float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
                  float p, BinShape shape = BinShape::Uniform);
+
+// A mixture sum_k w_k C_k of up to eight cumulative tables of one length (weights >= 0, summing to
+// 1): a monotone CDF again, so conditional maps can be interpolated between slices and bins.
+struct CdfMix {
+  std::array<std::span<const float>, 8> cdf{};
+  std::array<float, 8> w{};
+  int count = 0;
+  void add(std::span<const float> c, float weight) {
+    if (!(weight > 0.0f) || count == 8) return;  // weights sum to 1: at least one is positive
+    cdf[count] = c;
+    w[count++] = weight;
+  }
+  float at(size_t i) const {
+    float v = w[0] * cdf[0][i];
+    for (int k = 1; k < count; ++k) v += w[k] * cdf[k][i];
+    return count == 1 ? cdf[0][i] : v;
+  }
+  size_t edges() const { return cdf[0].size(); }
+};
+
+float cdfForward(const CdfMix& mix, float lo, float width, float x, BinShape shape = BinShape::Uniform);
+float cdfInverse(const CdfMix& mix, float lo, float width, float p, BinShape shape = BinShape::Uniform);
 
 }  // namespace meso

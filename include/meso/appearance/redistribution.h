@@ -3,15 +3,18 @@
 // R_theta^-1 = F^-1 o G_theta (the paper's q) goes back. Both are table lookups.
 #pragma once
 
+#include "meso/appearance/piecewise_cdf.h"
 #include "meso/appearance/visible_normal_histogram.h"
 
+#include <array>
 #include <vector>
 
 namespace meso {
 
 enum class RedistributionVariant {
   Separable,    // theta_N and phi mapped by their marginals, independently (the paper's maps)
-  Conditional,  // phi by its marginal first, then theta_N by its distribution in that phi bin
+  Conditional,  // phi by its marginal first, then theta_N by its distribution at that phi,
+                // interpolated linearly between phi-bin centres so the map is continuous
                 // (meso's default: see TableSettings)
 };
 
@@ -21,25 +24,35 @@ class Redistribution {
 
   // R_theta(n): a bump normal to the visible-at-thetaV distribution. Slices are interpolated by
   // mixing their CDFs, so the map stays monotone and exactly invertible between slices.
-  NormalAngles toVisible(float thetaV, NormalAngles n) const;
+  // phiV is the view's azimuth about the relief's own axes; it matters only for tables with view-
+  // azimuth slices (HistogramResolution::phiV > 1), whose slices are mixed around it.
+  NormalAngles toVisible(float thetaV, float phiV, NormalAngles n) const;
+  NormalAngles toVisible(float thetaV, NormalAngles n) const { return toVisible(thetaV, 0.0f, n); }
   // R_theta^-1(n).
-  NormalAngles toBump(float thetaV, NormalAngles n) const;
+  NormalAngles toBump(float thetaV, float phiV, NormalAngles n) const;
+  NormalAngles toBump(float thetaV, NormalAngles n) const { return toBump(thetaV, 0.0f, n); }
   // Partial displacement: n' = R_thetaV(R_thetaW^-1(n)) with theta_W = arccot(cot(theta_V) / disp).
   // disp <= 0 is plain redistribution R_thetaV(n); disp >= 1 is the identity (full displacement).
-  NormalAngles partial(float thetaV, float disp, NormalAngles n) const;
+  NormalAngles partial(float thetaV, float phiV, float disp, NormalAngles n) const;
+  NormalAngles partial(float thetaV, float disp, NormalAngles n) const { return partial(thetaV, 0.0f, disp, n); }
 
   RedistributionVariant variant() const { return variant_; }
 
  private:
-  struct SlicePosition {
-    int k0;
-    int k1;
-    float w;
+  // The view slices around (theta_V, phi_V) and their weights (2 for isotropic tables, else 4).
+  struct SliceMix {
+    std::array<int, 4> slice{};
+    std::array<float, 4> w{};
+    int count = 0;
   };
-  SlicePosition locate(float thetaV) const;
+  SliceMix locate(float thetaV, float phiV) const;
+  CdfMix phiCdfAt(const SliceMix& m) const;
   std::span<const float> thetaCdf(int k, int phiBin) const;
   std::span<const float> phiCdf(int k) const;
   int phiBinOf(float phi) const;
+  // The theta_N CDF at azimuth phi of a slice mix: the marginal (separable), or the conditionals
+  // of the two phi bins whose centres bracket phi, blended across their edge (conditional).
+  CdfMix thetaCdfAt(const SliceMix& m, float phi) const;
 
   VisibleNormalHistogram layout_;  // resolution and bin geometry (masses unused)
   RedistributionVariant variant_;

@@ -14,6 +14,10 @@ struct HistogramResolution {
   int thetaN = 96;   // normal polar bins, uniform in theta_N over [0, pi/2]; fine, because the
                      // redistribution CDFs need the tails of steep reliefs (measured by chi-square)
   int phi = 32;      // azimuth bins of phi_{N-V} = phi_N - phi_V, uniform over [-pi, pi)
+  // View azimuth slices phi_V over [0, 2 pi), centres at 2 pi (a + 1/2) / phiV: 1 averages all view
+  // azimuths (the paper's isotropic relief); more keep an anisotropic relief's dependence on where
+  // it is seen from (docs/metric.md).
+  int phiV = 1;
 };
 
 // A normal as angles relative to the view: theta_N from the macro normal, phi = phi_N - phi_V.
@@ -22,9 +26,11 @@ struct NormalAngles {
   float phi = 0.0f;
 };
 
-// Probability masses per bin: each theta_V slice sums to 1 after normalize(). Slice 0 (theta_V = 0)
-// is the bump distribution f. The phi axis is relative to the view azimuth and averaged over many
-// phi_V, i.e. the relief is treated as isotropic in the tables (the paper's assumption).
+// Probability masses per bin: each view slice sums to 1 after normalize(). A view slice k is one
+// (theta_V, phi_V) pair, k = iThetaV * phiV + iPhiV (with phiV = 1, k is the theta_V index). The
+// slices at theta_V = 0 are the bump distribution f. The phi axis is relative to the view azimuth;
+// with phiV = 1 it is averaged over many phi_V, i.e. the relief is treated as isotropic (the
+// paper's assumption).
 class VisibleNormalHistogram {
  public:
   // thetaVMax < pi/2: exactly grazing rays see only silhouettes, so the last slice is taken just
@@ -33,7 +39,12 @@ class VisibleNormalHistogram {
 
   const HistogramResolution& resolution() const { return res_; }
   float thetaVMax() const { return thetaVMax_; }
-  float thetaV(int k) const;           // view angle of slice k
+  float thetaV(int k) const;           // view angle of theta_V index k
+  int numSlices() const { return res_.thetaV * res_.phiV; }
+  int sliceOf(int iThetaV, int iPhiV) const { return iThetaV * res_.phiV + iPhiV; }
+  float sliceThetaV(int slice) const { return thetaV(slice / res_.phiV); }
+  float slicePhiV(int slice) const { return phiVCentre(slice % res_.phiV); }
+  float phiVCentre(int a) const { return 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(res_.phiV); }
   float thetaNWidth() const;           // bin width in theta_N
   float phiWidth() const;              // bin width in phi
   float thetaNCentre(int i) const;

@@ -27,6 +27,9 @@ class HeightSource {
   // An upper bound of |h| over the whole plane (table units): the displacement bound of a level is
   // amplitude times this. Sources that cannot bound themselves return infinity (no culling).
   virtual float maxAbsHeight() const { return std::numeric_limits<float>::infinity(); }
+  // The mean of h over one tile (table units): the default midlevel, the height that stays on the
+  // surface when the relief is displaced. The default samples a 128 x 128 grid of the tile.
+  virtual float meanHeight() const;
 };
 
 // The parameters of relief level i (DESIGN.md section 1): world height amplitude * h(S u, S v).

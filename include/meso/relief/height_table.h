@@ -55,6 +55,7 @@ class HeightTable : public HeightSource {
   float highestFrequency() const override { return freq_; }  // cycles per tile
   uint64_t fingerprint() const override;
   float maxAbsHeight() const override { return maxAbs_; }  // bilinear never leaves the texel range
+  float meanHeight() const override { return mean_; }      // texel mean (a periodic bilinear's mean)
 
   int width() const { return width_; }
   int heightTexels() const { return height_; }
@@ -83,6 +84,7 @@ class HeightTable : public HeightSource {
   HeightTableOptions options_;
   float freq_ = 1.0f;
   float maxAbs_ = 0.0f;
+  float mean_ = 0.0f;
 };
 
 // floor(x) for |x| < 2^62 without a libm call (x86-64 without SSE4.1 has no inline floor).

@@ -7,6 +7,7 @@
 #include "meso/geometry/limit_surface.h"
 #include "meso/relief/level_frames.h"
 #include "meso/render/relief_levels.h"
+#include "meso/render/transition.h"
 #include "meso/scene/scene.h"
 
 #include <array>
@@ -22,6 +23,24 @@ enum class DisplacementMode { Full, ByTransition };
 // world length of one unit of u at the point: min(|P_u|, |P_v|) of the limit surface.
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings);
+
+// What T asks of every level at one limit-surface point seen from the eye (Becker & Max 1993,
+// eq. 10 and section 2.3): the one evaluation that both the tessellator (how far to raise the
+// geometry) and the shader (which renderer, which disp for theta_W) use, so geometry and shading
+// never disagree. frames[i] is the geometric frame level i perturbs: frames[i + 1] =
+// nextFrame(frames[i], disp_i B_i), the surface as raised; V and the distance are taken from the
+// limit point, never from the hit.
+struct LevelTransitions {
+  int count = 0;
+  std::array<float, kMaxReliefLevels> T{};
+  std::array<TransitionWeights, kMaxReliefLevels> weights{};
+  std::array<float, kMaxReliefLevels> disp{};  // 1 in Full mode
+  std::array<SurfaceFrame, kMaxReliefLevels + 1> frames{};
+  int raised = 0;  // leading levels with disp > 0
+};
+
+LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
+                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode);
 
 // How the surface at one point is displaced: disp_i per level (0 for levels left flat) and the
 // number of leading levels with disp > 0 (finer levels have shorter wavelengths, hence lower T, so

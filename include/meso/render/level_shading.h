@@ -6,6 +6,7 @@
 #include "meso/appearance/brdf_table.h"
 #include "meso/appearance/redistribution.h"
 #include "meso/core/math.h"
+#include "meso/render/tile_map.h"
 #include "meso/scene/scene.h"
 
 #include <span>
@@ -43,6 +44,18 @@ Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp,
 Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
                const ViewFrame& f, const BrdfTable& brdf, const Vec3* Pu = nullptr,
                const Vec3* Pv = nullptr);
+
+// Redistribution on a surface of any metric (docs/metric.md): the bump normal and V go to the
+// tile of the metric class by `m` (M^T n and M^-1 V), are redistributed there, and the result
+// comes back by M^-T. Exact in distribution for any P_u, P_v when the tile relief is isotropic.
+Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp, const Vec3& nBump);
+
+// The BRDF renderer on a surface of any metric: V and each L go to tile coordinates by the
+// area-preserving map `m` (makeTileMap with areaLengthPerU), the tables of the two metric classes
+// around the surface's length per unit of u are looked up there and mixed by w (t1 may equal t0),
+// and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N.
+Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P, const TileMap& m,
+               const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w);
 
 // phi_{V-L} of eq. (2) in [0, pi], or a negative value when V_n or L_n vanishes.
 float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv);

@@ -20,12 +20,15 @@ struct ReliefLevel {
   float amplitude = 0.0f;
   float scale = 1.0f;
   float freqPerU = 1.0f;  // highest frequency in cycles per unit of u
+  float midlevel = 0.0f;  // the table value that stays on the surface (default the source's mean)
   // Schilling's slope and roughness pyramids, built only for the bump renderer (buildSlopePyramids).
   std::shared_ptr<const SlopePyramid> pyramid;
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
   float wavelength() const { return 1.0f / freqPerU; }
-  float height(Vec2 uv) const { return amplitude * source->height(scale * uv); }
+  // World displacement amplitude * (h(S u, S v) - midlevel): centred, so the smooth surface that
+  // bump, redistribution and BRDF draw is the relief's mean plane.
+  float height(Vec2 uv) const { return amplitude * (source->height(scale * uv) - midlevel); }
   // (B_u, B_v): derivatives of the world height with respect to u and v.
   Vec2 derivatives(Vec2 uv) const { return (amplitude * scale) * source->gradient(scale * uv); }
 };
@@ -34,32 +37,48 @@ struct ReliefLevel {
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
 ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
 
-// One period of a level as the table builders see it (histogram_builder.h): the tile is 1/S of u
-// wide, scaled up by S, so heights are S * amplitude * h and slopes are the level's true slopes on
-// a surface whose u has unit length.
+// One period of a level as the table builders see it (histogram_builder.h), on a surface whose
+// unit of u and of v is `lengthPerU` world units long (an isotropic metric, docs/metric.md): the
+// tile is 1/S of u wide, that is lengthPerU / S world units, so in tile units heights are
+// S * amplitude * h / lengthPerU and slopes are the level's true world slopes.
 class TileRelief : public PeriodicRelief {
  public:
-  explicit TileRelief(const ReliefLevel& level) : level_(level) {}
-  float height(float x, float y) const override {
-    return level_.scale * level_.amplitude * level_.source->height({x, y});
-  }
-  Vec2 gradient(float x, float y) const override {
-    return (level_.scale * level_.amplitude) * level_.source->gradient({x, y});
-  }
+  explicit TileRelief(const ReliefLevel& level, float lengthPerU = 1.0f)
+      : level_(level), factor_(level.scale * level.amplitude / lengthPerU), lengthPerU_(lengthPerU) {}
+  float height(float x, float y) const override { return factor_ * level_.source->height({x, y}); }
+  Vec2 gradient(float x, float y) const override { return factor_ * level_.source->gradient({x, y}); }
   uint64_t fingerprint() const override;
 
  private:
   const ReliefLevel& level_;
+  float factor_;
+  float lengthPerU_;
 };
 
 // A level together with the tile view of it (keeps the level alive for the tile's lifetime).
 std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
 
-// The levels of one material and their tables (tables[i] belongs to levels[i]; coarser tables are
-// built over finer ones as in Figure 2).
+// The tables of every level for one isotropic metric class (docs/metric.md): the relief as seen on
+// a surface whose unit of u is lengthPerU world units long.
+struct MetricTables {
+  float lengthPerU = 1.0f;
+  std::vector<LevelTables> levels;  // levels[i] belongs to MaterialRelief::levels[i]
+};
+
+// Where a surface's own length per unit of u falls between the metric classes: classes k0 and k1
+// (equal at the ends) mixed by w in log length; `nearest` is the closer one.
+struct MetricPosition {
+  int k0 = 0, k1 = 0, nearest = 0;
+  float w = 0.0f;
+};
+
+// The levels of one material and their tables (coarser tables are built over finer ones as in
+// Figure 2), one set per metric class the scene needs.
 struct MaterialRelief {
   std::vector<ReliefLevel> levels;
-  std::vector<LevelTables> tables;
+  std::vector<MetricTables> metrics;  // sorted by lengthPerU; one class when the metric is constant
+  const LevelTables& tables(size_t level, int metric = 0) const { return metrics[metric].levels[level]; }
+  MetricPosition metricAt(float lengthPerU) const;
   // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
   // material declares [materials.ndf].
   std::unique_ptr<SynthesisLevel> synthesis;
@@ -71,8 +90,15 @@ struct MaterialRelief {
 // The library's table settings for a scene's [render.tables].
 TableSettings tableSettings(const TableResolution& resolution);
 
+// Builds (or loads) the tables of every level for each metric class in `lengthsPerU` (world
+// lengths per unit of u; sorted and deduplicated here). Empty means the unit metric only.
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings, const TableSettings& settings = {});
+                                   std::vector<std::string>* warnings, const TableSettings& settings = {},
+                                   std::vector<float> lengthsPerU = {});
+
+// The metric classes that cover lengths per unit of u in [lo, hi]: one class at sqrt(lo hi) when
+// hi / lo < 1 + 1e-3, else a geometric series from lo to hi with ratio at most 2^stepOctaves.
+std::vector<float> metricClasses(float lo, float hi, float stepOctaves);
 
 // True when the material has anything for the relief renderers (levels or an NDF).
 inline bool hasRelief(const Material& m) { return !m.relief.empty() || m.ndf.present; }

@@ -4,6 +4,8 @@
 
 #include "meso/render/render_context.h"
 
+#include <array>
+
 namespace meso {
 
 // The colours of the algorithm layer (DESIGN.md section 2).
@@ -36,6 +38,7 @@ struct ShadeResult {
   Vec3 normal{0.0f, 0.0f, 1.0f};  // the shading normal, facing the eye
   float T = 0.0f;                 // of the finest visible level; 0 without relief
   float synthesis = 0.0f;         // how much synthesized detail shows (0 none, 1 full)
+  std::array<float, kMaxReliefLevels> disp{};  // per level, the disp shading assumed (auto mode)
 };
 
 // sp is the limit surface at the hit's patch coordinates (never the facet), with P the hit point
@@ -43,8 +46,10 @@ struct ShadeResult {
 // unit normal) is used instead of the Blinn normal when the context asks for facet normals and the
 // object is displaced by --algorithm displacement; it may be null otherwise.
 // footprint (may be null) filters the bump renderer's slope lookups and widens its highlight by
-// the roughness filtering removed.
+// the roughness filtering removed. limitP (may be null: sp.P) is the limit-surface point of the
+// hit, from which T and disp are evaluated as the tessellator did.
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr);
+                         const Vec3& V, const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr,
+                         const Vec3* limitP = nullptr);
 
 }  // namespace meso

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct ReliefLevelDecl {
   float amplitude = 0.0f;        // world units
   float scale = 1.0f;            // tiling scale S: the height table repeats every 1/S in u and v
   float freq = 0.0f;             // highest frequency, cycles per unit of u (0: measured or known)
+  // The height value that stays on the surface: displacement is amplitude * (h - midlevel). Empty:
+  // the height source's mean, so smooth-surface renderers draw the relief's mean plane.
+  std::optional<float> midlevel;
   // Procedural noise parameters.
   int octaves = 4;
   float lacunarity = 2.0f;
@@ -102,12 +106,16 @@ struct TableResolution {
   int thetaVBins = 16;      // view slices of the visible-normal histogram and the BRDF
   int thetaNBins = 96;      // normal polar bins
   int phiBins = 32;         // normal azimuth bins
+  int phiVBins = 16;        // view azimuth slices (1: isotropic tables, the paper's)
   int azimuths = 32;        // view azimuths traced per slice
   int raysPerView = 2048;   // rays per (theta_V, phi_V)
   int meshResolution = 192; // quads per tile side of the traced relief
   int brdfThetaL = 16;      // BRDF nodes over theta_L
   int brdfPhi = 16;         // BRDF nodes over |phi_{V-L}|
   std::string variant = "conditional";  // redistribution maps: conditional | separable
+  // Spacing of the metric classes (docs/metric.md) in octaves of length per unit of u: a surface
+  // whose |P_u x P_v| varies gets one table set per step over its range.
+  float metricStep = 0.25f;
 };
 
 struct RenderSettings {

@@ -1,0 +1,51 @@
+// Becker & Max 1993, Figure 6 for whole scenes: the mean intensity each renderer gives, per object
+// and per band of image rows, against a full-displacement reference whose own convergence is
+// measured (the same reference diced twice as coarsely).
+#pragma once
+
+#include "meso/core/image.h"
+#include "meso/scene/scene.h"
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+namespace meso {
+
+struct SceneConsistencyOptions {
+  std::vector<std::string> algorithms{"bump", "redistribution", "brdf", "auto"};
+  int bands = 6;                 // bands of image rows, top to bottom
+  float referenceDicing = 0.25f;  // dicing rate of the displacement reference, pixels
+  int referenceSpp = 0;          // 0: the scene's spp
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// One region of the image (an object or a band of rows): its pixel count and mean luminance per
+// renderer, in the order of SceneConsistencyReport::renderers.
+struct ConsistencyRegion {
+  std::string name;
+  int64_t pixels = 0;
+  std::vector<double> mean;
+};
+
+struct SceneConsistencyReport {
+  std::vector<std::string> renderers;  // "reference" first, then "coarse reference", then the algorithms
+  std::vector<ConsistencyRegion> regions;
+  // The worst relative difference of a renderer (not the coarse reference) against the reference
+  // over all regions with pixels, and where.
+  double worst = 0.0;
+  std::string worstRenderer, worstRegion;
+  // The largest relative change of the reference when its dicing is halved: how converged it is.
+  double referenceChange = 0.0;
+};
+
+// Renders `scene` (its own camera) with each renderer; pixels are grouped by the object the
+// reference's pixel-centre ray hits (background pixels belong to no region). Throws Interrupted
+// when cancel is set.
+SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& options);
+
+// The report as CSV (region, pixels, one column per renderer, then relative differences) or as a
+// markdown table.
+std::string formatSceneConsistency(const SceneConsistencyReport& report, bool markdown);
+
+}  // namespace meso

@@ -1,0 +1,130 @@
+// Becker & Max 1993, Figure 6 for whole scenes (issue: consistency on every real surface).
+#include "meso/render/scene_consistency.h"
+
+#include "meso/render/integrator.h"
+#include "meso/render/render_context.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace meso {
+namespace {
+
+struct Rendered {
+  Image image;
+  std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
+};
+
+Rendered renderWith(const Scene& base, const std::string& algorithm, float dicing, int spp,
+                    const std::atomic<bool>* cancel, bool objects) {
+  Scene scene = base;
+  scene.render.algorithm = algorithm;
+  if (dicing > 0.0f) scene.render.dicingRate = dicing;
+  if (spp > 0) scene.camera.spp = spp;
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderOptions options;
+  options.spp = scene.camera.spp;
+  options.seed = scene.render.seed;
+  options.progress = false;
+  options.cancel = cancel;
+  RenderCounters counters;
+  Rendered r;
+  r.image = renderFrame(ctx, options, counters);
+  if (objects) {
+    r.object.assign(static_cast<size_t>(r.image.width) * r.image.height, -1);
+    for (int y = 0; y < r.image.height; ++y)
+      for (int x = 0; x < r.image.width; ++x) {
+        RayHit hit;
+        const Ray ray = ctx.camera.generateRay(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+        if (ctx.rays && ctx.rays->intersect(ray, hit)) r.object[static_cast<size_t>(y) * r.image.width + x] = hit.mesh;
+      }
+  }
+  return r;
+}
+
+double luminance(const Image& image, int x, int y) {
+  return 0.2126 * image.at(x, y, 0) + 0.7152 * image.at(x, y, 1) + 0.0722 * image.at(x, y, 2);
+}
+
+}  // namespace
+
+SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& o) {
+  SceneConsistencyReport report;
+  std::vector<Rendered> images;
+  images.push_back(renderWith(scene, "displacement", o.referenceDicing, o.referenceSpp, o.cancel, true));
+  report.renderers.push_back("reference");
+  images.push_back(renderWith(scene, "displacement", 2.0f * o.referenceDicing, o.referenceSpp, o.cancel, false));
+  report.renderers.push_back("coarse reference");
+  for (const std::string& a : o.algorithms) {
+    images.push_back(renderWith(scene, a, 0.0f, 0, o.cancel, false));
+    report.renderers.push_back(a);
+  }
+  const Image& ref = images[0].image;
+  const std::vector<int>& object = images[0].object;
+  const int bands = std::max(1, o.bands);
+  const size_t numObjects = scene.objects.size();
+  report.regions.resize(numObjects + static_cast<size_t>(bands));
+  for (size_t k = 0; k < numObjects; ++k)
+    report.regions[k].name = "object " + std::to_string(k) + " (" + scene.objects[k].mesh.filename().string() + ")";
+  for (int b = 0; b < bands; ++b)
+    report.regions[numObjects + b].name = "rows " + std::to_string(b * ref.height / bands) + "-" +
+                                          std::to_string((b + 1) * ref.height / bands - 1);
+  for (ConsistencyRegion& r : report.regions) r.mean.assign(images.size(), 0.0);
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const int obj = object[static_cast<size_t>(y) * ref.width + x];
+      if (obj < 0) continue;
+      ConsistencyRegion* regions[2] = {&report.regions[obj], &report.regions[numObjects + y * bands / ref.height]};
+      for (ConsistencyRegion* r : regions) {
+        r->pixels += 1;
+        for (size_t i = 0; i < images.size(); ++i) r->mean[i] += luminance(images[i].image, x, y);
+      }
+    }
+  for (ConsistencyRegion& r : report.regions) {
+    if (r.pixels == 0) continue;
+    for (double& m : r.mean) m /= static_cast<double>(r.pixels);
+    const double rel = r.mean[0] > 0.0 ? std::abs(r.mean[1] / r.mean[0] - 1.0) : 0.0;
+    report.referenceChange = std::max(report.referenceChange, rel);
+    for (size_t i = 2; i < images.size(); ++i) {
+      const double d = r.mean[0] > 0.0 ? std::abs(r.mean[i] / r.mean[0] - 1.0) : 0.0;
+      if (d > report.worst) {
+        report.worst = d;
+        report.worstRenderer = report.renderers[i];
+        report.worstRegion = r.name;
+      }
+    }
+  }
+  return report;
+}
+
+std::string formatSceneConsistency(const SceneConsistencyReport& report, bool markdown) {
+  std::string out;
+  char buf[64];
+  const auto cell = [&](double v, const char* fmt) {
+    std::snprintf(buf, sizeof buf, fmt, v);
+    return std::string(buf);
+  };
+  const std::string sep = markdown ? " | " : ",";
+  out += markdown ? "| region | pixels" : "region,pixels";
+  for (const std::string& r : report.renderers) out += sep + r;
+  for (size_t i = 1; i < report.renderers.size(); ++i) out += sep + report.renderers[i] + " vs reference";
+  out += markdown ? " |\n" : "\n";
+  if (markdown) {
+    out += "|---|---";
+    for (size_t i = 0; i < 2 * report.renderers.size() - 1; ++i) out += "|---";
+    out += "|\n";
+  }
+  for (const ConsistencyRegion& r : report.regions) {
+    if (r.pixels == 0) continue;
+    out += (markdown ? "| " : "") + (markdown ? r.name : "\"" + r.name + "\"") + sep + std::to_string(r.pixels);
+    for (double m : r.mean) out += sep + cell(m, "%.5f");
+    for (size_t i = 1; i < r.mean.size(); ++i)
+      out += sep + cell(r.mean[0] > 0.0 ? 100.0 * (r.mean[i] / r.mean[0] - 1.0) : 0.0, "%+.2f%%");
+    out += markdown ? " |\n" : "\n";
+  }
+  return out;
+}
+
+}  // namespace meso
