@@ -102,7 +102,7 @@ for _ in $(seq 1 1200); do
   sleep 0.1
 done
 [[ -n $pid ]] || fail "task $victim never started frame $victimFrame"
-sleep 0.6  # past start-up (about 0.3 s), inside the frame (about 1 s at $spp spp)
+sleep 0.9  # past start-up (process, scene, tables from the cache: about 0.5 s), inside the render (over 1 s)
 before=$(stat -c '%i %Y' "$done1.exr" "$done1.png" "$work/out/path12.farm/stats/path12_0001.json")
 kill -9 "$pid" || fail "meso of task $victim (pid $pid) ended before it could be killed"
 [[ ! -e $work/out/path12_000$victimFrame.exr ]] || fail "frame $victimFrame was complete: the kill missed the frame"
