@@ -42,7 +42,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
   std::string warning;
   std::optional<std::vector<float>> cached = cache.load(key, &warning);
   if (!warning.empty() && warnings) warnings->push_back(warning);
-  const size_t histogramSize = distr.toData().size();
+  const size_t histogramSize = distr.numBins();  // the cache holds masses, then the BRDF
   bool fromCache = false;
   std::vector<float> brdfData;
   if (cached && cached->size() > histogramSize &&
@@ -60,7 +60,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, lobe);
   fromCache = fromCache && brdf.data().size() == brdfSize;
-  std::vector<float> payload = distr.toData();
+  std::vector<float> payload = distr.toData(false);
   payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());
   if (!fromCache) {
     warning.clear();
@@ -68,6 +68,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
     if (!warning.empty() && warnings) warnings->push_back(warning);
   }
   Redistribution redistribution(distr, settings.variant);
+  distr.dropMeanNormals();
   return LevelTables{std::move(distr), std::move(redistribution), std::move(brdf), key, fromCache,
                      timer.seconds(), payload.size() * sizeof(float)};
 }

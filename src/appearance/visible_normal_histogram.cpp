@@ -42,6 +42,7 @@ Vec3 VisibleNormalHistogram::binDirection(int i, int j) const {
 }
 
 Vec3 VisibleNormalHistogram::meanNormal(int k, int i, int j) const {
+  if (normalSums_.empty()) return binDirection(i, j);
   const Vec3& s = normalSums_[index(k, i, j)];
   return s == Vec3(0.0f) ? binDirection(i, j) : s;
 }
@@ -78,7 +79,7 @@ void VisibleNormalHistogram::add(int k, const Vec3& normal, float weight) {
   const NormalAngles a = anglesOf(normal);
   const size_t b = index(k, thetaNBin(a.thetaN), phiBin(a.phi));
   data_[b] += weight;
-  normalSums_[b] += weight * normal;
+  if (!normalSums_.empty()) normalSums_[b] += weight * normal;
 }
 
 void VisibleNormalHistogram::normalize() {
@@ -88,8 +89,7 @@ void VisibleNormalHistogram::normalize() {
     const double sum = std::accumulate(s, s + n, 0.0);
     if (sum > 0.0) {
       for (size_t i = 0; i < n; ++i) {
-        Vec3& ns = normalSums_[k * n + i];
-        if (s[i] > 0.0f) ns /= s[i];
+        if (!normalSums_.empty() && s[i] > 0.0f) normalSums_[k * n + i] /= s[i];
         s[i] = static_cast<float>(s[i] / sum);
       }
     } else {
@@ -102,14 +102,24 @@ void VisibleNormalHistogram::normalize() {
 
 namespace meso {
 
-std::vector<float> VisibleNormalHistogram::toData() const {
+std::vector<float> VisibleNormalHistogram::toData(bool withNormals) const {
   std::vector<float> out(data_);
-  for (const Vec3& n : normalSums_) out.insert(out.end(), {n.x, n.y, n.z});
+  if (!withNormals) return out;
+  for (size_t i = 0; i < data_.size(); ++i) {
+    const Vec3 n = normalSums_.empty() ? Vec3(0.0f) : normalSums_[i];
+    out.insert(out.end(), {n.x, n.y, n.z});
+  }
   return out;
 }
 
 bool VisibleNormalHistogram::fromData(std::span<const float> data) {
+  if (data.size() == data_.size()) {
+    std::copy(data.begin(), data.end(), data_.begin());
+    normalSums_.clear();
+    return true;
+  }
   if (data.size() != 4 * data_.size()) return false;
+  normalSums_.assign(data_.size(), Vec3(0.0f));
   std::copy(data.begin(), data.begin() + data_.size(), data_.begin());
   for (size_t i = 0; i < normalSums_.size(); ++i) {
     const float* p = data.data() + data_.size() + 3 * i;

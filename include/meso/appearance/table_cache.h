@@ -14,7 +14,7 @@
 namespace meso {
 
 // Bump this whenever the layout or meaning of any cached table changes: old files become misses.
-inline constexpr uint32_t kTableFormatVersion = 2;
+inline constexpr uint32_t kTableFormatVersion = 3;  // 3: masses only, view-azimuth slices
 
 
 class TableCache {

@@ -65,10 +65,15 @@ class VisibleNormalHistogram {
   // Mean of the normals counted in a bin (not renormalized: sum of mass * meanNormal is exactly the
   // mean visible normal). A bin that received mass by mass() only returns its centre direction.
   Vec3 meanNormal(int k, int i, int j) const;
-  // Masses then mean normals as one float array (for the table cache), and back. fromData returns
-  // false (leaving the histogram unchanged) if the size does not match the resolution.
-  std::vector<float> toData() const;
+  // Masses then (withNormals) mean normals as one float array, and back: fromData takes either
+  // layout and returns false (leaving the histogram unchanged) if the size matches neither. Without
+  // normals, meanNormal gives bin centres. The table cache stores masses only: mean normals serve
+  // the BRDF integration, and the BRDF is cached itself.
+  std::vector<float> toData(bool withNormals = true) const;
   bool fromData(std::span<const float> data);
+  size_t numBins() const { return data_.size(); }
+  // Frees the mean normals once the tables that need them are built (a quarter of the memory).
+  void dropMeanNormals() { std::vector<Vec3>().swap(normalSums_); }
   // Unit direction of a bin centre in the view-aligned frame (theta_N = 0 bin: its centre too).
   Vec3 binDirection(int i, int j) const;
 
