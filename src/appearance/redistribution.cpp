@@ -18,7 +18,7 @@ float thetaW(float thetaV, float disp) {
 }
 
 Redistribution::Redistribution(const VisibleNormalHistogram& distr, RedistributionVariant variant)
-    : layout_(distr.resolution(), distr.thetaVMax()), variant_(variant) {
+    : layout_(distr.resolution(), distr.thetaVMax(), VisibleNormalHistogram::LayoutOnly{}), variant_(variant) {
   const HistogramResolution& r = distr.resolution();
   thetaCdfsPerSlice_ = variant == RedistributionVariant::Conditional ? 1 + r.phi : 1;
   std::vector<float> thetaMarginal(r.thetaN), phiMarginal(r.phi), column(r.thetaN);

@@ -27,6 +27,14 @@ VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float th
   normalSums_.assign(data_.size(), Vec3(0.0f));
 }
 
+VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float thetaVMax, LayoutOnly)
+    : res_(res), thetaVMax_(thetaVMax) {
+  res_.thetaV = std::max(res_.thetaV, 2);
+  res_.thetaN = std::max(res_.thetaN, 1);
+  res_.phi = std::max(res_.phi, 1);
+  res_.phiV = std::max(res_.phiV, 1);
+}
+
 NormalAngles anglesOf(const Vec3& n) {
   const float z = std::clamp(n.z, -1.0f, 1.0f);
   return {std::acos(z), (n.x == 0.0f && n.y == 0.0f) ? 0.0f : std::atan2(n.y, n.x)};
@@ -115,7 +123,7 @@ std::vector<float> VisibleNormalHistogram::toData(bool withNormals) const {
 bool VisibleNormalHistogram::fromData(std::span<const float> data) {
   if (data.size() == data_.size()) {
     std::copy(data.begin(), data.end(), data_.begin());
-    normalSums_.clear();
+    dropMeanNormals();
     return true;
   }
   if (data.size() != 4 * data_.size()) return false;

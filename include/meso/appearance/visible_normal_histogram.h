@@ -36,6 +36,9 @@ class VisibleNormalHistogram {
   // thetaVMax < pi/2: exactly grazing rays see only silhouettes, so the last slice is taken just
   // above the horizon and lookups beyond it clamp to it.
   explicit VisibleNormalHistogram(HistogramResolution res, float thetaVMax = 1.5533430f /* 89 deg */);
+  // The bin geometry alone, with no storage (for tables that only need the layout).
+  struct LayoutOnly {};
+  VisibleNormalHistogram(HistogramResolution res, float thetaVMax, LayoutOnly);
 
   const HistogramResolution& resolution() const { return res_; }
   float thetaVMax() const { return thetaVMax_; }
