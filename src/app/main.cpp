@@ -29,6 +29,10 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
   render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
       ->check(CLI::Range(0.01f, 1000.0f));
+  render->add_option("--dicing-metric", o.dicingMetric,
+                     "isotropic (world length over the pixel footprint at its depth) or projected (foreshortened "
+                     "screen length; cheaper, under-resolved at grazing angles) (overrides render.dicing_metric)")
+      ->check(CLI::IsMember({"isotropic", "projected"}));
   render->add_option("--max-micropolygons", o.maxMicropolygons,
                      "Cap per frame; a frame over it is diced coarser, with a warning (overrides render.max_micropolygons)")
       ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));

@@ -71,6 +71,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
                                                    settings.width, settings.height);
   DicingSettings dicing;
   dicing.dicingRate = rs.dicingRate;
+  dicing.metric = parseDicingMetric(rs.dicingMetric);
   dicing.maxEdgeRate = 4096;
   size_t budget = static_cast<size_t>(rs.maxMicropolygons);
 
