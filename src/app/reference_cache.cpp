@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when the renderer changes what a reference looks like, or the file layout changes.
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;
 constexpr char kMagic[8] = {'M', 'E', 'S', 'O', 'R', 'E', 'F', '1'};
 
 struct Header {
@@ -102,7 +102,7 @@ std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* w
   r.width = h.width, r.height = h.height;
   r.seconds = h.seconds, r.peakRssMib = h.peakRssMib, r.geometryMib = h.geometryMib;
   r.micropolygons = h.micropolygons;
-  const size_t n = static_cast<size_t>(h.width) * static_cast<size_t>(h.height) * 3;
+  const size_t n = static_cast<size_t>(h.width) * static_cast<size_t>(h.height) * 4;
   r.frames.assign(static_cast<size_t>(h.frames), std::vector<float>(n));
   for (std::vector<float>& f : r.frames)
     if (!in.read(reinterpret_cast<char*>(f.data()), static_cast<std::streamsize>(n * sizeof(float))))

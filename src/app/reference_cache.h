@@ -15,11 +15,11 @@
 
 namespace meso::app {
 
-// One reference level as rendered: beauty R, G, B (row-major, interleaved) per frame, and what
-// rendering it cost.
+// One reference level as rendered: beauty R, G, B and depth Z (row-major, interleaved, 4 floats a
+// pixel) per frame, and what rendering it cost.
 struct ReferenceRender {
   int width = 0, height = 0;
-  std::vector<std::vector<float>> frames;
+  std::vector<std::vector<float>> frames;  // RGBZ
   double seconds = 0.0;
   double peakRssMib = 0.0;
   double geometryMib = 0.0;

@@ -5,10 +5,11 @@
 // geometry memory, micropolygons and image error against the reference.
 //
 // The reference is checked, not assumed: level k is full displacement at referenceDicingRate / 2^k
-// pixels and referenceSpp * 2^k samples; refinement stops when, between levels k - 1 and k, the
-// mean intensity changes by less than --reference-tolerance and the rmse is below
-// --reference-rmse-tolerance, both in percent of the mean (converged; the rmse includes both
-// levels' sampling noise, hence its own tolerance), or when the next level would exceed --reference-max-refinements or
+// pixels and referenceSpp * 2^k samples; refinement stops when, between levels k - 1 and k, over
+// the pixels that hit a surface, the mean intensity of each of five depth bands (quantiles, near to
+// far) changes by less than --reference-tolerance and the rmse is below --reference-rmse-tolerance,
+// both in percent of the mean (converged; the rmse includes both levels' sampling noise, hence its
+// own tolerance), or when the next level would exceed --reference-max-refinements or
 // --reference-max-micropolygons (not converged: a warning gives the last change and an
 // extrapolation of what remains). The levels and their changes are in the CSV (comment lines and
 // rows reference_l0..) and in the summary. Each level is cached on disk (reference_cache.h).
@@ -99,6 +100,7 @@ struct Rendered {
   double geometryMib = 0.0;
   float coarsening = 1.0f;  // > 1: the micropolygon cap coarsened some frame's dicing
   std::vector<ImageBuf> beauty;
+  std::vector<std::vector<float>> depth;  // reference levels only: depth.Z per frame (0: no hit)
   std::vector<Image> films;
 };
 
@@ -108,8 +110,10 @@ struct ReferenceLevel {
   int spp = 64;
   Rendered render;
   bool fromCache = false;
-  // Against the previous level, in percent of this level's mean intensity (first level: none):
-  // the signed change of the mean and the rmse between the two.
+  // Against the previous level, over the pixels where both hit a surface, in percent of this
+  // level's mean there (first level: none): the signed change of the mean in each depth band
+  // (quantiles of this level's depth), the largest of them in magnitude, and the rmse.
+  std::vector<double> bandChangePct;
   double meanChangePct = 0.0, rmseChangePct = 0.0;
 };
 
@@ -281,6 +285,14 @@ Rendered renderConfiguration(const Scene& base, const Configuration& c, const st
                                                     (1024.0 * 1024.0));
     out.coarsening = std::max(out.coarsening, geometry.coarsening);
     out.beauty.push_back(beautyBuffer(film));
+    if (c.kind == Kind::Reference) {
+      const int z = film.channelIndex("depth.Z");
+      if (z < 0) throw Error("trade: the film has no depth.Z channel");
+      std::vector<float> depth(static_cast<size_t>(film.width) * film.height);
+      for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
+      out.depth.push_back(std::move(depth));
+    }
     if (keepFilms) out.films.push_back(std::move(film));
   }
   out.peakRssMib = peakRssMib();
@@ -315,15 +327,23 @@ void addErrors(Result& r, const std::vector<ImageBuf>& images, const std::vector
 
 // --- the reference: refined until it converges, cached on disk ---
 
+std::vector<float> rgbOf(const ImageBuf& b) {
+  std::vector<float> rgb(static_cast<size_t>(b.spec().width) * b.spec().height * 3);
+  b.get_pixels(b.roi(), OIIO::TypeDesc::FLOAT, rgb.data());
+  return rgb;
+}
+
 ReferenceRender toCache(const Rendered& r) {
   ReferenceRender out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
   out.micropolygons = r.micropolygons;
-  for (const ImageBuf& b : r.beauty) {
-    out.width = b.spec().width, out.height = b.spec().height;
-    std::vector<float> rgb(static_cast<size_t>(out.width) * out.height * 3);
-    b.get_pixels(b.roi(), OIIO::TypeDesc::FLOAT, rgb.data());
-    out.frames.push_back(std::move(rgb));
+  for (size_t f = 0; f < r.beauty.size(); ++f) {
+    out.width = r.beauty[f].spec().width, out.height = r.beauty[f].spec().height;
+    const std::vector<float> rgb = rgbOf(r.beauty[f]);
+    std::vector<float> rgbz(r.depth[f].size() * 4);
+    for (size_t i = 0; i < r.depth[f].size(); ++i)
+      for (int c = 0; c < 4; ++c) rgbz[4 * i + c] = c < 3 ? rgb[3 * i + c] : r.depth[f][i];
+    out.frames.push_back(std::move(rgbz));
   }
   return out;
 }
@@ -332,28 +352,61 @@ Rendered fromCache(const ReferenceRender& r) {
   Rendered out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
   out.micropolygons = r.micropolygons;
-  for (const std::vector<float>& rgb : r.frames) {
+  for (const std::vector<float>& rgbz : r.frames) {
+    const size_t n = rgbz.size() / 4;
+    std::vector<float> rgb(n * 3), depth(n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) rgb[3 * i + c] = rgbz[4 * i + c];
+      depth[i] = rgbz[4 * i + 3];
+    }
     ImageBuf buf(OIIO::ImageSpec(r.width, r.height, 3, OIIO::TypeDesc::FLOAT));
     buf.set_pixels(buf.roi(), OIIO::TypeDesc::FLOAT, rgb.data());
     out.beauty.push_back(std::move(buf));
+    out.depth.push_back(std::move(depth));
   }
   return out;
 }
 
-// Signed change of the mean and rmse between the level and the one before, in percent of the
-// level's mean, averaged over the frames.
+constexpr int kDepthBands = 5;
+
+// The change from `previous` to `level` over the pixels where both hit a surface (the background
+// would dilute it), per depth band (quantiles of the level's depth: equal pixel counts, near to
+// far) and as an rmse, in percent of the level's mean there, averaged over the frames.
 void measureChange(ReferenceLevel& level, const Rendered& previous) {
-  double meanPct = 0.0, rmsePct = 0.0;
-  const std::vector<ImageBuf>& now = level.render.beauty;
-  for (size_t f = 0; f < now.size(); ++f) {
-    const double m = std::max(meanOverChannels(now[f]), 1e-12), p = meanOverChannels(previous.beauty[f]);
-    const OIIO::ImageBufAlgo::CompareResults cr = OIIO::ImageBufAlgo::compare(now[f], previous.beauty[f], 1e30f, 1e30f);
-    if (cr.error) throw Error("trade: ImageBufAlgo::compare failed: " + now[f].geterror());
-    meanPct += 100.0 * (m - p) / m;
-    rmsePct += 100.0 * cr.rms_error / m;
+  const Rendered& now = level.render;
+  std::vector<double> bandPct(kDepthBands, 0.0);
+  double rmsePct = 0.0;
+  for (size_t f = 0; f < now.beauty.size(); ++f) {
+    const std::vector<float> a = rgbOf(now.beauty[f]), b = rgbOf(previous.beauty[f]);
+    const std::vector<float>& za = now.depth[f];
+    const std::vector<float>& zb = previous.depth[f];
+    std::vector<size_t> hits;
+    for (size_t i = 0; i < za.size(); ++i)
+      if (za[i] > 0.0f && zb[i] > 0.0f) hits.push_back(i);
+    if (hits.empty()) continue;
+    std::sort(hits.begin(), hits.end(), [&](size_t i, size_t j) { return za[i] < za[j]; });
+    double sumA = 0.0, squares = 0.0;
+    for (int band = 0; band < kDepthBands; ++band) {
+      double bandA = 0.0, bandB = 0.0;
+      for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const double va = a[3 * hits[k] + c], vb = b[3 * hits[k] + c];
+          bandA += va, bandB += vb, squares += (va - vb) * (va - vb);
+        }
+      sumA += bandA;
+      bandPct[band] += bandA > 0.0 ? 100.0 * (bandA - bandB) / bandA : 0.0;
+    }
+    const double n = 3.0 * static_cast<double>(hits.size());
+    rmsePct += sumA > 0.0 ? 100.0 * std::sqrt(squares / n) / (sumA / n) : 0.0;
   }
-  level.meanChangePct = meanPct / static_cast<double>(now.size());
-  level.rmseChangePct = rmsePct / static_cast<double>(now.size());
+  const double frames = static_cast<double>(now.beauty.size());
+  level.bandChangePct.clear();
+  level.meanChangePct = 0.0;
+  for (double pct : bandPct) {
+    level.bandChangePct.push_back(pct / frames);
+    if (std::abs(pct / frames) > std::abs(level.meanChangePct)) level.meanChangePct = pct / frames;
+  }
+  level.rmseChangePct = rmsePct / frames;
 }
 
 ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp, const std::vector<CameraSettings>& cams,
@@ -446,7 +499,7 @@ std::string referenceLevels(const ReferenceStudy& s) {
     const ReferenceLevel& l = s.levels[k];
     if (k == 0) std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
     else
-      std::snprintf(buf, sizeof buf, " -> %g px %d spp (mean %+.2f%%, rmse %.2f%%)", l.dicingRate, l.spp,
+      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)", l.dicingRate, l.spp,
                     l.meanChangePct, l.rmseChangePct);
     text += buf;
   }
@@ -456,21 +509,24 @@ std::string referenceLevels(const ReferenceStudy& s) {
 std::string referenceVerdict(const ReferenceStudy& s) {
   char buf[512];
   if (s.converged) {
-    std::snprintf(buf, sizeof buf, "reference converged (mean change below %g%%, rmse below %g%% of the mean): %s",
+    std::snprintf(buf, sizeof buf,
+                  "reference converged (the mean of every depth band changed by less than %g%%, the rmse is below "
+                  "%g%% of the mean): %s",
                   s.tolerance, s.rmseTolerance, referenceLevels(s).c_str());
     return buf;
   }
   const ReferenceLevel& last = s.levels.back();
   const double rest = remainingEstimatePct(s);
   char estimate[160] = "";
-  if (rest >= 0.0) std::snprintf(estimate, sizeof estimate, "; extrapolated, the mean is still about %.2g%% off", rest);
+  if (rest >= 0.0)
+    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off", rest);
   if (s.levels.size() < 2)
     std::snprintf(buf, sizeof buf, "reference NOT converged: only one level (%s), %s; its error is unknown",
                   referenceLevels(s).c_str(), s.stop.c_str());
   else
     std::snprintf(buf, sizeof buf,
-                  "reference NOT converged (tolerances: mean %g%%, rmse %g%%): %s; %s; the last refinement still "
-                  "changed the mean by %+.2f%% and the rmse by %.2f%% of the mean%s",
+                  "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the last refinement "
+                  "still changed the mean of a depth band by %+.2f%% and the rmse by %.2f%% of the mean%s",
                   s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(), last.meanChangePct, last.rmseChangePct,
                   estimate);
   return buf;
@@ -486,6 +542,16 @@ void writeText(const fs::path& file, const std::string& text) {
   });
 }
 
+// "a;b;c" (near to far).
+std::string bandList(const std::vector<double>& bands) {
+  std::string text;
+  for (size_t b = 0; b < bands.size(); ++b) {
+    if (b > 0) text += ';';
+    text += formatNumber(bands[b]);
+  }
+  return text;
+}
+
 // Comment lines first: the reference's convergence, one line per level.
 std::string csv(const std::vector<Result>& results, const ReferenceStudy& study) {
   std::ostringstream s;
@@ -495,9 +561,10 @@ std::string csv(const std::vector<Result>& results, const ReferenceStudy& study)
     const ReferenceLevel& l = study.levels[k];
     std::snprintf(line, sizeof line,
                   "# reference level %zu: dicing_rate %g, spp %d, micropolygons %zu, seconds %.6g%s, "
-                  "mean_change_pct %s, rmse_change_pct %s\n",
+                  "mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
                   k, l.dicingRate, l.spp, l.render.micropolygons, l.render.seconds, l.fromCache ? " (cached)" : "",
-                  k ? formatNumber(l.meanChangePct).c_str() : "", k ? formatNumber(l.rmseChangePct).c_str() : "");
+                  k ? formatNumber(l.meanChangePct).c_str() : "", k ? formatNumber(l.rmseChangePct).c_str() : "",
+                  bandList(l.bandChangePct).c_str());
     s << line;
   }
   s << "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
@@ -636,10 +703,10 @@ void drawAxes(Canvas& canvas, const PlotAxes& a) {
 }
 
 void drawLegend(Canvas& canvas, const PlotAxes& a) {
-  const int x = a.right - 210, y = a.top + 20;
-  canvas.marker(x, y, 5, 0, kBlue), canvas.text(x + 14, y + 5, "hybrid (auto, D x spp)");
+  const int x = a.right - 245, y = a.top + 20;
+  canvas.marker(x, y, 5, 0, kBlue), canvas.text(x + 14, y + 5, "hybrid (auto, D or dicing x spp)");
   canvas.marker(x, y + 22, 5, 1, kRed), canvas.text(x + 14, y + 27, "displacement (dicing x spp)");
-  canvas.marker(x, y + 44, 6, 3, kBlack), canvas.text(x + 14, y + 49, "reference");
+  canvas.marker(x, y + 44, 6, 3, kBlack), canvas.text(x + 14, y + 49, "reference levels");
   canvas.line(x - 8, y + 66, x + 8, y + 66, kBlack, 2), canvas.text(x + 14, y + 71, "Pareto front");
 }
 
