@@ -48,8 +48,8 @@ uint64_t checksum(const std::vector<std::vector<float>>& frames) {
 
 }  // namespace
 
-uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cameras, float dicingRate,
-                      int spp) {
+uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cameras,
+                      float dicingRate, int spp) {
   Hasher h;
   h.value(kFormatVersion);
   hashFile(h, scene.file);
@@ -69,7 +69,8 @@ uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cam
 }
 
 fs::path ReferenceCache::defaultFolder(const Scene& scene) {
-  const fs::path base = scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir;
+  const fs::path base =
+      scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir;
   return base.empty() ? fs::path() : base / "references";
 }
 
@@ -96,7 +97,8 @@ std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* w
   if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || h.version != kFormatVersion)
     return reject("not a meso reference file of this version");
   if (h.key != key) return reject("key mismatch");
-  if (h.width < 1 || h.height < 1 || h.frames < 1 || h.width > 16384 || h.height > 16384 || h.frames > 100000)
+  if (h.width < 1 || h.height < 1 || h.frames < 1 || h.width > 16384 || h.height > 16384 ||
+      h.frames > 100000)
     return reject("implausible size");
   ReferenceRender r;
   r.width = h.width, r.height = h.height;
@@ -105,7 +107,8 @@ std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* w
   const size_t n = static_cast<size_t>(h.width) * static_cast<size_t>(h.height) * 4;
   r.frames.assign(static_cast<size_t>(h.frames), std::vector<float>(n));
   for (std::vector<float>& f : r.frames)
-    if (!in.read(reinterpret_cast<char*>(f.data()), static_cast<std::streamsize>(n * sizeof(float))))
+    if (!in.read(reinterpret_cast<char*>(f.data()),
+                 static_cast<std::streamsize>(n * sizeof(float))))
       return reject("truncated pixels");
   uint64_t sum = 0;
   if (!in.read(reinterpret_cast<char*>(&sum), sizeof sum) || sum != checksum(r.frames))
@@ -118,7 +121,8 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   if (folder_.empty()) return;
   std::error_code ec;
   fs::create_directories(folder_, ec);
-  if (ec) throw Error(folder_.string() + ": cannot create the reference cache folder: " + ec.message());
+  if (ec)
+    throw Error(folder_.string() + ": cannot create the reference cache folder: " + ec.message());
   const fs::path file = fileFor(key);
   writeAtomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
@@ -131,7 +135,8 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
     h.seconds = r.seconds, h.peakRssMib = r.peakRssMib, h.geometryMib = r.geometryMib;
     out.write(reinterpret_cast<const char*>(&h), sizeof h);
     for (const std::vector<float>& f : r.frames)
-      out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(f.size() * sizeof(float)));
+      out.write(reinterpret_cast<const char*>(f.data()),
+                static_cast<std::streamsize>(f.size() * sizeof(float)));
     const uint64_t sum = checksum(r.frames);
     out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
     if (!out.flush()) throw Error(file.string() + ": cannot write the reference cache file");

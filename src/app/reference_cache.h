@@ -29,8 +29,8 @@ struct ReferenceRender {
 // The key of a full-displacement render of `scene` (its render and camera settings as overridden
 // on the command line) through `cameras` at `dicingRate` pixels and `spp` samples: the bytes of the
 // scene file, its meshes and images, and the settings. Throws meso::Error if a file is unreadable.
-uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cameras, float dicingRate,
-                      int spp);
+uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cameras,
+                      float dicingRate, int spp);
 
 class ReferenceCache {
  public:

@@ -223,9 +223,10 @@ void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDic
   }
 }
 
-std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface, const EdgeRateTessellator& engine,
-                                      const ScreenMetric& screen, const DicingSettings& settings,
-                                      const FaceDicing& faces, const std::vector<char>& inView) {
+std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
+                                      const EdgeRateTessellator& engine, const ScreenMetric& screen,
+                                      const DicingSettings& settings, const FaceDicing& faces,
+                                      const std::vector<char>& inView) {
   const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
   std::vector<EdgeMeasure> measures(engine.numEdges());
   tbb::parallel_for(0, engine.numEdges(), [&](int e) {
@@ -245,8 +246,7 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface, const EdgeRat
       measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
                        settings.coarseTolerance, m);
   });
-  if (settings.metric == DicingMetric::Isotropic)
-    spreadFaceDensity(base, faces, inView, measures);
+  if (settings.metric == DicingMetric::Isotropic) spreadFaceDensity(base, faces, inView, measures);
   return measures;
 }
 
@@ -272,8 +272,8 @@ std::string capWarning(size_t asked, const DicingSettings& s, float coarsening, 
   std::snprintf(text, sizeof text,
                 "adaptive tessellation: %zu micropolygons would exceed the cap of %zu; every edge "
                 "rate coarsened by %.3g (dicing rate %.3g px instead of %.3g), giving %zu%s",
-                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate,
-                got, got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
+                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate, got,
+                got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
   return text;
 }
 

@@ -164,8 +164,8 @@ TEST(AdaptiveTessellation, DisplacedClosedSurfacesWithMixedRatesAreWatertight) {
 struct GrazingDicing {
   std::vector<int> rates;
   size_t micropolygons = 0;
-  float worstLeg = 0.0f;   // longest micropolygon leg in view, in pixel footprints
-  float legP99 = 0.0f;     // its 99th percentile
+  float worstLeg = 0.0f;  // longest micropolygon leg in view, in pixel footprints
+  float legP99 = 0.0f;    // its 99th percentile
 };
 
 GrazingDicing diceGrazing(const LimitSurface& surface, const ScreenMetric& screen,
@@ -199,8 +199,8 @@ GrazingDicing diceGrazing(const LimitSurface& surface, const ScreenMetric& scree
 
 TEST(AdaptiveTessellation, IsotropicMetricResolvesGrazingViews) {
   const LimitSurface surface(test::grid(24), SubdivisionScheme::Bilinear);
-  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(12.0f, -0.5f, 0.6f), Vec3(12.0f, 24.0f, 0.35f),
-                                                   Vec3(0, 0, 1), 40.0f, 160, 90);
+  const ScreenMetric screen = ScreenMetric::lookAt(
+      Vec3(12.0f, -0.5f, 0.6f), Vec3(12.0f, 24.0f, 0.35f), Vec3(0, 0, 1), 40.0f, 160, 90);
   const GrazingDicing iso = diceGrazing(surface, screen, DicingMetric::Isotropic);
   const GrazingDicing proj = diceGrazing(surface, screen, DicingMetric::Projected);
   std::printf("  isotropic: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n"

@@ -79,7 +79,7 @@ const char* dicingMetricName(DicingMetric metric);
 struct DicingSettings {
   float dicingRate = 1.0f;  // longest micropolygon edge in pixels where a face needs dicing
   DicingMetric metric = DicingMetric::Isotropic;
-  int maxEdgeRate = 256;    // most segments on one mesh edge
+  int maxEdgeRate = 256;  // most segments on one mesh edge
   // Where no adjacent face needs dicing, edges are split until the limit surface deviates from
   // the chords by about this many pixels.
   float coarseTolerance = 0.5f;
