@@ -239,6 +239,7 @@ void runRender(const RenderCommandOptions& o) {
     ++rendered;
     perFrame.push_back({{"frame", f}, {"output", exr.string()}, {"rays", counters.rays.load() - raysBefore},
                         {"triangles", ctx.numTriangles()}, {"micropolygons", geometry.micropolygons},
+                        {"micropolygons_off_screen", geometry.offScreenMicropolygons},
                         {"faces_diced", geometry.facesDiced}, {"dicing_coarsened_by", geometry.coarsening},
                         {"geometry_rebuilt", geometry.rebuilt},
                         {"seconds", {{"tessellate", geometry.tessellateSeconds}, {"bvh", geometry.bvhSeconds},

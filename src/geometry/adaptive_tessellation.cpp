@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -303,6 +304,20 @@ std::vector<int> chooseRates(EdgeRateTessellator& engine, const std::vector<Edge
   return rates;
 }
 
+size_t countOffScreen(const TessellatedMesh& m, const ScreenMetric& screen) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, m.numTriangles()), size_t{0},
+      [&](const tbb::blocked_range<size_t>& range, size_t count) {
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+          bool seen = false;
+          for (int k = 0; k < 3 && !seen; ++k) seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
+          count += !seen;
+        }
+        return count;
+      },
+      [](size_t a, size_t b) { return a + b; });
+}
+
 void countFaces(const LimitSurface& surface, const FaceDicing& faces,
                 const std::vector<char>& inView, AdaptiveTessellationStats& stats) {
   for (int f = 0; f < surface.numFaces(); ++f) {
@@ -336,6 +351,7 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids);
   stats.evaluateSeconds = timer.seconds();
   stats.micropolygons = result.mesh.numTriangles();
+  stats.offScreenMicropolygons = countOffScreen(result.mesh, screen);
   stats.vertices = result.mesh.positions.size();
   if (!result.edgeRates.empty()) {
     const auto [lo, hi] = std::minmax_element(result.edgeRates.begin(), result.edgeRates.end());

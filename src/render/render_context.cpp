@@ -96,6 +96,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
         &displacement);
     if (!t.warning.empty()) ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
     stats.micropolygons += t.stats.micropolygons;
+    stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
     stats.facesDiced += t.stats.facesDiced;
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;

@@ -69,7 +69,8 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
   std::stringstream s;
   s << in.rdbuf();
   for (const char* key : {"\"micropolygons\"", "\"tessellate_seconds\"", "\"bvh_seconds\"",
-                          "\"peak_mib_per_million_micropolygons\"", "\"dicing_rate\": 2.0"})
+                          "\"peak_mib_per_million_micropolygons\"", "\"dicing_rate\": 2.0",
+                          "\"dicing_metric\": \"isotropic\"", "\"micropolygons_off_screen\""})
     EXPECT_NE(s.str().find(key), std::string::npos) << key << "\n" << s.str();
   EXPECT_EQ(s.str().find("\"micropolygons\": 0,"), std::string::npos) << s.str();
 

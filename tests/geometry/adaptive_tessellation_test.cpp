@@ -164,6 +164,7 @@ TEST(AdaptiveTessellation, DisplacedClosedSurfacesWithMixedRatesAreWatertight) {
 struct GrazingDicing {
   std::vector<int> rates;
   size_t micropolygons = 0;
+  size_t offScreen = 0;
   float worstLeg = 0.0f;  // longest micropolygon leg in view, in pixel footprints
   float legP99 = 0.0f;    // its 99th percentile
 };
@@ -174,7 +175,7 @@ GrazingDicing diceGrazing(const LimitSurface& surface, const ScreenMetric& scree
   settings.metric = metric;
   settings.maxEdgeRate = 4096;
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, nullptr);
-  GrazingDicing out{t.edgeRates, t.stats.micropolygons, 0.0f, 0.0f};
+  GrazingDicing out{t.edgeRates, t.stats.micropolygons, t.stats.offScreenMicropolygons, 0.0f, 0.0f};
   // The two shorter edges of a triangle are its legs (the grid cells' sides); the third is the
   // diagonal of the cell.
   std::vector<float> legs;
@@ -221,6 +222,10 @@ TEST(AdaptiveTessellation, IsotropicMetricResolvesGrazingViews) {
   EXPECT_LE(iso.legP99, 1.1f);
   EXPECT_LE(iso.worstLeg, 1.5f);
   EXPECT_GT(proj.legP99, 3.0f);  // what the isotropic metric fixes
+  // The plane reaches far beyond the view on both sides: some micropolygons are off screen, most
+  // (by far the smallest ones, near the eye) in view.
+  EXPECT_GT(iso.offScreen, 0u);
+  EXPECT_LT(iso.offScreen, iso.micropolygons / 2);
 }
 
 // Facet normals of the displaced plane approach the exact normal of the height field as
@@ -249,6 +254,7 @@ TEST(AdaptiveTessellation, FacetNormalsConvergeToTheDisplacedSurfaceNormal) {
     DicingSettings settings;
     settings.dicingRate = dicingRate;
     const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, &field);
+    EXPECT_EQ(t.stats.offScreenMicropolygons, 0u);  // the whole grid is in view
     const float angle = meanFacetAngle(t.mesh, field);
     std::printf("  dicing rate %.2f px: %zu micropolygons, mean facet angle %.4f degrees\n",
                 dicingRate, t.stats.micropolygons, degrees(angle));
@@ -355,6 +361,7 @@ TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
                            640, 360);
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, nullptr);
   EXPECT_EQ(t.stats.facesCulled, surface.numFaces());
+  EXPECT_EQ(t.stats.offScreenMicropolygons, t.stats.micropolygons);
   const TessellatedMesh u = tessellateUniform(surface, 1);
   EXPECT_TRUE(sameBits(t.mesh.positions, u.positions));
   EXPECT_TRUE(sameBits(t.mesh.indices, u.indices));

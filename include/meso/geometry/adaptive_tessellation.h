@@ -113,6 +113,10 @@ class VertexDisplacement {
 
 struct AdaptiveTessellationStats {
   size_t micropolygons = 0;  // triangles
+  // Triangles none of whose vertices is in view (ScreenMetric::pointInView): outside the frustum,
+  // they only cost (faces straddle its border, and faces just outside it are diced because their
+  // relief might rise into view). A triangle wider than the view can be counted and yet be seen.
+  size_t offScreenMicropolygons = 0;
   size_t vertices = 0;
   int facesDiced = 0;   // in view and needing dicing
   int facesCulled = 0;  // outside the view: their edges not shared with a visible face get rate 1
