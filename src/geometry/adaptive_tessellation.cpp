@@ -310,7 +310,8 @@ size_t countOffScreen(const TessellatedMesh& m, const ScreenMetric& screen) {
       [&](const tbb::blocked_range<size_t>& range, size_t count) {
         for (size_t t = range.begin(); t != range.end(); ++t) {
           bool seen = false;
-          for (int k = 0; k < 3 && !seen; ++k) seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
+          for (int k = 0; k < 3 && !seen; ++k)
+            seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
           count += !seen;
         }
         return count;
