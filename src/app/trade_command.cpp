@@ -428,7 +428,11 @@ ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp, const std
   }
   if (!warning.empty()) std::fprintf(stderr, "meso: warning: %s\n", warning.c_str());
   level.render = renderConfiguration(scene, c, cams, false, warnedRss);
-  if (level.render.coarsening <= 1.0f) cache.store(key, toCache(level.render));
+  try {
+    if (level.render.coarsening <= 1.0f) cache.store(key, toCache(level.render));
+  } catch (const Error& e) {  // a cache that cannot be written costs time, not the result
+    std::fprintf(stderr, "meso: warning: reference not cached: %s\n", e.what());
+  }
   return level;
 }
 
