@@ -29,6 +29,10 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
   render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
       ->check(CLI::Range(0.01f, 1000.0f));
+  render->add_option("--dicing-metric", o.dicingMetric,
+                     "isotropic (world length over the pixel footprint at its depth) or projected (foreshortened "
+                     "screen length; cheaper, under-resolved at grazing angles) (overrides render.dicing_metric)")
+      ->check(CLI::IsMember({"isotropic", "projected"}));
   render->add_option("--max-micropolygons", o.maxMicropolygons,
                      "Cap per frame; a frame over it is diced coarser, with a warning (overrides render.max_micropolygons)")
       ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
@@ -115,21 +119,44 @@ void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
 void addTradeCommand(CLI::App& cli) {
   static meso::app::TradeCommandOptions o;
   CLI::App* t = cli.add_subcommand("trade",
-      "Speed/accuracy trade: time, peak memory, micropolygons and error against a converged displacement "
-      "reference for the hybrid over D x spp and displacement alone over dicing rate x spp; writes DIR/trade.csv, "
-      "DIR/trade.png (rmse against log time, Pareto front) and prints the default hybrid's speedup");
+      "Speed/accuracy trade: time, peak memory, micropolygons and error against a displacement reference refined "
+      "until it converges (or a warning) for the hybrid over D x spp and dicing rate x spp and displacement alone "
+      "over dicing rate x spp; writes DIR/trade.csv, DIR/trade.png (rmse against log time, Pareto front) and "
+      "prints the default hybrid's ratios at equal rmse");
   t->add_option("scene", o.scene, "Scene file")->required();
   t->add_option("-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")->capture_default_str();
   t->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
                 "default all");
-  t->add_option("--reference-spp", o.referenceSpp, "Samples per pixel of the reference")->capture_default_str();
-  t->add_option("--reference-dicing-rate", o.referenceDicingRate, "Dicing rate (pixels) of the reference")
+  t->add_option("--reference-spp", o.referenceSpp, "Samples per pixel of the reference's first level; each "
+                "refinement doubles it")->capture_default_str();
+  t->add_option("--reference-dicing-rate", o.referenceDicingRate,
+                "Dicing rate (pixels) of the reference's first level; each refinement halves it")
       ->capture_default_str();
+  t->add_option("--reference-tolerance", o.referenceTolerance,
+                "Percent: the reference has converged when a refinement changes its mean intensity by less (and "
+                "the rmse is within --reference-rmse-tolerance)")
+      ->capture_default_str();
+  t->add_option("--reference-rmse-tolerance", o.referenceRmseTolerance,
+                "Percent of the mean intensity: largest rmse between successive reference levels that counts as "
+                "converged (it includes both levels' sampling noise)")
+      ->capture_default_str();
+  t->add_option("--reference-max-refinements", o.referenceMaxRefinements,
+                "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
+      ->capture_default_str();
+  t->add_option("--reference-max-micropolygons", o.referenceMaxMicropolygons,
+                "No reference level is started that would need more micropolygons (it would be about 4x the last)")
+      ->capture_default_str();
+  t->add_option("--reference-cache", o.referenceCache,
+                "Folder of cached reference renders (default: references/ in the table cache folder)");
+  t->add_flag("--no-reference-cache", o.noReferenceCache, "Render the reference levels even if cached; store none");
   t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")->delimiter(',')
       ->capture_default_str();
   t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")->delimiter(',')
       ->capture_default_str();
   t->add_option("--dicing-rates", o.dicingRates, "Dicing rates (pixels) of the displacement-only configurations")
+      ->delimiter(',')->capture_default_str();
+  t->add_option("--hybrid-dicing-rates", o.hybridDicingRates,
+                "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
       ->delimiter(',')->capture_default_str();
   t->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)");
   t->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)");

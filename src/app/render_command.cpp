@@ -42,6 +42,7 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.width) scene.camera.width = *o.width;
   if (o.height) scene.camera.height = *o.height;
   if (o.dicingRate) scene.render.dicingRate = *o.dicingRate;
+  if (o.dicingMetric) scene.render.dicingMetric = *o.dicingMetric;
   if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
   if (o.normals) scene.render.normals = *o.normals;
   TransitionSettings& t = scene.render.transition;
@@ -64,6 +65,7 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"threads", scene.render.threads},
           {"tessellation_rate", scene.render.tessellationRate},
           {"dicing_rate", scene.render.dicingRate},
+          {"dicing_metric", scene.render.dicingMetric},
           {"max_micropolygons", scene.render.maxMicropolygons},
           {"normals", scene.render.normals},
           {"transition", {{"D", scene.render.transition.D}, {"eps", scene.render.transition.eps},
@@ -243,6 +245,7 @@ void runRender(const RenderCommandOptions& o) {
     ++rendered;
     perFrame.push_back({{"frame", f}, {"output", exr.string()}, {"rays", counters.rays.load() - raysBefore},
                         {"triangles", ctx.numTriangles()}, {"micropolygons", geometry.micropolygons},
+                        {"micropolygons_off_screen", geometry.offScreenMicropolygons},
                         {"faces_diced", geometry.facesDiced}, {"dicing_coarsened_by", geometry.coarsening},
                         {"geometry_rebuilt", geometry.rebuilt},
                         {"seconds", {{"tessellate", geometry.tessellateSeconds}, {"bvh", geometry.bvhSeconds},

@@ -22,6 +22,7 @@ struct RenderCommandOptions {
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
   std::optional<float> dicingRate;
+  std::optional<std::string> dicingMetric;
   std::optional<int64_t> maxMicropolygons;
   std::optional<std::string> normals;
   std::optional<float> transitionD, transitionEps;

@@ -1,7 +1,18 @@
 // `meso trade`: Becker & Max 1993's promise, measured. The paper's D (our render.transition.D, its c)
-// trades accuracy for speed; this command renders a converged full-displacement reference and then
-// every configuration of the hybrid (D x spp) and of displacement alone (dicing rate x spp), and
-// reports seconds, peak memory, micropolygons and image error against the reference.
+// trades accuracy for speed; this command renders a full-displacement reference, refines it until it
+// converges, and then every configuration of the hybrid (D x spp, and dicing rate x spp at the
+// scene's D) and of displacement alone (dicing rate x spp), and reports seconds, peak memory,
+// geometry memory, micropolygons and image error against the reference.
+//
+// The reference is checked, not assumed: level k is full displacement at referenceDicingRate / 2^k
+// pixels and referenceSpp * 2^k samples; refinement stops when, between levels k - 1 and k, over
+// the pixels that hit a surface, the mean intensity of each of five depth bands (quantiles, near to
+// far) changes by less than --reference-tolerance and the rmse is below --reference-rmse-tolerance,
+// both in percent of the mean (converged; the rmse includes both levels' sampling noise, hence its
+// own tolerance), or when the next level would exceed --reference-max-refinements or
+// --reference-max-micropolygons (not converged: a warning gives the last change and an
+// extrapolation of what remains). The levels and their changes are in the CSV (comment lines and
+// rows reference_l0..) and in the summary. Each level is cached on disk (reference_cache.h).
 //
 // What is measured (also in docs of the CSV below):
 // - seconds: wall time of prepareFrame (tessellation, Embree build) plus renderFrame, summed over
@@ -13,7 +24,8 @@
 //   including the baseline the command itself holds (the loaded scene and the kept reference
 //   frames). Where the reset is not allowed the column is the process-wide peak so far (monotone),
 //   and a warning says so.
-// - micropolygons: the most displaced micropolygons of any frame.
+// - micropolygons: the most displaced micropolygons of any frame; geometry_mib: the most memory of
+//   any frame's displaced meshes and their Embree scene (FrameGeometryStats).
 // - errors: of the beauty R, G, B against the reference with OpenImageIO's ImageBufAlgo::compare
 //   (mean absolute and RMS difference over pixels and channels) and computePixelStats
 //   (mean_intensity_error_pct = 100 |mean(img) - mean(ref)| / mean(ref), means over R, G, B),
@@ -24,6 +36,7 @@
 // out), pooled over the frame pairs.
 #include "trade_command.h"
 
+#include "reference_cache.h"
 #include "render_command.h"
 
 #include "meso/core/atomic_file.h"
@@ -75,6 +88,7 @@ struct Result {
   double seconds = 0.0;
   double peakRssMib = 0.0;
   size_t micropolygons = 0;
+  double geometryMib = 0.0;
   double meanAbsError = 0.0, rmse = 0.0, intensityErrorPct = 0.0;
 };
 
@@ -83,8 +97,32 @@ struct Rendered {
   double seconds = 0.0;
   double peakRssMib = 0.0;
   size_t micropolygons = 0;
+  double geometryMib = 0.0;
+  float coarsening = 1.0f;  // > 1: the micropolygon cap coarsened some frame's dicing
   std::vector<ImageBuf> beauty;
+  std::vector<std::vector<float>> depth;  // reference levels only: depth.Z per frame (0: no hit)
   std::vector<Image> films;
+};
+
+// One level of the reference's refinement.
+struct ReferenceLevel {
+  float dicingRate = 0.5f;
+  int spp = 64;
+  Rendered render;
+  bool fromCache = false;
+  // Against the previous level, over the pixels where both hit a surface, in percent of this
+  // level's mean there (first level: none): the signed change of the mean in each depth band
+  // (quantiles of this level's depth), the largest of them in magnitude, and the rmse.
+  std::vector<double> bandChangePct;
+  double meanChangePct = 0.0, rmseChangePct = 0.0;
+};
+
+struct ReferenceStudy {
+  std::vector<ReferenceLevel> levels;  // the last one is the reference
+  bool converged = false;
+  std::string stop;  // why refinement stopped
+  float tolerance = 0.5f, rmseTolerance = 2.0f;
+  const Rendered& reference() const { return levels.back().render; }
 };
 
 const char* algorithmName(Kind k) { return k == Kind::Hybrid ? "auto" : "displacement"; }
@@ -123,6 +161,12 @@ void checkValues(const std::vector<T>& values, const char* option, double lo, do
 void validate(const TradeCommandOptions& o) {
   checkValues(std::vector<int>{o.referenceSpp}, "--reference-spp", 1, 65536);
   checkValues(std::vector<float>{o.referenceDicingRate}, "--reference-dicing-rate", 0.01, 1000);
+  checkValues(std::vector<float>{o.referenceTolerance}, "--reference-tolerance", 1e-6, 100);
+  checkValues(std::vector<float>{o.referenceRmseTolerance}, "--reference-rmse-tolerance", 1e-6, 1000);
+  checkValues(std::vector<int>{o.referenceMaxRefinements}, "--reference-max-refinements", 0, 12);
+  checkValues(std::vector<double>{static_cast<double>(o.referenceMaxMicropolygons)},
+              "--reference-max-micropolygons", 1000, 1e12);
+  checkValues(o.hybridDicingRates, "--hybrid-dicing-rates", 0.01, 1000);
   checkValues(o.dValues, "--d-values", 0, 1e6);
   checkValues(o.sppValues, "--spp-values", 1, 65536);
   checkValues(o.dicingRates, "--dicing-rates", 0.01, 1000);
@@ -145,23 +189,29 @@ std::vector<CameraSettings> cameras(const TradeCommandOptions& o, const Scene& s
   return result;
 }
 
+// The swept configurations (the reference levels are not among them): the hybrid over D x spp at
+// the scene's dicing rate and over dicing rate x spp at the scene's D, displacement alone over
+// dicing rate x spp.
 std::vector<Configuration> configurations(const TradeCommandOptions& o, const Scene& scene) {
   std::vector<Configuration> list;
-  list.push_back({"reference", Kind::Reference, 0.0f, o.referenceSpp, o.referenceDicingRate, false});
-  const float sceneD = scene.render.transition.D;
+  const float sceneD = scene.render.transition.D, sceneRate = scene.render.dicingRate;
   const int sceneSpp = scene.camera.spp;
-  const auto hybrid = [&](float D, int spp) {
-    return Configuration{"hybrid_D" + formatNumber(D) + "_spp" + std::to_string(spp), Kind::Hybrid, D, spp,
-                         scene.render.dicingRate, D == sceneD && spp == sceneSpp};
+  const auto hybrid = [&](float D, float rate, int spp) {
+    return Configuration{"hybrid_D" + formatNumber(D) + "_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
+                         Kind::Hybrid, D, spp, rate, D == sceneD && spp == sceneSpp && rate == sceneRate};
   };
-  bool haveDefault = false;
-  if (!o.temporalOnly)
+  const auto add = [&](const Configuration& c) {
+    for (const Configuration& other : list)
+      if (other.name == c.name) return;
+    list.push_back(c);
+  };
+  if (!o.temporalOnly) {
     for (float D : o.dValues)
-      for (int spp : o.sppValues) {
-        list.push_back(hybrid(D, spp));
-        haveDefault = haveDefault || list.back().defaultHybrid;
-      }
-  if (!haveDefault) list.push_back(hybrid(sceneD, sceneSpp));  // the summary's configuration
+      for (int spp : o.sppValues) add(hybrid(D, sceneRate, spp));
+    for (float rate : o.hybridDicingRates)
+      for (int spp : o.sppValues) add(hybrid(sceneD, rate, spp));
+  }
+  add(hybrid(sceneD, sceneRate, sceneSpp));  // the summary's configuration
   if (!o.temporalOnly)
     for (float rate : o.dicingRates)
       for (int spp : o.sppValues)
@@ -231,7 +281,18 @@ Rendered renderConfiguration(const Scene& base, const Configuration& c, const st
     }
     out.seconds += timer.seconds();
     out.micropolygons = std::max(out.micropolygons, geometry.micropolygons);
+    out.geometryMib = std::max(out.geometryMib, static_cast<double>(geometry.meshBytes + geometry.embreePeakBytes) /
+                                                    (1024.0 * 1024.0));
+    out.coarsening = std::max(out.coarsening, geometry.coarsening);
     out.beauty.push_back(beautyBuffer(film));
+    if (c.kind == Kind::Reference) {
+      const int z = film.channelIndex("depth.Z");
+      if (z < 0) throw Error("trade: the film has no depth.Z channel");
+      std::vector<float> depth(static_cast<size_t>(film.width) * film.height);
+      for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
+      out.depth.push_back(std::move(depth));
+    }
     if (keepFilms) out.films.push_back(std::move(film));
   }
   out.peakRssMib = peakRssMib();
@@ -264,6 +325,217 @@ void addErrors(Result& r, const std::vector<ImageBuf>& images, const std::vector
   r.meanAbsError = mae / n, r.rmse = rmse / n, r.intensityErrorPct = pct / n;
 }
 
+// --- the reference: refined until it converges, cached on disk ---
+
+std::vector<float> rgbOf(const ImageBuf& b) {
+  std::vector<float> rgb(static_cast<size_t>(b.spec().width) * b.spec().height * 3);
+  b.get_pixels(b.roi(), OIIO::TypeDesc::FLOAT, rgb.data());
+  return rgb;
+}
+
+ReferenceRender toCache(const Rendered& r) {
+  ReferenceRender out;
+  out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.micropolygons = r.micropolygons;
+  for (size_t f = 0; f < r.beauty.size(); ++f) {
+    out.width = r.beauty[f].spec().width, out.height = r.beauty[f].spec().height;
+    const std::vector<float> rgb = rgbOf(r.beauty[f]);
+    std::vector<float> rgbz(r.depth[f].size() * 4);
+    for (size_t i = 0; i < r.depth[f].size(); ++i)
+      for (int c = 0; c < 4; ++c) rgbz[4 * i + c] = c < 3 ? rgb[3 * i + c] : r.depth[f][i];
+    out.frames.push_back(std::move(rgbz));
+  }
+  return out;
+}
+
+Rendered fromCache(const ReferenceRender& r) {
+  Rendered out;
+  out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.micropolygons = r.micropolygons;
+  for (const std::vector<float>& rgbz : r.frames) {
+    const size_t n = rgbz.size() / 4;
+    std::vector<float> rgb(n * 3), depth(n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) rgb[3 * i + c] = rgbz[4 * i + c];
+      depth[i] = rgbz[4 * i + 3];
+    }
+    ImageBuf buf(OIIO::ImageSpec(r.width, r.height, 3, OIIO::TypeDesc::FLOAT));
+    buf.set_pixels(buf.roi(), OIIO::TypeDesc::FLOAT, rgb.data());
+    out.beauty.push_back(std::move(buf));
+    out.depth.push_back(std::move(depth));
+  }
+  return out;
+}
+
+constexpr int kDepthBands = 5;
+
+// The change from `previous` to `level` over the pixels where both hit a surface (the background
+// would dilute it), per depth band (quantiles of the level's depth: equal pixel counts, near to
+// far) and as an rmse, in percent of the level's mean there, averaged over the frames.
+void measureChange(ReferenceLevel& level, const Rendered& previous) {
+  const Rendered& now = level.render;
+  std::vector<double> bandPct(kDepthBands, 0.0);
+  double rmsePct = 0.0;
+  for (size_t f = 0; f < now.beauty.size(); ++f) {
+    const std::vector<float> a = rgbOf(now.beauty[f]), b = rgbOf(previous.beauty[f]);
+    const std::vector<float>& za = now.depth[f];
+    const std::vector<float>& zb = previous.depth[f];
+    std::vector<size_t> hits;
+    for (size_t i = 0; i < za.size(); ++i)
+      if (za[i] > 0.0f && zb[i] > 0.0f) hits.push_back(i);
+    if (hits.empty()) continue;
+    std::sort(hits.begin(), hits.end(), [&](size_t i, size_t j) { return za[i] < za[j]; });
+    double sumA = 0.0, squares = 0.0;
+    for (int band = 0; band < kDepthBands; ++band) {
+      double bandA = 0.0, bandB = 0.0;
+      for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const double va = a[3 * hits[k] + c], vb = b[3 * hits[k] + c];
+          bandA += va, bandB += vb, squares += (va - vb) * (va - vb);
+        }
+      sumA += bandA;
+      bandPct[band] += bandA > 0.0 ? 100.0 * (bandA - bandB) / bandA : 0.0;
+    }
+    const double n = 3.0 * static_cast<double>(hits.size());
+    rmsePct += sumA > 0.0 ? 100.0 * std::sqrt(squares / n) / (sumA / n) : 0.0;
+  }
+  const double frames = static_cast<double>(now.beauty.size());
+  level.bandChangePct.clear();
+  level.meanChangePct = 0.0;
+  for (double pct : bandPct) {
+    level.bandChangePct.push_back(pct / frames);
+    if (std::abs(pct / frames) > std::abs(level.meanChangePct)) level.meanChangePct = pct / frames;
+  }
+  level.rmseChangePct = rmsePct / frames;
+}
+
+ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp, const std::vector<CameraSettings>& cams,
+                              const ReferenceCache& cache, bool& warnedRss, bool quiet) {
+  ReferenceLevel level;
+  level.dicingRate = rate, level.spp = spp;
+  const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
+  const uint64_t key = referenceKey(sceneFor(scene, c), cams, rate, spp);
+  std::string warning;
+  if (std::optional<ReferenceRender> cached = cache.load(key, &warning)) {
+    if (cached->frames.size() == cams.size()) {
+      level.render = fromCache(*cached);
+      level.fromCache = true;
+      if (!quiet)
+        std::fprintf(stderr, "meso: trade: reference %g px, %d spp from cache %s\n", rate, spp,
+                     cache.fileFor(key).string().c_str());
+      return level;
+    }
+  }
+  if (!warning.empty()) std::fprintf(stderr, "meso: warning: %s\n", warning.c_str());
+  level.render = renderConfiguration(scene, c, cams, false, warnedRss);
+  try {
+    if (level.render.coarsening <= 1.0f) cache.store(key, toCache(level.render));
+  } catch (const Error& e) {  // a cache that cannot be written costs time, not the result
+    std::fprintf(stderr, "meso: warning: reference not cached: %s\n", e.what());
+  }
+  return level;
+}
+
+// Refines the reference (dicing rate halved, spp doubled) until it converges or the budget ends.
+ReferenceStudy convergeReference(const Scene& base, const TradeCommandOptions& o,
+                                 const std::vector<CameraSettings>& cams, const ReferenceCache& cache,
+                                 bool& warnedRss) {
+  Scene scene = base;
+  scene.render.maxMicropolygons = std::max<int64_t>(scene.render.maxMicropolygons, o.referenceMaxMicropolygons);
+  ReferenceStudy study;
+  study.tolerance = o.referenceTolerance;
+  study.rmseTolerance = o.referenceRmseTolerance;
+  float rate = o.referenceDicingRate;
+  int spp = o.referenceSpp;
+  for (int k = 0;; ++k) {
+    study.levels.push_back(referenceLevel(scene, rate, spp, cams, cache, warnedRss, o.quiet));
+    ReferenceLevel& level = study.levels.back();
+    if (!o.quiet)
+      std::fprintf(stderr, "meso: trade: reference level %d: %g px, %d spp, %zu micropolygons, %.3g s%s\n", k, rate,
+                   spp, level.render.micropolygons, level.render.seconds, level.fromCache ? " (cached)" : "");
+    if (level.render.coarsening > 1.0f) {
+      study.stop = "the micropolygon cap coarsened level " + std::to_string(k);
+      if (study.levels.size() > 1) study.levels.pop_back();  // the finest level that was diced as asked
+      return study;
+    }
+    if (k > 0) {
+      measureChange(level, study.levels[k - 1].render);
+      if (std::abs(level.meanChangePct) < o.referenceTolerance && level.rmseChangePct < o.referenceRmseTolerance) {
+        study.converged = true;
+        study.stop = "converged";
+        return study;
+      }
+    }
+    if (k >= o.referenceMaxRefinements) {
+      study.stop = "--reference-max-refinements " + std::to_string(o.referenceMaxRefinements) + " reached";
+      return study;
+    }
+    // Halving the dicing rate gives up to 4x the micropolygons (fewer where texels cap it).
+    const double next = 4.0 * static_cast<double>(level.render.micropolygons);
+    if (next > static_cast<double>(o.referenceMaxMicropolygons)) {
+      char why[160];
+      std::snprintf(why, sizeof why, "the next level (%g px) would need about %.3g micropolygons, over "
+                    "--reference-max-micropolygons %lld", rate / 2.0f, next, o.referenceMaxMicropolygons);
+      study.stop = why;
+      return study;
+    }
+    rate /= 2.0f;
+    spp = std::min(spp * 2, 65536);
+  }
+}
+
+// What remains if the changes keep shrinking as they did over the last two levels (a geometric
+// series); negative when there are fewer than three levels or the changes did not shrink.
+double remainingEstimatePct(const ReferenceStudy& s) {
+  const size_t n = s.levels.size();
+  if (n < 3) return -1.0;
+  const double last = std::abs(s.levels[n - 1].meanChangePct), before = std::abs(s.levels[n - 2].meanChangePct);
+  if (!(before > 0.0) || !(last < before)) return -1.0;
+  const double q = last / before;
+  return last * q / (1.0 - q);
+}
+
+// "0.5 px 64 spp -> 0.25 px 128 spp (mean +1.2%, rmse 0.9%) -> ..."
+std::string referenceLevels(const ReferenceStudy& s) {
+  std::string text;
+  char buf[160];
+  for (size_t k = 0; k < s.levels.size(); ++k) {
+    const ReferenceLevel& l = s.levels[k];
+    if (k == 0) std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
+    else
+      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)", l.dicingRate, l.spp,
+                    l.meanChangePct, l.rmseChangePct);
+    text += buf;
+  }
+  return text;
+}
+
+std::string referenceVerdict(const ReferenceStudy& s) {
+  char buf[512];
+  if (s.converged) {
+    std::snprintf(buf, sizeof buf,
+                  "reference converged (the mean of every depth band changed by less than %g%%, the rmse is below "
+                  "%g%% of the mean): %s",
+                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str());
+    return buf;
+  }
+  const ReferenceLevel& last = s.levels.back();
+  const double rest = remainingEstimatePct(s);
+  char estimate[160] = "";
+  if (rest >= 0.0)
+    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off", rest);
+  if (s.levels.size() < 2)
+    std::snprintf(buf, sizeof buf, "reference NOT converged: only one level (%s), %s; its error is unknown",
+                  referenceLevels(s).c_str(), s.stop.c_str());
+  else
+    std::snprintf(buf, sizeof buf,
+                  "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the last refinement "
+                  "still changed the mean of a depth band by %+.2f%% and the rmse by %.2f%% of the mean%s",
+                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(), last.meanChangePct, last.rmseChangePct,
+                  estimate);
+  return buf;
+}
+
 // --- outputs ---
 
 void writeText(const fs::path& file, const std::string& text) {
@@ -274,18 +546,40 @@ void writeText(const fs::path& file, const std::string& text) {
   });
 }
 
-std::string csv(const std::vector<Result>& results) {
+// "a;b;c" (near to far).
+std::string bandList(const std::vector<double>& bands) {
+  std::string text;
+  for (size_t b = 0; b < bands.size(); ++b) {
+    if (b > 0) text += ';';
+    text += formatNumber(bands[b]);
+  }
+  return text;
+}
+
+// Comment lines first: the reference's convergence, one line per level.
+std::string csv(const std::vector<Result>& results, const ReferenceStudy& study) {
   std::ostringstream s;
+  char line[640];
+  s << "# " << referenceVerdict(study) << "\n";
+  for (size_t k = 0; k < study.levels.size(); ++k) {
+    const ReferenceLevel& l = study.levels[k];
+    std::snprintf(line, sizeof line,
+                  "# reference level %zu: dicing_rate %g, spp %d, micropolygons %zu, seconds %.6g%s, "
+                  "mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
+                  k, l.dicingRate, l.spp, l.render.micropolygons, l.render.seconds, l.fromCache ? " (cached)" : "",
+                  k ? formatNumber(l.meanChangePct).c_str() : "", k ? formatNumber(l.rmseChangePct).c_str() : "",
+                  bandList(l.bandChangePct).c_str());
+    s << line;
+  }
   s << "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-       "mean_intensity_error_pct\n";
-  char line[512];
+       "mean_intensity_error_pct,geometry_mib\n";
   for (const Result& r : results) {
     const Configuration& c = r.config;
     // D is left empty where the algorithm does not use it (displacement alone).
     const std::string D = c.kind == Kind::Hybrid ? formatNumber(c.D) : "";
-    std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g\n", c.name.c_str(),
+    std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f\n", c.name.c_str(),
                   algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, r.seconds, r.peakRssMib, r.micropolygons,
-                  r.meanAbsError, r.rmse, r.intensityErrorPct);
+                  r.meanAbsError, r.rmse, r.intensityErrorPct, r.geometryMib);
     s << line;
   }
   return s.str();
@@ -413,10 +707,10 @@ void drawAxes(Canvas& canvas, const PlotAxes& a) {
 }
 
 void drawLegend(Canvas& canvas, const PlotAxes& a) {
-  const int x = a.right - 210, y = a.top + 20;
-  canvas.marker(x, y, 5, 0, kBlue), canvas.text(x + 14, y + 5, "hybrid (auto, D x spp)");
+  const int x = a.right - 245, y = a.top + 20;
+  canvas.marker(x, y, 5, 0, kBlue), canvas.text(x + 14, y + 5, "hybrid (auto, D or dicing x spp)");
   canvas.marker(x, y + 22, 5, 1, kRed), canvas.text(x + 14, y + 27, "displacement (dicing x spp)");
-  canvas.marker(x, y + 44, 6, 3, kBlack), canvas.text(x + 14, y + 49, "reference");
+  canvas.marker(x, y + 44, 6, 3, kBlack), canvas.text(x + 14, y + 49, "reference levels");
   canvas.line(x - 8, y + 66, x + 8, y + 66, kBlack, 2), canvas.text(x + 14, y + 71, "Pareto front");
 }
 
@@ -445,26 +739,33 @@ const Result& defaultHybrid(const std::vector<Result>& results) {
   throw Error("trade: internal: no default hybrid configuration");
 }
 
-std::string summary(const std::vector<Result>& results) {
+double ratio(double a, double b) { return b > 0.0 ? a / b : (a > 0.0 ? std::numeric_limits<double>::infinity() : 1.0); }
+
+// The default hybrid against the cheapest displacement-only configuration at least as accurate
+// (equal rmse or better): ratios hybrid / displacement, so < 1 is the hybrid's saving.
+std::string summary(const std::vector<Result>& results, const ReferenceStudy& study) {
   const Result& h = defaultHybrid(results);
   const Result* cheapest = nullptr;
   for (const Result& r : results)
     if (r.config.kind == Kind::Displacement && r.rmse <= h.rmse && (!cheapest || r.seconds < cheapest->seconds))
       cheapest = &r;
-  char buf[512];
+  char buf[1024];
+  int n = std::snprintf(buf, sizeof buf, "trade: default hybrid (D %g, %g px, %d spp) %.3g s, rmse %.4g, mean %+.3g%%",
+                        h.config.D, h.config.dicingRate, h.config.spp, h.seconds, h.rmse, h.intensityErrorPct);
   if (cheapest)
-    std::snprintf(buf, sizeof buf,
-                  "trade: default hybrid (D %g, %d spp) %.3g s, rmse %.4g; cheapest displacement-only as accurate "
-                  "(dicing %g px, %d spp) %.3g s, rmse %.4g: speedup %.2fx%s",
-                  h.config.D, h.config.spp, h.seconds, h.rmse, cheapest->config.dicingRate, cheapest->config.spp,
-                  cheapest->seconds, cheapest->rmse, cheapest->seconds / std::max(h.seconds, 1e-9),
-                  cheapest->seconds < h.seconds ? " (the hybrid is slower)" : "");
+    std::snprintf(buf + n, sizeof buf - n,
+                  "; cheapest displacement-only as accurate (dicing %g px, %d spp) %.3g s, rmse %.4g: speedup %.2fx%s; "
+                  "hybrid / displacement at equal rmse: time %.3gx, peak memory %.3gx, geometry memory %.3gx, "
+                  "micropolygons %.3gx, spp %.3gx",
+                  cheapest->config.dicingRate, cheapest->config.spp, cheapest->seconds, cheapest->rmse,
+                  ratio(cheapest->seconds, h.seconds), cheapest->seconds < h.seconds ? " (the hybrid is slower)" : "",
+                  ratio(h.seconds, cheapest->seconds), ratio(h.peakRssMib, cheapest->peakRssMib),
+                  ratio(h.geometryMib, cheapest->geometryMib),
+                  ratio(static_cast<double>(h.micropolygons), static_cast<double>(cheapest->micropolygons)),
+                  ratio(h.config.spp, cheapest->config.spp));
   else
-    std::snprintf(buf, sizeof buf,
-                  "trade: default hybrid (D %g, %d spp) %.3g s, rmse %.4g; no displacement-only configuration swept "
-                  "is as accurate",
-                  h.config.D, h.config.spp, h.seconds, h.rmse);
-  return buf;
+    std::snprintf(buf + n, sizeof buf - n, "; no displacement-only configuration swept is as accurate");
+  return std::string(buf) + "\n" + (study.converged ? "trade: " : "trade: WARNING: ") + referenceVerdict(study);
 }
 
 // --- temporal stability ---
@@ -562,26 +863,39 @@ void runTrade(const TradeCommandOptions& o) {
                  cams.size(), scene.camera.width, scene.camera.height, threads);
 
   bool warnedRss = false;
+  const ReferenceCache cache(o.noReferenceCache ? fs::path()
+                             : o.referenceCache.empty() ? ReferenceCache::defaultFolder(scene) : o.referenceCache);
+  const ReferenceStudy study = convergeReference(scene, o, cams, cache, warnedRss);
+  if (!study.converged) std::fprintf(stderr, "meso: WARNING: %s\n", referenceVerdict(study).c_str());
   std::vector<Result> results;
-  Rendered reference, hybrid;
+  for (size_t k = 0; k < study.levels.size(); ++k) {
+    const ReferenceLevel& l = study.levels[k];
+    const bool last = k + 1 == study.levels.size();
+    const Configuration c{last ? "reference" : "reference_l" + std::to_string(k), Kind::Reference, 0.0f, l.spp,
+                          l.dicingRate, false};
+    Result result{c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons, l.render.geometryMib};
+    addErrors(result, l.render.beauty, study.reference().beauty);
+    results.push_back(result);
+  }
+  const Rendered& reference = study.reference();
+  Rendered hybrid;
   for (size_t i = 0; i < configs.size(); ++i) {
     const Configuration& c = configs[i];
     const bool keepFilms = temporal && c.defaultHybrid;
     Rendered r = renderConfiguration(scene, c, cams, keepFilms, warnedRss);
-    Result result{c, r.seconds, r.peakRssMib, r.micropolygons};
-    addErrors(result, r.beauty, i == 0 ? r.beauty : reference.beauty);
+    Result result{c, r.seconds, r.peakRssMib, r.micropolygons, r.geometryMib};
+    addErrors(result, r.beauty, reference.beauty);
     results.push_back(result);
     progress(o, result, i, configs.size());
-    if (i == 0) reference = std::move(r);
-    else if (keepFilms) hybrid = std::move(r);
+    if (keepFilms) hybrid = std::move(r);
   }
 
-  writeText(o.outDir / "trade.csv", csv(results));
+  writeText(o.outDir / "trade.csv", csv(results, study));
   writePlot(o.outDir / "trade.png", results, paretoFront(results));
   if (!o.quiet)
     std::fprintf(stderr, "meso: wrote %s and %s\n", (o.outDir / "trade.csv").string().c_str(),
                  (o.outDir / "trade.png").string().c_str());
-  std::printf("%s\n", summary(results).c_str());
+  std::printf("%s\n", summary(results, study).c_str());
   if (temporal) {
     reportTemporal(temporalBands(hybrid, reference, scene.render.transition, o.band), o.outDir / "temporal.csv", o.band);
     if (!o.quiet) std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());

@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -52,6 +53,42 @@ float ScreenMetric::projectedLength(Vec3 a, Vec3 b) const {
   return glm::length(toPixels(a) - toPixels(b));
 }
 
+float ScreenMetric::pixelDensity(Vec3 p) const {
+  const float z = std::max(depth(p), nearDistance);
+  // Off screen the stretch is that of the image corner: an edge that leaves the view far to the
+  // side is not diced more finely than where it is seen.
+  const float tx = tanHalfFovY * static_cast<float>(width) / static_cast<float>(height);
+  const float corner = std::sqrt(1.0f + tx * tx + tanHalfFovY * tanHalfFovY);
+  return pixelsPerUnit(z) * std::clamp(glm::length(p - eye) / z, 1.0f, corner);
+}
+
+float ScreenMetric::footprintLength(Vec3 a, Vec3 b) const {
+  const float za = depth(a), zb = depth(b);
+  if (!(za >= nearDistance) && !(zb >= nearDistance)) return 0.0f;
+  if (za < nearDistance) a += (b - a) * ((nearDistance - za) / (zb - za));
+  if (zb < nearDistance) b += (a - b) * ((nearDistance - zb) / (za - zb));
+  const float mean =
+      (pixelDensity(a) + 4.0f * pixelDensity(0.5f * (a + b)) + pixelDensity(b)) / 6.0f;
+  return std::max(glm::length(b - a) * mean, projectedLength(a, b));
+}
+
+bool ScreenMetric::pointInView(Vec3 p) const {
+  if (!(depth(p) >= nearDistance)) return false;
+  const Vec2 q = toPixels(p);
+  return q.x >= 0.0f && q.x <= static_cast<float>(width) && q.y >= 0.0f &&
+         q.y <= static_cast<float>(height);
+}
+
+DicingMetric parseDicingMetric(const std::string& name) {
+  if (name == "isotropic") return DicingMetric::Isotropic;
+  if (name == "projected") return DicingMetric::Projected;
+  throw Error("dicing metric: expected \"isotropic\" or \"projected\", got \"" + name + "\"");
+}
+
+const char* dicingMetricName(DicingMetric metric) {
+  return metric == DicingMetric::Projected ? "projected" : "isotropic";
+}
+
 bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
   lo -= Vec3(grow);
   hi += Vec3(grow);
@@ -83,7 +120,9 @@ using OpenSubdiv::Far::ConstIndexArray;
 struct EdgeMeasure {
   enum Kind : char { Culled, Coarse, Diced };
   Kind kind = Culled;
-  float lengthPx = 0.0f;        // pixel length of the limit edge
+  float lengthPx = 0.0f;        // pixel length of the limit edge, by DicingSettings::metric
+  float worldLength = 0.0f;     // isotropic metric: world length of the limit edge
+  float density = 0.0f;         // isotropic metric: largest pixelDensity of its points in view
   float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
   int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
 };
@@ -134,7 +173,8 @@ std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& s
 // n segments. Deviations are scaled by the pixels per unit at their depth, which is conservative
 // (it ignores foreshortening).
 void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
-                      EdgeRateTessellator::Use owner, float tolerance, EdgeMeasure& m) {
+                      EdgeRateTessellator::Use owner, DicingMetric metric, float tolerance,
+                      EdgeMeasure& m) {
   constexpr int kSegments = 4;
   const LimitSurface::Impl& impl = surface.impl();
   const int n = surface.faceSize(owner.face);
@@ -144,7 +184,15 @@ void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
   for (int k = 0; k <= kSegments; ++k)
     P[k] = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments)).P;
   float length = 0.0f, deviationPx = 0.0f;
-  for (int k = 0; k < kSegments; ++k) length += screen.projectedLength(P[k], P[k + 1]);
+  for (int k = 0; k < kSegments; ++k)
+    length += metric == DicingMetric::Projected ? screen.projectedLength(P[k], P[k + 1])
+                                                : screen.footprintLength(P[k], P[k + 1]);
+  if (metric == DicingMetric::Isotropic) {
+    for (int k = 0; k < kSegments; ++k) m.worldLength += glm::length(P[k + 1] - P[k]);
+    for (int k = 0; k <= kSegments; ++k)
+      if (screen.pointInView(P[k])) m.density = std::max(m.density, screen.pixelDensity(P[k]));
+    if (!std::isfinite(m.worldLength * m.density)) m.worldLength = m.density = 0.0f;
+  }
   for (int k = 1; k < kSegments; ++k) {
     const float z = screen.depth(P[k]);
     if (!(z >= screen.nearDistance)) continue;
@@ -155,9 +203,31 @@ void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
   m.coarseSegments = std::isfinite(deviationPx) ? std::sqrt(deviationPx / tolerance) : 0.0f;
 }
 
-std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface, const EdgeRateTessellator& engine,
-                                      const ScreenMetric& screen, const DicingSettings& settings,
-                                      const FaceDicing& faces, const std::vector<char>& inView) {
+// Bfr spaces a quad's interior points evenly, with the mean rate of opposite edges, so the rate
+// an edge's own points ask for leaves the near part of a face that recedes in depth too coarse.
+// With the isotropic metric a diced edge is therefore sized by the densest point in view on any
+// diced face it bounds: its world length times that face's largest pixelDensity (sampled on the
+// face's edges). This over-dices the far part of deep faces, which are few: the ones near the eye.
+void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDicing& faces,
+                       const std::vector<char>& inView, std::vector<EdgeMeasure>& measures) {
+  std::vector<float> faceDensity(inView.size(), 0.0f);
+  for (size_t f = 0; f < inView.size(); ++f) {
+    if (!inView[f] || (!faces.needsDicing.empty() && !faces.needsDicing[f])) continue;
+    for (int e : base.GetFaceEdges(static_cast<int>(f)))
+      faceDensity[f] = std::max(faceDensity[f], measures[e].density);
+  }
+  for (size_t e = 0; e < measures.size(); ++e) {
+    EdgeMeasure& m = measures[e];
+    if (m.kind != EdgeMeasure::Diced) continue;
+    for (int f : base.GetEdgeFaces(static_cast<int>(e)))
+      m.lengthPx = std::max(m.lengthPx, m.worldLength * faceDensity[f]);
+  }
+}
+
+std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
+                                      const EdgeRateTessellator& engine, const ScreenMetric& screen,
+                                      const DicingSettings& settings, const FaceDicing& faces,
+                                      const std::vector<char>& inView) {
   const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
   std::vector<EdgeMeasure> measures(engine.numEdges());
   tbb::parallel_for(0, engine.numEdges(), [&](int e) {
@@ -174,8 +244,10 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface, const EdgeRat
     }
     if (uncapped) m.cap = 0;
     if (m.kind != EdgeMeasure::Culled)
-      measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.coarseTolerance, m);
+      measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
+                       settings.coarseTolerance, m);
   });
+  if (settings.metric == DicingMetric::Isotropic) spreadFaceDensity(base, faces, inView, measures);
   return measures;
 }
 
@@ -201,8 +273,8 @@ std::string capWarning(size_t asked, const DicingSettings& s, float coarsening, 
   std::snprintf(text, sizeof text,
                 "adaptive tessellation: %zu micropolygons would exceed the cap of %zu; every edge "
                 "rate coarsened by %.3g (dicing rate %.3g px instead of %.3g), giving %zu%s",
-                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate,
-                got, got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
+                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate, got,
+                got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
   return text;
 }
 
@@ -230,6 +302,21 @@ std::vector<int> chooseRates(EdgeRateTessellator& engine, const std::vector<Edge
   }
   result.stats.coarsening = coarsening;
   return rates;
+}
+
+size_t countOffScreen(const TessellatedMesh& m, const ScreenMetric& screen) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, m.numTriangles()), size_t{0},
+      [&](const tbb::blocked_range<size_t>& range, size_t count) {
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+          bool seen = false;
+          for (int k = 0; k < 3 && !seen; ++k)
+            seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
+          count += !seen;
+        }
+        return count;
+      },
+      [](size_t a, size_t b) { return a + b; });
 }
 
 void countFaces(const LimitSurface& surface, const FaceDicing& faces,
@@ -265,6 +352,7 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids);
   stats.evaluateSeconds = timer.seconds();
   stats.micropolygons = result.mesh.numTriangles();
+  stats.offScreenMicropolygons = countOffScreen(result.mesh, screen);
   stats.vertices = result.mesh.positions.size();
   if (!result.edgeRates.empty()) {
     const auto [lo, hi] = std::minmax_element(result.edgeRates.begin(), result.edgeRates.end());

@@ -97,6 +97,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
                                                    settings.width, settings.height);
   DicingSettings dicing;
   dicing.dicingRate = rs.dicingRate;
+  dicing.metric = parseDicingMetric(rs.dicingMetric);
   dicing.maxEdgeRate = 4096;
   size_t budget = static_cast<size_t>(rs.maxMicropolygons);
 
@@ -121,6 +122,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
         &displacement);
     if (!t.warning.empty()) ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
     stats.micropolygons += t.stats.micropolygons;
+    stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
     stats.facesDiced += t.stats.facesDiced;
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;

@@ -379,6 +379,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     s.transition.e4 = static_cast<float>(v[3]);
   }
   s.dicingRate = static_cast<float>(r.number("dicing_rate", s.dicingRate, 0.01, 1000.0));
+  s.dicingMetric = r.choice("dicing_metric", s.dicingMetric, {"isotropic", "projected"});
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
   s.normals = r.choice("normals", s.normals, {"bump", "facet"});
   if (const std::optional<std::string> c = r.string("cache_dir"))

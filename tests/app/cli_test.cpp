@@ -69,7 +69,8 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
   std::stringstream s;
   s << in.rdbuf();
   for (const char* key : {"\"micropolygons\"", "\"tessellate_seconds\"", "\"bvh_seconds\"",
-                          "\"peak_mib_per_million_micropolygons\"", "\"dicing_rate\": 2.0"})
+                          "\"peak_mib_per_million_micropolygons\"", "\"dicing_rate\": 2.0",
+                          "\"dicing_metric\": \"isotropic\"", "\"micropolygons_off_screen\""})
     EXPECT_NE(s.str().find(key), std::string::npos) << key << "\n" << s.str();
   EXPECT_EQ(s.str().find("\"micropolygons\": 0,"), std::string::npos) << s.str();
 
@@ -77,6 +78,8 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("would exceed the cap of 1000"), std::string::npos) << r.output;
   r = run(base + "--algorithm displacement --normals facet");
+  EXPECT_EQ(r.status, 0) << r.output;
+  r = run(base + "--algorithm displacement --dicing-metric projected --overwrite");
   EXPECT_EQ(r.status, 0) << r.output;
   r = run(base + "--D 0.5 --eps 0 --thresholds=-2,-1,1,2");
   EXPECT_EQ(r.status, 0) << r.output;
@@ -87,6 +90,9 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
   EXPECT_NE(r.output.find("thresholds must satisfy e1 < e2 < 0 < e3 < e4"), std::string::npos) << r.output;
   r = run(base + "--normals shiny");
   EXPECT_EQ(r.status, 2) << r.output;
+  r = run(base + "--dicing-metric screen");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--dicing-metric"), std::string::npos) << r.output;
   EXPECT_TRUE(outputFolderEmpty());
 }
 
@@ -133,6 +139,7 @@ TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
        "materials.relief.height: expected exactly one of"},
       {"bad scale", "[[objects]]\nmesh = \"quad.obj\"\nscale = [1, 0, 1]\n", "objects.scale: expected non-zero scale factors"},
       {"bad dicing rate", "[render]\ndicing_rate = 0\n", "render.dicing_rate: expected a number in [0.01, 1000], got 0"},
+      {"bad dicing metric", "[render]\ndicing_metric = \"screen\"\n", "render.dicing_metric: expected one of isotropic | projected"},
       {"path without keys", "[path]\nframes = 3\n", "path.keys: a [path] needs at least one"},
       {"path times out of order", "[path]\n[[path.keys]]\ntime = 1\n[[path.keys]]\ntime = 0\n",
        "path.keys.time: expected keyframe times to strictly increase"},

@@ -1,6 +1,8 @@
 // `meso trade` from the command line on a tiny default scene: the CSV's exact header, one row per
 // configuration, finite non-negative errors, zero error for a configuration identical to the
-// reference, the plot, the summary, --temporal, and status 2 naming the option for bad values.
+// reference, the plot, the summary, --temporal, the reference's convergence (converged, or a
+// warning with the last change when the budget is too small), the reference cache (hit on a
+// second run, a corrupt file re-rendered), and status 2 naming the option for bad values.
 #include "support/run_meso.h"
 #include "support/temp_dir.h"
 
@@ -13,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -40,31 +43,66 @@ std::vector<std::string> lines(const fs::path& file) {
   return result;
 }
 
+// The CSV without its comment lines (the reference's convergence), and those lines alone.
+std::vector<std::string> dataLines(const fs::path& file) {
+  std::vector<std::string> result;
+  for (const std::string& l : lines(file))
+    if (l.empty() || l[0] != '#') result.push_back(l);
+  return result;
+}
+std::vector<std::string> commentLines(const fs::path& file) {
+  std::vector<std::string> result;
+  for (const std::string& l : lines(file))
+    if (!l.empty() && l[0] == '#') result.push_back(l);
+  return result;
+}
+
+// The number after "key " in text, up to the next ',' or ' '.
+double numberAfter(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key + " ");
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(text.substr(at + key.size() + 1));
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
 class TradeTest : public meso::testing::TempDirTest {
  protected:
   std::string scene(const char* name) const { return std::string(MESO_SOURCE_DIR) + "/scenes/" + name; }
   std::string out() const { return (dir_ / "trade").string(); }
-  // Small sweeps: 1 reference + 2 x 2 hybrid (D 2, 4 spp is the scene's own) + 2 x 2 displacement.
+  std::string cache() const { return (dir_ / "references").string(); }
+  // Small sweeps: a one-level reference + 2 x 2 hybrid over D (D 2, 1 px, 4 spp is the scene's own)
+  // + 1 x 2 more hybrid over dicing (2 px) + 2 x 2 displacement.
   std::string tiny() const {
-    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --d-values 1,2 --spp-values 1,4 "
-           "--dicing-rates 4,2 -o " + out();
+    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --reference-max-refinements 0 "
+           "--d-values 1,2 --spp-values 1,4 --dicing-rates 4,2 --hybrid-dicing-rates 2,1 --reference-cache " +
+           cache() + " -o " + out();
+  }
+  // The reference alone is what these tests look at: one cheap hybrid and displacement configuration.
+  std::string referenceOnly() const {
+    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --d-values 2 --spp-values 4 "
+           "--dicing-rates 4 --hybrid-dicing-rates 1 --reference-cache " + cache() + " -o " + out() + " ";
   }
 };
 
 TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   const RunResult r = run("trade " + scene("default.toml") + " " + tiny());
   ASSERT_EQ(r.status, 0) << r.output;
-  const std::vector<std::string> rows = lines(dir_ / "trade/trade.csv");
+  const std::vector<std::string> rows = dataLines(dir_ / "trade/trade.csv");
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0],
             "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-            "mean_intensity_error_pct");
-  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 4u) << r.output;
+            "mean_intensity_error_pct,geometry_mib");
+  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 4u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
     const std::vector<std::string> f = split(rows[i], ',');
-    ASSERT_EQ(f.size(), 11u) << rows[i];
-    for (int c : {5, 6, 8, 9, 10}) {
+    ASSERT_EQ(f.size(), 12u) << rows[i];
+    for (int c : {5, 6, 8, 9, 10, 11}) {
       const double v = std::stod(f[c]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
     }
@@ -78,18 +116,124 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   ASSERT_TRUE(byName.count("displacement_r2_spp4"));
   EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][8]), 0.0);
   EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][9]), 0.0);
-  ASSERT_TRUE(byName.count("hybrid_D2_spp4"));
-  EXPECT_EQ(byName["hybrid_D2_spp4"][1], "auto");
-  EXPECT_GT(std::stod(byName["hybrid_D1_spp1"][8]), 0.0);  // one sample per pixel is not converged
+  EXPECT_GT(std::stod(byName["reference"][11]), 0.0);  // geometry memory of displaced micropolygons
+  ASSERT_TRUE(byName.count("hybrid_D2_r1_spp4"));
+  EXPECT_EQ(byName["hybrid_D2_r1_spp4"][1], "auto");
+  ASSERT_TRUE(byName.count("hybrid_D2_r2_spp1"));  // the hybrid's dicing rate is swept too
+  EXPECT_EQ(byName["hybrid_D2_r2_spp1"][4], "2");
+  EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][8]), 0.0);  // one sample per pixel is not converged
   EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png"));
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
-  EXPECT_NE(r.output.find("trade: default hybrid (D 2, 4 spp)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("speedup"), std::string::npos) << r.output;  // displacement_r2_spp4 is as accurate
+  const std::string x = "[0-9.e+-]+x";
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("hybrid / displacement at equal rmse: time " + x + ", peak memory " +
+                                                     x + ", geometry memory " + x + ", micropolygons " + x +
+                                                     ", spp " + x)))
+      << r.output;
+  // One reference level cannot say how converged it is: the warning says so.
+  EXPECT_NE(r.output.find("reference NOT converged: only one level"), std::string::npos) << r.output;
+}
+
+// Tolerances the tiny default scene meets after one refinement (2 px 4 spp -> 1 px 8 spp).
+TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
+  const RunResult r =
+      run("trade " + scene("default.toml") + " " + referenceOnly() + "--reference-tolerance 1 --reference-rmse-tolerance 10");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("WARNING"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("trade: reference converged (the mean of every depth band changed by less than 1%, the "
+                          "rmse is below 10% of the mean): 2 px 4 spp -> 1 px 8 spp (worst band "),
+            std::string::npos)
+      << r.output;
+  const std::vector<std::string> comments = commentLines(dir_ / "trade/trade.csv");
+  ASSERT_EQ(comments.size(), 3u) << r.output;  // verdict, level 0, level 1
+  EXPECT_NE(comments[0].find("# reference converged"), std::string::npos) << comments[0];
+  const double meanChange = numberAfter(comments[2], "mean_change_pct");
+  const double rmseChange = numberAfter(comments[2], "rmse_change_pct");
+  EXPECT_LT(std::abs(meanChange), 1.0);
+  EXPECT_LT(rmseChange, 10.0);
+  EXPECT_GT(rmseChange, 0.0);  // 4 and 8 spp differ
+  // Five depth bands, near to far; the reported change is the largest in magnitude.
+  const size_t at = comments[2].find("band_change_pct ");
+  ASSERT_NE(at, std::string::npos) << comments[2];
+  const std::vector<std::string> bands = split(comments[2].substr(at + 16), ';');
+  ASSERT_EQ(bands.size(), 5u) << comments[2];
+  double worst = 0.0;
+  for (const std::string& b : bands)
+    if (std::abs(std::stod(b)) > std::abs(worst)) worst = std::stod(b);
+  EXPECT_NEAR(worst, meanChange, 1e-4 + 1e-4 * std::abs(meanChange));
+  EXPECT_GT(std::abs(worst), 0.0);
+  std::map<std::string, std::vector<std::string>> byName;
+  for (const std::string& row : dataLines(dir_ / "trade/trade.csv")) byName[split(row, ',')[0]] = split(row, ',');
+  ASSERT_TRUE(byName.count("reference_l0") && byName.count("reference"));
+  EXPECT_EQ(byName["reference"][3], "8");
+  EXPECT_EQ(byName["reference"][4], "1");
+  EXPECT_GT(std::stod(byName["reference_l0"][9]), 0.0);  // measured against the finer level
+}
+
+// A budget of one refinement and a tolerance no render meets: a loud warning with the last change,
+// exit status 0, the sweep still written. A micropolygon budget below the next level stops earlier.
+TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
+  RunResult r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+                    "--reference-max-refinements 1 --reference-tolerance 0.0001 --reference-rmse-tolerance 0.0001");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("meso: WARNING: reference NOT converged"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--reference-max-refinements 1 reached"), std::string::npos) << r.output;
+  const std::string phrase = "the last refinement still changed the mean of a depth band by ";
+  const size_t at = r.output.find(phrase);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const double reported = std::stod(r.output.substr(at + phrase.size()));
+  const std::vector<std::string> comments = commentLines(dir_ / "trade/trade.csv");
+  ASSERT_EQ(comments.size(), 3u);
+  EXPECT_NE(comments[0].find("# reference NOT converged"), std::string::npos) << comments[0];
+  EXPECT_NEAR(reported, numberAfter(comments[2], "mean_change_pct"), 0.006);
+  EXPECT_GT(std::abs(numberAfter(comments[2], "mean_change_pct")) + numberAfter(comments[2], "rmse_change_pct"),
+            0.0001);
+  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(), 1u + 2u + 1u + 1u);  // header, levels, hybrid, displacement
+
+  // Level 0 has 4204 micropolygons here; the next would need about 4x.
+  r = run("trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-micropolygons 10000");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("over --reference-max-micropolygons 10000"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("WARNING: reference NOT converged: only one level"), std::string::npos) << r.output;
+}
+
+// The second run takes every reference level from the cache and gets the same CSV rows for them; a
+// corrupt cache file is reported, re-rendered and replaced.
+TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
+  const std::string args = "trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
+  const RunResult first = run(args);
+  ASSERT_EQ(first.status, 0) << first.output;
+  EXPECT_EQ(count(first.output, "from cache"), 0u) << first.output;
+  const std::vector<std::string> before = dataLines(dir_ / "trade/trade.csv");
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(cache())) files.push_back(e.path());
+  ASSERT_EQ(files.size(), 3u);  // one file per level
+
+  const RunResult second = run(args);
+  ASSERT_EQ(second.status, 0) << second.output;
+  EXPECT_EQ(count(second.output, "from cache"), 3u) << second.output;
+  const std::vector<std::string> after = dataLines(dir_ / "trade/trade.csv");
+  ASSERT_GE(after.size(), 4u);
+  for (size_t i = 1; i <= 3; ++i) EXPECT_EQ(after[i], before[i]);  // the levels, seconds included
+
+  // Truncate one file: re-rendered (with a message), and the next run trusts the new file.
+  fs::resize_file(files[0], fs::file_size(files[0]) / 2);
+  const RunResult third = run(args);
+  ASSERT_EQ(third.status, 0) << third.output;
+  EXPECT_NE(third.output.find("re-rendering the reference"), std::string::npos) << third.output;
+  EXPECT_EQ(count(third.output, "from cache"), 2u) << third.output;
+  const RunResult fourth = run(args);
+  EXPECT_EQ(count(fourth.output, "from cache"), 3u) << fourth.output;
+  // A different setting that shapes the image is another key.
+  const RunResult other = run(args + " --width 40");
+  EXPECT_EQ(count(other.output, "from cache"), 0u) << other.output;
 }
 
 TEST_F(TradeTest, TemporalBandsOnAPath) {
   const RunResult r = run("trade " + scene("flythrough.toml") +
-                          " --width 64 --height 36 --frames 0:2 --temporal-only --reference-spp 4 -o " + out());
+                          " --width 64 --height 36 --frames 0:2 --temporal-only --reference-spp 4 "
+                          "--reference-max-refinements 1 --reference-cache " + cache() + " -o " + out());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::vector<std::string> rows = lines(dir_ / "trade/temporal.csv");
   ASSERT_EQ(rows.size(), 7u) << r.output;
@@ -97,7 +241,7 @@ TEST_F(TradeTest, TemporalBandsOnAPath) {
   const std::vector<std::string> all = split(rows[6], ',');
   ASSERT_EQ(all[0], "all");
   EXPECT_GT(std::stod(all[3]), 0.0);  // pixels that hit a surface, over two frame pairs
-  EXPECT_EQ(lines(dir_ / "trade/trade.csv").size(), 3u);  // header, reference, default hybrid
+  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(), 4u);  // header, 2 reference levels, default hybrid
 }
 
 TEST_F(TradeTest, BadValuesExitTwoNamingTheOption) {
@@ -109,6 +253,9 @@ TEST_F(TradeTest, BadValuesExitTwoNamingTheOption) {
       {"--dicing-rates 0", "--dicing-rates"},
       {"--reference-spp 0", "--reference-spp"},
       {"--reference-dicing-rate -2", "--reference-dicing-rate"},
+      {"--reference-tolerance 0", "--reference-tolerance"},
+      {"--reference-max-refinements 13", "--reference-max-refinements"},
+      {"--hybrid-dicing-rates 0", "--hybrid-dicing-rates"},
       {"--frames 0:3", "--frames"},
       {"--temporal", "--temporal"},
   };

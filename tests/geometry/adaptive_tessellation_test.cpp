@@ -111,15 +111,18 @@ int nonUniformQuads(const LimitSurface& surface, const TessellatedMesh& mesh) {
   return count;
 }
 
-void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, int numRays) {
+void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, int numRays,
+                      DicingMetric metric) {
   const LimitSurface surface(control, SubdivisionScheme::CatmullClark);
   const WaveDisplacement wave;
   // Diced faces (at every other index) next to coarse ones, on top of the rates the distance gives.
   FaceDicing faces;
   for (int f = 0; f < surface.numFaces(); ++f) faces.needsDicing.push_back(f % 2 == 0);
-  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, DicingSettings{}, faces, &wave);
-  std::printf("  %d faces: %zu micropolygons, edge rates %d..%d\n", surface.numFaces(),
-              t.stats.micropolygons, t.stats.minEdgeRate, t.stats.maxEdgeRate);
+  DicingSettings settings;
+  settings.metric = metric;
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, faces, &wave);
+  std::printf("  %s, %d faces: %zu micropolygons, edge rates %d..%d\n", dicingMetricName(metric),
+              surface.numFaces(), t.stats.micropolygons, t.stats.minEdgeRate, t.stats.maxEdgeRate);
   // The camera close to one side and coarse faces between diced ones make rates differ strongly,
   // also within single faces.
   EXPECT_GE(t.stats.maxEdgeRate, 8 * t.stats.minEdgeRate);
@@ -149,8 +152,80 @@ TEST(AdaptiveTessellation, DisplacedClosedSurfacesWithMixedRatesAreWatertight) {
   // Eye 1.3 units in front of the +z side, looking at the object's centre.
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.3f, 0.2f, 2.3f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 320, 180);
-  expectWatertight(refinedCube(3), screen, 100000);
-  expectWatertight(test::mixedPrism(), screen, 100000);
+  for (DicingMetric metric : {DicingMetric::Isotropic, DicingMetric::Projected}) {
+    expectWatertight(refinedCube(3), screen, 100000, metric);
+    expectWatertight(test::mixedPrism(), screen, 100000, metric);
+  }
+}
+
+// A large plane seen from just above it, looking at the horizon: the case the isotropic metric is
+// for. Its micropolygons are at most about dicingRate pixel footprints long wherever they are in
+// view; the projected metric leaves them many footprints long in depth.
+struct GrazingDicing {
+  std::vector<int> rates;
+  size_t micropolygons = 0;
+  size_t offScreen = 0;
+  float worstLeg = 0.0f;  // longest micropolygon leg in view, in pixel footprints
+  float legP99 = 0.0f;    // its 99th percentile
+};
+
+GrazingDicing diceGrazing(const LimitSurface& surface, const ScreenMetric& screen,
+                          DicingMetric metric) {
+  DicingSettings settings;
+  settings.metric = metric;
+  settings.maxEdgeRate = 4096;
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, nullptr);
+  GrazingDicing out{t.edgeRates, t.stats.micropolygons, t.stats.offScreenMicropolygons, 0.0f, 0.0f};
+  // The two shorter edges of a triangle are its legs (the grid cells' sides); the third is the
+  // diagonal of the cell.
+  std::vector<float> legs;
+  const TessellatedMesh& m = t.mesh;
+  for (size_t k = 0; k < m.numTriangles(); ++k) {
+    const Vec3 p[3] = {m.positions[m.indices[3 * k]], m.positions[m.indices[3 * k + 1]],
+                       m.positions[m.indices[3 * k + 2]]};
+    if (!screen.pointInView(p[0]) || !screen.pointInView(p[1]) || !screen.pointInView(p[2]))
+      continue;
+    float e[3];
+    for (int i = 0; i < 3; ++i) e[i] = screen.footprintLength(p[i], p[(i + 1) % 3]);
+    std::sort(e, e + 3);
+    legs.push_back(e[1]);
+  }
+  std::sort(legs.begin(), legs.end());
+  if (!legs.empty()) {
+    out.worstLeg = legs.back();
+    out.legP99 = legs[legs.size() * 99 / 100];
+  }
+  return out;
+}
+
+TEST(AdaptiveTessellation, IsotropicMetricResolvesGrazingViews) {
+  const LimitSurface surface(test::grid(24), SubdivisionScheme::Bilinear);
+  const ScreenMetric screen = ScreenMetric::lookAt(
+      Vec3(12.0f, -0.5f, 0.6f), Vec3(12.0f, 24.0f, 0.35f), Vec3(0, 0, 1), 40.0f, 160, 90);
+  const GrazingDicing iso = diceGrazing(surface, screen, DicingMetric::Isotropic);
+  const GrazingDicing proj = diceGrazing(surface, screen, DicingMetric::Projected);
+  std::printf("  isotropic: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n"
+              "  projected: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n",
+              iso.micropolygons, iso.legP99, iso.worstLeg, proj.micropolygons, proj.legP99,
+              proj.worstLeg);
+  ASSERT_EQ(iso.rates.size(), proj.rates.size());
+  long isoSum = 0, projSum = 0;
+  for (size_t e = 0; e < iso.rates.size(); ++e) {
+    EXPECT_GE(iso.rates[e], proj.rates[e]) << "edge " << e;
+    isoSum += iso.rates[e];
+    projSum += proj.rates[e];
+  }
+  EXPECT_GT(isoSum, projSum * 3 / 2);  // grazing: the projected metric is far coarser
+  EXPECT_GT(iso.micropolygons, 2 * proj.micropolygons);
+  // Dicing rate 1: the metric's bound, with 10% for the edges' five sample points; the longest
+  // legs sit where Bfr joins rates that differ along face borders.
+  EXPECT_LE(iso.legP99, 1.1f);
+  EXPECT_LE(iso.worstLeg, 1.5f);
+  EXPECT_GT(proj.legP99, 3.0f);  // what the isotropic metric fixes
+  // The plane reaches far beyond the view on both sides: some micropolygons are off screen, most
+  // (by far the smallest ones, near the eye) in view.
+  EXPECT_GT(iso.offScreen, 0u);
+  EXPECT_LT(iso.offScreen, iso.micropolygons / 2);
 }
 
 // Facet normals of the displaced plane approach the exact normal of the height field as
@@ -179,6 +254,7 @@ TEST(AdaptiveTessellation, FacetNormalsConvergeToTheDisplacedSurfaceNormal) {
     DicingSettings settings;
     settings.dicingRate = dicingRate;
     const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, &field);
+    EXPECT_EQ(t.stats.offScreenMicropolygons, 0u);  // the whole grid is in view
     const float angle = meanFacetAngle(t.mesh, field);
     std::printf("  dicing rate %.2f px: %zu micropolygons, mean facet angle %.4f degrees\n",
                 dicingRate, t.stats.micropolygons, degrees(angle));
@@ -285,6 +361,7 @@ TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
                            640, 360);
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, nullptr);
   EXPECT_EQ(t.stats.facesCulled, surface.numFaces());
+  EXPECT_EQ(t.stats.offScreenMicropolygons, t.stats.micropolygons);
   const TessellatedMesh u = tessellateUniform(surface, 1);
   EXPECT_TRUE(sameBits(t.mesh.positions, u.positions));
   EXPECT_TRUE(sameBits(t.mesh.indices, u.indices));
@@ -398,6 +475,33 @@ TEST(ScreenMetric, ProjectedLengthClipsBehindTheEye) {
   const float crossing = screen.projectedLength(Vec3(0.2f, 0, 1), Vec3(0.2f, 0, -1));
   EXPECT_TRUE(std::isfinite(crossing));
   EXPECT_GT(crossing, 0.0f);
+}
+
+TEST(ScreenMetric, FootprintLengthIsWorldLengthOverThePixelFootprint) {
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f), Vec3(0, 0, -1), Vec3(0, 1, 0), 90.0f, 200, 100);
+  // Along the view axis from depth 2 to 3: nothing on screen, but k ln(3 / 2) footprints
+  // (k = 50 pixels per unit at depth 1; Simpson's rule is within 3e-4 of the logarithm).
+  EXPECT_LT(screen.projectedLength(Vec3(0, 0, -2), Vec3(0, 0, -3)), 1e-3f);
+  EXPECT_NEAR(screen.footprintLength(Vec3(0, 0, -2), Vec3(0, 0, -3)), 50.0f * std::log(1.5f),
+              50.0f * 3e-4f);
+  // Across the axis at depth 2: about the projected 25 pixels (a little more off axis).
+  const float across = screen.footprintLength(Vec3(-0.5f, 0, -2), Vec3(0.5f, 0, -2));
+  EXPECT_GE(across, 25.0f);
+  EXPECT_LT(across, 25.5f);
+  EXPECT_NEAR(screen.pixelDensity(Vec3(0, 0, -2)), 25.0f, 1e-4f);
+  EXPECT_NEAR(screen.pixelDensity(Vec3(2, 0, -2)), 25.0f * std::sqrt(2.0f), 1e-3f);
+  EXPECT_EQ(screen.footprintLength(Vec3(-1, 0, 1), Vec3(1, 0, 2)), 0.0f);  // wholly behind
+  // Never shorter than the projection, whatever the segment.
+  Rng rng(17);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 a(4 * rng.uniform() - 2, 4 * rng.uniform() - 2, -0.1f - 5 * rng.uniform());
+    const Vec3 b = a + 0.3f * randomDirection(rng);
+    EXPECT_GE(screen.footprintLength(a, b), screen.projectedLength(a, b) * (1.0f - 1e-5f));
+  }
+  EXPECT_EQ(parseDicingMetric("projected"), DicingMetric::Projected);
+  EXPECT_EQ(parseDicingMetric("isotropic"), DicingMetric::Isotropic);
+  EXPECT_THROW(parseDicingMetric("screen"), Error);
 }
 
 TEST(ScreenMetric, BoxTestCullsOnlyBoxesOutsideTheFrustum) {

@@ -227,6 +227,9 @@ TEST_F(ExtremesTest, CameraNearlyTouchingAndVeryFar) {
           s.camera.lookAt = {0.1f, 0.2f, 0.0f};
           s.camera.up = overhead ? Vec3(0.0f, 1.0f, 0.0f) : Vec3(0.0f, 0.0f, 1.0f);
           if (narrow) s.camera.fovY = static_cast<float>(2.0 * std::atan(0.8 / d) / kDegree);
+          // Nearly touching: the relief (0.01) would hold the camera inside it, above or below the
+          // displaced surface depending on how finely it is diced; keep it below the camera.
+          if (factor < 1.0) s.materials[0].relief[0].amplitude = 0.25f * d;
         };
         // Oblique at 1e9 the float ray directions (relative error ~6e-8 rad) cannot aim within the
         // 4e-10 rad the plane subtends, so only finiteness is asked there.

@@ -95,6 +95,7 @@ D = 3
 eps = 0.2
 thresholds = [-2, -0.5, 0.5, 2]
 dicing_rate = 0.5
+dicing_metric = "projected"
 normals = "facet"
 )");
   EXPECT_EQ(s.camera.position, Vec3(1, 2, 3));
@@ -132,6 +133,7 @@ normals = "facet"
   EXPECT_FLOAT_EQ(s.render.transition.D, 3.0f);
   EXPECT_FLOAT_EQ(s.render.transition.e4, 2.0f);
   EXPECT_FLOAT_EQ(s.render.dicingRate, 0.5f);
+  EXPECT_EQ(s.render.dicingMetric, "projected");
   EXPECT_EQ(s.render.normals, "facet");
 }
 
@@ -141,6 +143,7 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
   EXPECT_EQ(s.camera.spp, 4);
   EXPECT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.render.algorithm, "auto");
+  EXPECT_EQ(s.render.dicingMetric, "isotropic");
   // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2, 0).
   const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);
   EXPECT_NEAR(p.x, 10.0f, 1e-5f);

@@ -43,14 +43,43 @@ struct ScreenMetric {
   // (0 when all of it is); parts off screen are measured by the same projection, so a segment that
   // crosses the image border gets the point density its visible part needs.
   float projectedLength(Vec3 a, Vec3 b) const;
+  // Pixels per world unit at p in the direction the perspective map stretches most: the largest
+  // singular value of its Jacobian, pixelsPerUnit(depth) * distance / depth (the pixel footprint
+  // shrinks off axis), the ratio clamped to the image corner's. No segment near a point p in view
+  // projects longer than this many pixels per unit.
+  float pixelDensity(Vec3 p) const;
+  // Length of segment ab in pixel footprints: its world length times pixelDensity, averaged along
+  // it (Simpson's rule), and never less than projectedLength. Unlike projectedLength it does not
+  // shrink where the segment runs along the view direction, which is what grazing views need
+  // (Cycles' DiagSplit measures edges by world length over the pixel footprint too). Clipped at
+  // the near plane like projectedLength.
+  float footprintLength(Vec3 a, Vec3 b) const;
+  // p lies in front of the near plane and projects into [0, width] x [0, height].
+  bool pointInView(Vec3 p) const;
   // False when the box [lo - grow, hi + grow] lies wholly outside the view frustum (beyond one of
   // its four side planes or behind the near plane); conservative: true when unsure.
   bool boxInView(Vec3 lo, Vec3 hi, float grow) const;
 };
 
+// How the length of an edge in pixels is measured for dicing.
+enum class DicingMetric {
+  // World length over the pixel footprint at the edge's depth (ScreenMetric::footprintLength):
+  // micropolygons are about dicingRate pixel footprints long in every direction, also along the
+  // view direction at grazing angles, where relief seen edge-on needs them.
+  Isotropic,
+  // Foreshortened screen length of the edge (ScreenMetric::projectedLength): fewer micropolygons
+  // at grazing angles, where they are many pixels deep, so displacement there is under-resolved.
+  Projected,
+};
+
+// "isotropic" | "projected" (the scene key render.dicing_metric); throws meso::Error otherwise.
+DicingMetric parseDicingMetric(const std::string& name);
+const char* dicingMetricName(DicingMetric metric);
+
 struct DicingSettings {
   float dicingRate = 1.0f;  // longest micropolygon edge in pixels where a face needs dicing
-  int maxEdgeRate = 256;    // most segments on one mesh edge
+  DicingMetric metric = DicingMetric::Isotropic;
+  int maxEdgeRate = 256;  // most segments on one mesh edge
   // Where no adjacent face needs dicing, edges are split until the limit surface deviates from
   // the chords by about this many pixels.
   float coarseTolerance = 0.5f;
@@ -84,6 +113,10 @@ class VertexDisplacement {
 
 struct AdaptiveTessellationStats {
   size_t micropolygons = 0;  // triangles
+  // Triangles none of whose vertices is in view (ScreenMetric::pointInView): outside the frustum,
+  // they only cost (faces straddle its border, and faces just outside it are diced because their
+  // relief might rise into view). A triangle wider than the view can be counted and yet be seen.
+  size_t offScreenMicropolygons = 0;
   size_t vertices = 0;
   int facesDiced = 0;   // in view and needing dicing
   int facesCulled = 0;  // outside the view: their edges not shared with a visible face get rate 1
@@ -111,7 +144,9 @@ struct AdaptiveTessellation {
 
 // Tessellates every face that has a limit surface. Per mesh edge: where an adjacent face is in view
 // and needs dicing, rate = ceil(pixel length of the limit edge / dicingRate), clamped to
-// [1, min(maxEdgeRate, the largest texel cap of those faces)]; where an adjacent face is in view,
+// [1, min(maxEdgeRate, the largest texel cap of those faces)]: the length is the projected one
+// or, by default (DicingMetric::Isotropic), the edge's footprint length and at least its world
+// length times the largest pixelDensity in view on those faces; where an adjacent face is in view,
 // at least the coarse rate that follows the limit surface to coarseTolerance pixels; elsewhere 1.
 // A face is in view when the box of its limit patch, grown by displacement->bound(), is. If the
 // triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they fit,

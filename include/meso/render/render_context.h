@@ -46,6 +46,7 @@ struct FrameGeometryStats {
   double bvhSeconds = 0.0;
   size_t triangles = 0;       // in the Embree scene
   size_t micropolygons = 0;   // of that, displaced micropolygons
+  size_t offScreenMicropolygons = 0;  // of those, none of whose vertices is in view
   int facesDiced = 0;
   float coarsening = 1.0f;    // > 1 when the micropolygon cap coarsened dicing
   size_t embreePeakBytes = 0;

@@ -126,6 +126,7 @@ struct RenderSettings {
   Vec3 background{0.0f};
   TransitionSettings transition;
   float dicingRate = 1.0f;               // micropolygon edge length in pixels where displaced
+  std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
   int64_t maxMicropolygons = 80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
   std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
