@@ -16,6 +16,20 @@ std::vector<float> cumulativeFromMasses(std::span<const float> masses) {
   return out;
 }
 
+void appendCumulative(std::span<const float> masses, std::vector<float>& out) {
+  const size_t n = masses.size();
+  double total = 0.0;
+  for (float m : masses) total += std::max(0.0f, m);
+  double c = 0.0;
+  out.push_back(0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    c += std::max(0.0f, masses[i]);
+    out.push_back(i + 1 == n ? 1.0f
+                  : total > 0.0 ? static_cast<float>(c / total)
+                                : static_cast<float>(i + 1) / static_cast<float>(n));
+  }
+}
+
 namespace {
 
 inline float mixAt(std::span<const float> a, std::span<const float> b, float w, size_t i) {

@@ -21,6 +21,8 @@ Redistribution::Redistribution(const VisibleNormalHistogram& distr, Redistributi
     : layout_(distr.resolution(), distr.thetaVMax(), VisibleNormalHistogram::LayoutOnly{}), variant_(variant) {
   const HistogramResolution& r = distr.resolution();
   thetaCdfsPerSlice_ = variant == RedistributionVariant::Conditional ? 1 + r.phi : 1;
+  thetaCdfs_.reserve(static_cast<size_t>(distr.numSlices()) * thetaCdfsPerSlice_ * (r.thetaN + 1));
+  phiCdfs_.reserve(static_cast<size_t>(distr.numSlices()) * (r.phi + 1));
   std::vector<float> thetaMarginal(r.thetaN), phiMarginal(r.phi), column(r.thetaN);
   for (int k = 0; k < distr.numSlices(); ++k) {
     std::fill(thetaMarginal.begin(), thetaMarginal.end(), 0.0f);
@@ -30,17 +32,19 @@ Redistribution::Redistribution(const VisibleNormalHistogram& distr, Redistributi
         thetaMarginal[i] += distr.mass(k, i, j);
         phiMarginal[j] += distr.mass(k, i, j);
       }
-    const std::vector<float> tc = cumulativeFromMasses(thetaMarginal);
-    thetaCdfs_.insert(thetaCdfs_.end(), tc.begin(), tc.end());
+    const size_t marginalAt = thetaCdfs_.size();
+    appendCumulative(thetaMarginal, thetaCdfs_);
     for (int j = 0; variant == RedistributionVariant::Conditional && j < r.phi; ++j) {
       float total = 0.0f;
       for (int i = 0; i < r.thetaN; ++i) total += column[i] = distr.mass(k, i, j);
       // An empty phi bin borrows the marginal, so the conditional map is defined everywhere.
-      const std::vector<float> cc = total > 1e-12f ? cumulativeFromMasses(column) : tc;
-      thetaCdfs_.insert(thetaCdfs_.end(), cc.begin(), cc.end());
+      if (total > 1e-12f)
+        appendCumulative(column, thetaCdfs_);
+      else
+        thetaCdfs_.insert(thetaCdfs_.end(), thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt),
+                          thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt + r.thetaN + 1));
     }
-    const std::vector<float> pc = cumulativeFromMasses(phiMarginal);
-    phiCdfs_.insert(phiCdfs_.end(), pc.begin(), pc.end());
+    appendCumulative(phiMarginal, phiCdfs_);
   }
 }
 

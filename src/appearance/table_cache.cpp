@@ -22,8 +22,16 @@ struct Header {
   uint64_t checksum;  // FNV-1a of the payload bytes
 };
 
+// FNV-1a over 32-bit words (the payload is floats): a quarter of the byte-wise loop's work, which
+// dominated loading a table set (about 4 MB each with view-azimuth slices).
 uint64_t checksumOf(std::span<const float> data) {
-  return Hasher().bytes(data.data(), data.size_bytes()).digest();
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (const float f : data) {
+    uint32_t w;
+    std::memcpy(&w, &f, sizeof w);
+    h = (h ^ w) * 0x100000001b3ull;
+  }
+  return h;
 }
 
 }  // namespace

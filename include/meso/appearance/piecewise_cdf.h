@@ -10,6 +10,8 @@ namespace meso {
 // Cumulative masses at the n + 1 bin edges of [lo, lo + n * width], normalized so the last is 1.
 // All-zero masses give the uniform CDF (so the maps stay defined for empty distributions).
 std::vector<float> cumulativeFromMasses(std::span<const float> masses);
+// The same, appended to `out` (no temporary vectors: tables build thousands of them).
+void appendCumulative(std::span<const float> masses, std::vector<float>& out);
 
 // How mass spreads inside a bin: evenly in x, or evenly in solid angle when x is a polar angle
 // (uniform in cos x), which is right near the pole where the density per solid angle is smooth.
