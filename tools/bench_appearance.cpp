@@ -76,6 +76,43 @@ void BM_RedistributionLookup(benchmark::State& state) {
 }
 BENCHMARK(BM_RedistributionLookup);
 
+// The same lookups on tables with 16 view-azimuth slices (render.tables.phi_v_bins, the scenes'
+// default): 4 view slices and up to 8 CDFs mixed per redistribution, 16 BRDF corners.
+const LevelTables& azimuthTables() {
+  static const LevelTables t = [] {
+    TableSettings s;
+    s.histogram.resolution.phiV = 16;
+    return buildLevelTables(Waves(), 20.0f, s, nullptr, TableCache{std::filesystem::path()}, nullptr);
+  }();
+  return t;
+}
+
+void BM_BrdfLookupViewAzimuth(benchmark::State& state) {
+  const BrdfTable& b = azimuthTables().brdf;
+  Rng rng(1);
+  float sum = 0;
+  for (auto _ : state) {
+    const BrdfTable::Value v =
+        b.lookup(1.5f * rng.uniform(), 6.2f * rng.uniform(), 1.5f * rng.uniform(), 6.2f * rng.uniform() - 3.1f);
+    sum += v.diffuse + v.specular;
+  }
+  benchmark::DoNotOptimize(sum);
+}
+BENCHMARK(BM_BrdfLookupViewAzimuth);
+
+void BM_RedistributionLookupViewAzimuth(benchmark::State& state) {
+  const Redistribution& r = azimuthTables().redistribution;
+  Rng rng(2);
+  float sum = 0;
+  for (auto _ : state) {
+    const NormalAngles n =
+        r.toVisible(1.5f * rng.uniform(), 6.2f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
+    sum += n.thetaN + n.phi;
+  }
+  benchmark::DoNotOptimize(sum);
+}
+BENCHMARK(BM_RedistributionLookupViewAzimuth);
+
 }  // namespace
 
 BENCHMARK_MAIN();
