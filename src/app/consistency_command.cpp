@@ -44,6 +44,7 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
   so.referenceDicing = o.referenceDicing;
   so.referenceSpp = o.referenceSpp;
   so.cancel = &interruptRequested();
+  so.onRender = [](const std::string& what) { std::fprintf(stderr, "meso: consistency: rendering %s\n", what.c_str()); };
   SceneConsistencyReport report;
   try {
     report = sceneConsistency(scene, so);

@@ -53,11 +53,18 @@ double luminance(const Image& image, int x, int y) {
 SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& o) {
   SceneConsistencyReport report;
   std::vector<Rendered> images;
+  const auto announce = [&](const std::string& what) {
+    if (o.onRender) o.onRender(what);
+  };
+  char dicing[64];
+  std::snprintf(dicing, sizeof dicing, "%g px and %g px", o.referenceDicing, 2.0f * o.referenceDicing);
+  announce(std::string("reference: displacement at ") + dicing);
   images.push_back(renderWith(scene, "displacement", o.referenceDicing, o.referenceSpp, o.cancel, true));
   report.renderers.push_back("reference");
   images.push_back(renderWith(scene, "displacement", 2.0f * o.referenceDicing, o.referenceSpp, o.cancel, false));
   report.renderers.push_back("coarse reference");
   for (const std::string& a : o.algorithms) {
+    announce(a);
     images.push_back(renderWith(scene, a, 0.0f, 0, o.cancel, false));
     report.renderers.push_back(a);
   }

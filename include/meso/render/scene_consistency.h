@@ -7,6 +7,7 @@
 #include "meso/scene/scene.h"
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@ struct SceneConsistencyOptions {
   float referenceDicing = 0.25f;  // dicing rate of the displacement reference, pixels
   int referenceSpp = 0;          // 0: the scene's spp
   const std::atomic<bool>* cancel = nullptr;
+  // Called before each render with what it is (e.g. "reference: displacement at 0.25 px").
+  std::function<void(const std::string&)> onRender;
 };
 
 // One region of the image (an object or a band of rows): its pixel count and mean luminance per
