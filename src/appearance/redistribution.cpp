@@ -117,26 +117,22 @@ CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   return mix;
 }
 
-NormalAngles Redistribution::toVisible(float thetaV, float phiV, NormalAngles n) const {
-  const SliceMix in = locate(0.0f, phiV), out = locate(thetaV, phiV);
+NormalAngles Redistribution::mapBetween(const SliceMix& from, const SliceMix& to, NormalAngles n) const {
   const float tw = layout_.thetaNWidth(), pw = layout_.phiWidth();
   NormalAngles r;
-  const float p = cdfForward(phiCdfAt(in), -kPi, pw, wrapPi(n.phi));
-  r.phi = cdfInverse(phiCdfAt(out), -kPi, pw, p);
-  const float q = cdfForward(thetaCdfAt(in, n.phi), 0.0f, tw, n.thetaN, kTheta);
-  r.thetaN = cdfInverse(thetaCdfAt(out, r.phi), 0.0f, tw, q, kTheta);
+  const float p = cdfForward(phiCdfAt(from), -kPi, pw, wrapPi(n.phi));
+  r.phi = cdfInverse(phiCdfAt(to), -kPi, pw, p);
+  const float q = cdfForward(thetaCdfAt(from, n.phi), 0.0f, tw, n.thetaN, kTheta);
+  r.thetaN = cdfInverse(thetaCdfAt(to, r.phi), 0.0f, tw, q, kTheta);
   return r;
 }
 
+NormalAngles Redistribution::toVisible(float thetaV, float phiV, NormalAngles n) const {
+  return mapBetween(locate(0.0f, phiV), locate(thetaV, phiV), n);
+}
+
 NormalAngles Redistribution::toBump(float thetaV, float phiV, NormalAngles n) const {
-  const SliceMix in = locate(thetaV, phiV), out = locate(0.0f, phiV);
-  const float tw = layout_.thetaNWidth(), pw = layout_.phiWidth();
-  NormalAngles r;
-  const float p = cdfForward(phiCdfAt(in), -kPi, pw, wrapPi(n.phi));
-  r.phi = cdfInverse(phiCdfAt(out), -kPi, pw, p);
-  const float q = cdfForward(thetaCdfAt(in, n.phi), 0.0f, tw, n.thetaN, kTheta);
-  r.thetaN = cdfInverse(thetaCdfAt(out, r.phi), 0.0f, tw, q, kTheta);
-  return r;
+  return mapBetween(locate(thetaV, phiV), locate(0.0f, phiV), n);
 }
 
 NormalAngles Redistribution::partial(float thetaV, float phiV, float disp, NormalAngles n) const {

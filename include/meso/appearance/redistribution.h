@@ -47,6 +47,8 @@ class Redistribution {
   };
   SliceMix locate(float thetaV, float phiV) const;
   CdfMix phiCdfAt(const SliceMix& m) const;
+  // phi by the marginals, then theta_N by the (conditional) CDFs: from's distribution to to's.
+  NormalAngles mapBetween(const SliceMix& from, const SliceMix& to, NormalAngles n) const;
   std::span<const float> thetaCdf(int k, int phiBin) const;
   std::span<const float> phiCdf(int k) const;
   int phiBinOf(float phi) const;
