@@ -31,7 +31,10 @@ float displacementBound(const MaterialRelief& relief) {
 
 float finestSamplesPerU(const MaterialRelief& relief) {
   if (relief.levels.empty()) return 0.0f;
-  const ReliefLevel& finest = relief.levels.back();
+  return samplesPerU(relief.levels.back());
+}
+
+float samplesPerU(const ReliefLevel& finest) {
   if (const auto* table = dynamic_cast<const HeightTable*>(finest.source.get()))
     return static_cast<float>(std::max(table->width(), table->heightTexels())) * finest.scale;
   return 16.0f * finest.freqPerU;
@@ -109,8 +112,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   out.texelCap.assign(static_cast<size_t>(n), 0);
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
-  const float samplesPerU = finestSamplesPerU(relief);
   const ReliefLevel& coarsest = relief.levels.front();
+  const float threshold = transition.D + transition.e3 * transition.eps;  // least nu that T can raise
   tbb::parallel_for(0, n, [&](int face) {
     Vec3 lo, hi;
     if (!surface.faceBox(face, lo, hi)) return;
@@ -128,20 +131,33 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     }
     const SurfacePoint mid = surface.evaluate(face, centre);
     lengthPerU = std::max(lengthPerU, std::min(glm::length(mid.Pu), glm::length(mid.Pv)));
-    if (samplesPerU > 0.0f && std::isfinite(uvEdge * samplesPerU))
-      out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * samplesPerU), 1.0f, 32767.0f));
+    const auto capAt = [&](const ReliefLevel& level) {
+      const float perU = samplesPerU(level);
+      if (perU > 0.0f && std::isfinite(uvEdge * perU))
+        out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, 32767.0f));
+    };
     if (mode == DisplacementMode::Full) {
+      capAt(relief.levels.back());
       out.needsDicing[face] = 1;
       return;
     }
-    // The largest nu on the face: the coarsest level, seen from the nearest point of its box
-    // grown by the bound; lengthPerU is padded by 25% because it was sampled at five points only.
+    // The largest nu of a level on the face: seen from the nearest point of the face's box grown
+    // by the bound; lengthPerU is padded by 25% because it was sampled at five points only.
     const Vec3 grow(std::isfinite(bound) ? bound : 0.0f);
     const float distance = std::isfinite(bound) ? boxDistance(eye, lo - grow, hi + grow) : 0.0f;
-    const float nu = distance > 0.0f
-                         ? coarsest.wavelength() * 1.25f * lengthPerU * pixelsPerRadian / distance
-                         : std::numeric_limits<float>::infinity();
-    out.needsDicing[face] = !(nu <= transition.D + transition.e3 * transition.eps);
+    const auto maxNu = [&](const ReliefLevel& level) {
+      return distance > 0.0f ? level.wavelength() * 1.25f * lengthPerU * pixelsPerRadian / distance
+                             : std::numeric_limits<float>::infinity();
+    };
+    out.needsDicing[face] = !(maxNu(coarsest) <= threshold);
+    if (!out.needsDicing[face]) return;
+    // Texels of the finest level that can be raised here: a finer one is drawn flat (BRDF or
+    // redistribution) on this face, so dicing below its texels would buy nothing.
+    for (size_t i = relief.levels.size(); i-- > 0;)
+      if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
+        capAt(relief.levels[i]);
+        break;
+      }
   });
   return out;
 }

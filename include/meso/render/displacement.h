@@ -79,11 +79,14 @@ float displacementBound(const MaterialRelief& relief);
 // table has max(W, H) * S texels per unit of u; procedural noise is sampled 16 times per shortest
 // wavelength (enough for facet normals to follow its slopes).
 float finestSamplesPerU(const MaterialRelief& relief);
+float samplesPerU(const ReliefLevel& level);
 
 // Per face: whether some level can be raised there in this view (always, in Full mode; in
 // ByTransition mode, when the coarsest level's nu at the face's nearest point exceeds
 // D + e3 * eps, the least nu for which T can exceed e3 at a grazing angle), and the texel cap
-// (the edge rate at which micropolygons reach the finest level's sample spacing).
+// (the edge rate at which micropolygons reach the sample spacing of the finest level that can be
+// raised on the face: every level in Full mode, in ByTransition mode those whose nu can exceed
+// D + e3 * eps there; finer levels are drawn flat, so dicing below their texels buys nothing).
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief, DisplacementMode mode,
                       const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian);
 
