@@ -6,6 +6,7 @@
 #include "meso/render/integrator.h"
 #include "meso/render/transition.h"
 #include "meso/scene/mesh_io.h"
+#include "support/plane_scene.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -93,7 +94,8 @@ const char* kNonManifoldObj =
 class ExtremesTest : public meso::testing::TempDirTest {
  protected:
   static fs::path cacheDir() {
-    return fs::temp_directory_path() / ("meso_extremes_cache_" + std::to_string(::getpid()));
+    return testing::ProcessTemporaries::add(fs::temp_directory_path() /
+                                            ("meso_extremes_cache_" + std::to_string(::getpid())));
   }
   static void TearDownTestSuite() { fs::remove_all(cacheDir()); }
 

@@ -2,6 +2,8 @@
 #include "meso/render/integrator.h"
 #include "meso/render/shading.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -18,7 +20,8 @@ namespace fs = std::filesystem;
 
 fs::path writeQuadObj(const std::string& name, float half) {
   // One file per process: ctest runs tests in parallel processes.
-  const fs::path file = fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
+  const fs::path file =
+      meso::testing::ProcessTemporaries::add(fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name));
   std::ofstream out(file);
   out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\n"
       << "v " << half << " " << half << " 0\nv " << -half << " " << half << " 0\nf 1 2 3 4\n";

@@ -20,8 +20,8 @@ namespace {
 
 // A 40 x 40 plane in z = 0 whose four corners carry the given uv.
 std::filesystem::path writeQuad(const std::string& tag, const Vec2 uv[4]) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() /
-                                     ("meso_metric_" + tag + "_" + std::to_string(::getpid()) + ".obj");
+  const std::filesystem::path file = testing::ProcessTemporaries::add(
+      std::filesystem::temp_directory_path() / ("meso_metric_" + tag + "_" + std::to_string(::getpid()) + ".obj"));
   std::ofstream out(file);
   out << "v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\n";
   for (int k = 0; k < 4; ++k) out << "vt " << uv[k].x << " " << uv[k].y << "\n";

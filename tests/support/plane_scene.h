@@ -9,14 +9,36 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace meso::testing {
+
+// Files and folders this test process made in the system temporary folder, removed when it exits.
+class ProcessTemporaries {
+ public:
+  static std::filesystem::path add(std::filesystem::path p) {
+    instance().paths_.push_back(p);
+    return p;
+  }
+  ~ProcessTemporaries() {
+    std::error_code ec;
+    for (const std::filesystem::path& p : paths_) std::filesystem::remove_all(p, ec);
+  }
+
+ private:
+  static ProcessTemporaries& instance() {
+    static ProcessTemporaries t;
+    return t;
+  }
+  std::vector<std::filesystem::path> paths_;
+};
 
 // A square [-half, half]^2 in z = 0 with uv running from uvLow to uvHigh across it, written once
 // per process (ctest runs tests in parallel processes) under a name made from `tag`.
 inline std::filesystem::path writePlaneObj(const std::string& tag, float half, float uvLow, float uvHigh) {
-  const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / ("meso_" + tag + "_plane_" + std::to_string(::getpid()) + ".obj");
+  const std::filesystem::path file = ProcessTemporaries::add(
+      std::filesystem::temp_directory_path() / ("meso_" + tag + "_plane_" + std::to_string(::getpid()) + ".obj"));
   std::ofstream out(file);
   out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\nv " << half << " " << half
       << " 0\nv " << -half << " " << half << " 0\nvt " << uvLow << " " << uvLow << "\nvt " << uvHigh << " " << uvLow
@@ -48,7 +70,8 @@ inline Scene planeScene(const std::filesystem::path& obj, const std::string& alg
   o.scheme = SubdivisionScheme::Bilinear;
   s.objects = {o};
   s.render.algorithm = algorithm;
-  s.render.cacheDir = std::filesystem::temp_directory_path() / ("meso_" + tag + "_cache_" + std::to_string(::getpid()));
+  s.render.cacheDir = ProcessTemporaries::add(std::filesystem::temp_directory_path() /
+                                              ("meso_" + tag + "_cache_" + std::to_string(::getpid())));
   return s;
 }
 
