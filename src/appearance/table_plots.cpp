@@ -45,7 +45,9 @@ Image plotHistogram(const VisibleNormalHistogram& h, int cell) {
   const int panelRows = (r.thetaV + perRow - 1) / perRow;
   Image img = blankGrid(perRow, panelRows, r.thetaN * cell, r.phi * cell);
   for (int k = 0; k < r.thetaV; ++k) {
-    const auto density = [&](int i, int j) { return h.mass(k, i, j) / h.solidAngle(i); };
+    // Tables with view-azimuth slices: the phi_V slice nearest 0 of each theta_V.
+    const int slice = h.sliceOf(k, 0);
+    const auto density = [&](int i, int j) { return h.mass(slice, i, j) / h.solidAngle(i); };
     float maxDensity = 0.0f;
     for (int i = 0; i < r.thetaN; ++i)
       for (int j = 0; j < r.phi; ++j) maxDensity = std::max(maxDensity, density(i, j));
@@ -60,17 +62,20 @@ Image plotBrdf(const BrdfTable& b, int cell) {
   const int n = b.numThetaV();
   Image img = blankGrid(n, 2, r.thetaL * cell, r.phi * cell);
   float maxDiff = 0.0f, maxSpec = 0.0f;
+  // Tables with view-azimuth slices: the phi_V slice nearest 0, and its phi_{V-L} >= 0 half.
+  const int pv = b.numPhiV(), j0 = pv > 1 ? r.phi - 1 : 0;
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < r.thetaL; ++i)
       for (int j = 0; j < r.phi; ++j) {
-        maxDiff = std::max(maxDiff, b.entry(k, i, j).diffuse);
-        maxSpec = std::max(maxSpec, b.entry(k, i, j).specular);
+        maxDiff = std::max(maxDiff, b.entry(k * pv, i, j0 + j).diffuse);
+        maxSpec = std::max(maxSpec, b.entry(k * pv, i, j0 + j).specular);
       }
   for (int k = 0; k < n; ++k) {
     const int x0 = kGap + k * (r.thetaL * cell + kGap);
-    drawPanel(img, x0, kGap, r.thetaL, r.phi, cell, maxDiff, [&](int i, int j) { return b.entry(k, i, j).diffuse; });
+    drawPanel(img, x0, kGap, r.thetaL, r.phi, cell, maxDiff,
+              [&](int i, int j) { return b.entry(k * pv, i, j0 + j).diffuse; });
     drawPanel(img, x0, 2 * kGap + r.phi * cell, r.thetaL, r.phi, cell, maxSpec,
-              [&](int i, int j) { return b.entry(k, i, j).specular; });
+              [&](int i, int j) { return b.entry(k * pv, i, j0 + j).specular; });
   }
   return img;
 }
