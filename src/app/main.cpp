@@ -1,5 +1,6 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
 #include "bands_command.h"
+#include "cli_values.h"
 #include "consistency_command.h"
 #include "render_command.h"
 #include "tables_command.h"
@@ -169,6 +170,16 @@ void addTradeCommand(CLI::App& cli) {
   t->callback([] { meso::app::runTrade(o); });
 }
 
+// CLI11 reads "nan" and "inf" into floats, and Range() lets NaN through (every comparison with it is
+// false): every floating-point option of every command must be a finite number.
+void requireFiniteNumbers(CLI::App& app) {
+  const CLI::Validator finite(
+      [](std::string& text) { return meso::app::finiteNumberProblem(text); }, "FINITE", "finite number");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_name().find("FLOAT") != std::string::npos) option->check(finite);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) requireFiniteNumbers(*sub);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -183,6 +194,7 @@ int main(int argc, char** argv) {
   meso::app::BandsCommandOptions bandsOptions;
   addBandsCommand(cli, bandsOptions);
   addTradeCommand(cli);
+  requireFiniteNumbers(cli);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);

@@ -5,6 +5,7 @@
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io_memory.h"
+#include "meso/core/input_file.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -118,14 +120,23 @@ class CheckedMemReader final : public OIIO::Filesystem::IOProxy {
   size_t size_;
 };
 
-void writeWithOiio(const std::filesystem::path& tmp, const OIIO::ImageSpec& spec,
-                   OIIO::TypeDesc format, const void* data) {
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) fail(tmp, "cannot create image writer: " + oiioMessage(""));
-  if (!out->open(tmp.string(), spec))
-    fail(tmp, "cannot open for writing: " + oiioMessage(out->geterror()));
-  if (!out->write_image(format, data)) fail(tmp, "write failed: " + oiioMessage(out->geterror()));
-  if (!out->close()) fail(tmp, "close failed: " + oiioMessage(out->geterror()));
+// Encodes into memory: OpenImageIO's file writers do not report every failed write (libpng's
+// fwrite on a full disk went unnoticed: exit 0 with half a PNG), so meso writes the bytes itself.
+std::string encodeWithOiio(const std::filesystem::path& name, const OIIO::ImageSpec& spec,
+                           OIIO::TypeDesc format, const void* data) {
+  auto out = OIIO::ImageOutput::create(name.extension().string().substr(1));
+  if (!out) fail(name, "cannot create image writer: " + oiioMessage(""));
+  if (!out->supports("ioproxy"))
+    fail(name, std::string("the ") + out->format_name() + " writer cannot write to memory");
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput proxy(buffer);
+  if (!out->set_ioproxy(&proxy)) fail(name, "cannot write to memory: " + oiioMessage(out->geterror()));
+  if (!out->open(name.string(), spec))
+    fail(name, "cannot open for writing: " + oiioMessage(out->geterror()));
+  if (!out->write_image(format, data)) fail(name, "write failed: " + oiioMessage(out->geterror()));
+  if (!out->close()) fail(name, "close failed: " + oiioMessage(out->geterror()));
+  out.reset();
+  return std::string(buffer.begin(), buffer.end());
 }
 
 // IEC 61966-2-1 sRGB encoding of a linear value in [0, 1].
@@ -185,6 +196,7 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t
 
 Image readImage(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) fail(file, "no such file");
+  checkInputFile(file, "image", kMaxImageBytes);
   {
     std::error_code ec;
     const uint64_t size = std::filesystem::file_size(file, ec);
@@ -238,7 +250,7 @@ Image readImageFromMemory(const void* data, size_t size, const std::filesystem::
   return readOpened(*in, name, maxValues);
 }
 
-void writeExr(const std::filesystem::path& file, const Image& image) {
+std::string encodeExr(const Image& image) {
   OIIO::ImageSpec spec(image.width, image.height, image.numChannels(), OIIO::TypeDesc::FLOAT);
   spec.channelnames = image.channels;
   spec.alpha_channel = image.channelIndex("A");
@@ -246,14 +258,12 @@ void writeExr(const std::filesystem::path& file, const Image& image) {
   spec.attribute("Software", "meso");
   // OpenEXR otherwise stamps the current time (capDate): the same render must give the same bytes.
   spec.attribute("DateTime", "");
-  writeAtomically(file, [&](const std::filesystem::path& tmp) {
-    writeWithOiio(tmp, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
-  });
+  return encodeWithOiio("image.exr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
-void writePngPreview(const std::filesystem::path& file, const Image& image) {
+std::string encodePngPreview(const Image& image) {
   const int rgb[3] = {image.channelIndex("R"), image.channelIndex("G"), image.channelIndex("B")};
-  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) fail(file, "image has no R, G, B channels");
+  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) fail("preview.png", "image has no R, G, B channels");
   std::vector<uint8_t> bytes(static_cast<size_t>(image.width) * image.height * 3);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
@@ -262,9 +272,17 @@ void writePngPreview(const std::filesystem::path& file, const Image& image) {
             static_cast<uint8_t>(std::lround(255.0f * srgbEncode(image.at(x, y, rgb[c]))));
   OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
-  writeAtomically(file, [&](const std::filesystem::path& tmp) {
-    writeWithOiio(tmp, spec, OIIO::TypeDesc::UINT8, bytes.data());
-  });
+  return encodeWithOiio("preview.png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void writeExr(const std::filesystem::path& file, const Image& image) {
+  checkOutputFile(file, "");
+  writeFileAtomically(file, encodeExr(image));
+}
+
+void writePngPreview(const std::filesystem::path& file, const Image& image) {
+  checkOutputFile(file, "");
+  writeFileAtomically(file, encodePngPreview(image));
 }
 
 }  // namespace meso
