@@ -31,8 +31,8 @@ uint64_t checkStat(const struct stat& st, const std::filesystem::path& file, con
     throw Error(prefix(file, what) + "expected a regular file, found " + kindOf(st.st_mode));
   const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size > maxBytes)
-    throw Error(prefix(file, what) + "expected a file of at most " + std::to_string(maxBytes >> 20) +
-                " MiB, it has " + std::to_string(size >> 20) + " MiB");
+    throw Error(prefix(file, what) + "expected a file of at most " + std::to_string(maxBytes) +
+                " bytes, it has " + std::to_string(size));
   return size;
 }
 

@@ -2,6 +2,7 @@
 
 #include "meso/core/error.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <charconv>
 #include <cmath>
@@ -173,11 +174,17 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   LineReader r(bytes, file);
   std::vector<Token> t;
   if (!r.next(t)) throw Error(file.string() + ": empty OFF file");
-  const std::string_view magic = t[0].text;
-  // Binary, homogeneous (4OFF) and n-dimensional (nOFF) variants are left to OpenMesh.
-  if (magic.size() < 3 || magic.substr(magic.size() - 3) != "OFF" || magic.find('4') != std::string_view::npos ||
-      magic.find('n') != std::string_view::npos || (t.size() > 1 && t[1].text == "BINARY"))
-    return counts;
+  // [ST][C][N][4][n]OFF [BINARY]: texture coordinates, colours, normals, homogeneous, n-dimensional.
+  std::string_view magic = t[0].text;
+  for (std::string_view prefix : {"ST", "C", "N"})
+    if (magic.substr(0, prefix.size()) == prefix) magic.remove_prefix(prefix.size());
+  const bool homogeneous = magic.substr(0, 1) == "4";
+  if (homogeneous) magic.remove_prefix(1);
+  if (magic.substr(0, 1) == "n") r.fail(t[0].column, "", "n-dimensional OFF (nOFF) is not supported");
+  if (magic != "OFF") r.fail(t[0].column, "", "not an OFF file (expected [ST][C][N][4]OFF, got " + shown(t[0].text) + ")");
+  if (t.size() > 1 && t[1].text == "BINARY")
+    r.fail(t[1].column, "", "binary OFF is not supported (convert it to ASCII OFF, OBJ or PLY)");
+  const size_t coordinates = homogeneous ? 4 : 3;
   std::vector<Token> header(t.begin() + 1, t.end());
   if (header.empty() && !r.next(header)) r.fail(1, "", "truncated OFF: expected the vertex, face and edge counts");
   if (header.size() < 2) r.fail(header[0].column, "", "expected the vertex, face and edge counts");
@@ -194,11 +201,12 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   };
   for (; counts.vertices < nv; ++counts.vertices) {
     if (!r.next(t)) truncated("a vertex", r.line() + 1);
-    if (t.size() < 3 && r.atEnd()) truncated("a vertex", r.line());
-    if (t.size() < 3)
+    if (t.size() < coordinates && r.atEnd()) truncated("a vertex", r.line());
+    if (t.size() < coordinates)
       r.fail(t[0].column, "vertex " + std::to_string(counts.vertices),
-             "expected x y z, got " + std::to_string(t.size()) + " numbers");
-    for (size_t i = 0; i < 3; ++i) number(r, t[i], "vertex " + std::to_string(counts.vertices));
+             std::string(homogeneous ? "expected x y z w" : "expected x y z") + ", got " + std::to_string(t.size()) +
+                 " numbers");
+    for (size_t i = 0; i < coordinates; ++i) number(r, t[i], "vertex " + std::to_string(counts.vertices));
   }
   for (; counts.faces < nf; ++counts.faces) {
     if (!r.next(t)) truncated("a face", r.line() + 1);
@@ -221,11 +229,61 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   return counts;
 }
 
+// OpenMesh's PLY reader loops forever on some malformed headers (a property before any element, an
+// unknown type): the header must follow the grammar exactly before it is handed over.
+void checkPlyHeader(std::string_view bytes, const std::filesystem::path& file) {
+  static const std::set<std::string_view> kTypes = {"char", "uchar", "short", "ushort", "int", "uint", "float",
+                                                    "double", "int8", "uint8", "int16", "uint16", "int32",
+                                                    "uint32", "float32", "float64"};
+  LineReader r(bytes.substr(0, std::min<size_t>(bytes.size(), 65536)), file);
+  std::vector<Token> t;
+  if (!r.next(t) || t.size() != 1 || t[0].text != "ply") r.fail(1, "", "not a PLY file (expected \"ply\" alone on line 1)");
+  bool format = false, element = false, vertex = false, face = false;
+  std::string_view current;
+  std::set<std::string_view> vertexProperties;
+  while (r.next(t)) {
+    const std::string_view key = t[0].text;
+    if (key == "end_header") {
+      if (!format) r.fail(1, "", "PLY header without a format line");
+      if (!vertex || !vertexProperties.count("x") || !vertexProperties.count("y") || !vertexProperties.count("z"))
+        r.fail(1, "", "PLY header without an element vertex with properties x, y and z");
+      if (!face) r.fail(1, "", "PLY header without an element face with a list property vertex_indices");
+      return;
+    }
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format") {
+      if (t.size() != 3 || (t[1].text != "ascii" && t[1].text != "binary_little_endian" &&
+                            t[1].text != "binary_big_endian") || t[2].text != "1.0")
+        r.fail(t[0].column, "format", "expected ascii, binary_little_endian or binary_big_endian and version 1.0");
+      format = true;
+    } else if (key == "element") {
+      if (t.size() != 3) r.fail(t[0].column, "element", "expected a name and a count");
+      if (integer(r, t[2], t[2].text, "element") < 0) r.fail(t[2].column, "element", "expected a count of 0 or more");
+      element = true;
+      current = t[1].text;
+      vertex = vertex || current == "vertex";
+    } else if (key == "property") {
+      if (!element) r.fail(t[0].column, "property", "a property before any element");
+      const bool list = t.size() >= 2 && t[1].text == "list";
+      if (t.size() != (list ? 5u : 3u)) r.fail(t[0].column, "property", "expected TYPE NAME or list TYPE TYPE NAME");
+      for (size_t i = list ? 2 : 1; i + 1 < t.size(); ++i)
+        if (!kTypes.count(t[i].text)) r.fail(t[i].column, "property", "unknown type " + shown(t[i].text));
+      if (current == "vertex") vertexProperties.insert(t.back().text);
+      if (current == "face" && list && (t.back().text == "vertex_indices" || t.back().text == "vertex_index"))
+        face = true;
+    } else {
+      r.fail(t[0].column, "", "unexpected " + shown(key) + " in the PLY header");
+    }
+  }
+  r.fail(1, "", "truncated or malformed PLY header (no end_header)");
+}
+
 }  // namespace
 
 MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file, const std::string& ext) {
   if (ext == ".obj") return checkObj(bytes, file);
   if (ext == ".off") return checkOff(bytes, file);
+  if (ext == ".ply") checkPlyHeader(bytes, file);
   return {};
 }
 

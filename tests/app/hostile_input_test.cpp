@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -233,6 +234,36 @@ TEST_F(HostileTest, FailedStatsWriteLeavesNoFrame) {
   EXPECT_NE(r.output.find("full/stats.json: cannot write: No space left on device"), std::string::npos) << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
   EXPECT_EQ(filesUnder(dir_ / "full"), 1);  // the filler
+}
+
+// Mesh problems found after reading name the mesh file; relief on a mesh without vt warns.
+TEST_F(HostileTest, MeshProblemsNameTheFile) {
+  write("loop.toml", scene().replace(scene().find("bilinear"), 8, "loop"));
+  RunResult r = run("render " + quoted(dir_ / "loop.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find((dir_ / "quad.obj").string() + ": Loop subdivision needs an all-triangle mesh"),
+            std::string::npos) << r.output;
+  std::string gon;
+  for (int i = 0; i < 100000; ++i)
+    gon += "v " + std::to_string(std::cos(i * 6.283185307 / 100000)) + " " +
+           std::to_string(std::sin(i * 6.283185307 / 100000)) + " 0\n";
+  gon += "f";
+  for (int i = 1; i <= 100000; ++i) gon += " " + std::to_string(i);
+  write("gon.obj", gon + "\n");
+  write("gon.toml", scene().replace(scene().find("quad.obj"), 8, "gon.obj"));
+  r = run("render " + quoted(dir_ / "gon.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find((dir_ / "gon.obj").string() + ": control mesh face 0 has 100000 vertices"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(filesUnder(dir_ / "out"), 0);
+  write("relief.toml", "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+                       "  amplitude = 0.01\n  scale = 4.0\n" + scene("material = \"m\"\n") +
+                       "[render]\ncache_dir = \"" + (dir_ / "cache").string() + "\"\n[render.tables]\n"
+                       "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
+                       "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
+  r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("quad.obj: the mesh has no texture coordinates (vt)"), std::string::npos) << r.output;
 }
 
 }  // namespace
