@@ -8,7 +8,8 @@
 namespace meso::app {
 
 // The whole of `text` as a decimal integer in [lo, hi], or meso::Error("OPTION: expected ...").
-long long parseInteger(const std::string& text, const std::string& option, long long lo, long long hi);
+long long parseInteger(const std::string& text, const std::string& option, long long lo,
+                       long long hi);
 
 // "" (all), "A", "A:" (A to the last) or "A:B" against frames [0, count): inclusive [A, B].
 std::pair<int, int> parseFrameRange(const std::string& text, int count);

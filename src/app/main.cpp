@@ -7,6 +7,7 @@
 #include "trade_command.h"
 
 #include "meso/core/error.h"
+#include "meso/core/memory_budget.h"
 
 #include <CLI/CLI.hpp>
 
@@ -180,6 +181,16 @@ void requireFiniteNumbers(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) requireFiniteNumbers(*sub);
 }
 
+// --memory-limit on every command; applied while parsing, before the command runs.
+void addMemoryLimit(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    sub->add_option_function<uint64_t>(
+           "--memory-limit", [](const uint64_t& mib) { meso::setMemoryLimitBytes(mib << 20); },
+           "MiB a job may use: jobs estimated above it are refused before allocating (default half of "
+           "physical memory, here " + std::to_string(meso::defaultMemoryLimitBytes() >> 20) + ")")
+        ->check(CLI::Range(uint64_t{16}, uint64_t{1} << 30));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -195,6 +206,7 @@ int main(int argc, char** argv) {
   addBandsCommand(cli, bandsOptions);
   addTradeCommand(cli);
   requireFiniteNumbers(cli);
+  addMemoryLimit(cli);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include "render_command.h"
 
 #include "cli_values.h"
+#include "memory_estimates.h"
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
@@ -17,12 +18,15 @@
 #include <tbb/info.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <thread>
 
+#include <semaphore.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -99,8 +103,14 @@ std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
 namespace {
 
 std::atomic<bool> gInterrupted{false};
+sem_t* gWake = nullptr;
+// How long a command has to stop by itself after SIGINT/SIGTERM before the watchdog ends it.
+constexpr int kInterruptGraceMs = 100;
 
-extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+extern "C" void onInterrupt(int) {
+  gInterrupted.store(true);
+  if (gWake) sem_post(gWake);
+}
 
 }  // namespace
 
@@ -193,6 +203,7 @@ void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video
                 (status < 0 ? " (it did not start or was killed)" : " (exit status " + std::to_string(status) + ")"));
   }
   std::filesystem::rename(tmp, video, ec);
+  forgetTemporary(tmp);
   if (ec) {
     std::filesystem::remove(tmp, ec);
     throw Error(video.string() + ": --video: cannot rename the complete video into place");
@@ -202,6 +213,23 @@ void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video
 }  // namespace
 
 void installInterruptHandler() {
+  // Commands poll interruptRequested() in their long loops and stop cleanly; a loop that does not
+  // (inside a library, OpenSubdiv, table building) is stopped by this watchdog, woken by the
+  // handler through a semaphore (sem_post is async-signal-safe): after a grace period it removes
+  // every temporary and exits with 130. Final names only ever hold complete files, so nothing
+  // partial remains either way.
+  static sem_t wake;
+  sem_init(&wake, 0, 0);
+  gWake = &wake;
+  std::thread([] {
+    while (sem_wait(gWake) != 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(kInterruptGraceMs));
+    removeTemporaries();
+    static const char message[] = "meso: interrupted; complete outputs are kept, nothing partial was written\n";
+    (void)!::write(2, message, sizeof message - 1);
+    ::_exit(130);
+  }).detach();
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);
 }
@@ -210,6 +238,9 @@ void runRender(const RenderCommandOptions& o) {
   Timer total, phase;
   Scene scene = loadScene(o.scene);
   applyOverrides(o, scene);
+  std::vector<std::string> memoryWarnings;
+  checkRenderMemory(scene, memoryWarnings);
+  for (const std::string& w : memoryWarnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
     throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");

@@ -1,6 +1,8 @@
 #include "tables_command.h"
 
 #include "meso/appearance/table_plots.h"
+#include "memory_estimates.h"
+
 #include "meso/core/atomic_file.h"
 #include "meso/core/image_io.h"
 #include "meso/core/timer.h"
@@ -13,7 +15,9 @@
 namespace meso::app {
 
 void runTables(const TablesCommandOptions& o) {
-  const Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene);
+  std::vector<std::string> memoryWarnings;
+  checkRenderMemory(scene, memoryWarnings, false);
   if (!o.noPlots) createOutputFolder(o.outDir, "-o");
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).

@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
+#include <set>
 #include <string>
 #include <system_error>
 
@@ -16,6 +18,18 @@ namespace meso {
 namespace {
 
 std::atomic<long long> gWriteLimit{-1};
+
+// Temporaries not yet renamed or removed: what an interrupted process must delete on its way out.
+std::mutex gTemporariesMutex;
+std::set<std::filesystem::path>& temporaries() {
+  static std::set<std::filesystem::path> set;
+  return set;
+}
+
+void forget(const std::filesystem::path& tmp) {
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  temporaries().erase(tmp);
+}
 
 const char* typeName(mode_t mode) {
   if (S_ISDIR(mode)) return "a folder";
@@ -37,9 +51,15 @@ std::filesystem::path temporarySibling(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
   // append() rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter.
   std::string name = ".";
-  name.append(target.stem().string()).append(".tmp-").append(std::to_string(::getpid())).append("-");
+  name.append(target.stem().string())
+      .append(".tmp-")
+      .append(std::to_string(::getpid()))
+      .append("-");
   name.append(std::to_string(counter.fetch_add(1))).append(target.extension().string());
-  return target.parent_path() / name;
+  std::filesystem::path tmp = target.parent_path() / name;
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  temporaries().insert(tmp);
+  return tmp;
 }
 
 void checkOutputFile(const std::filesystem::path& target, const std::string& what) {
@@ -82,7 +102,8 @@ void createOutputFolder(const std::filesystem::path& folder, const std::string& 
   if (ec) throw Error(prefix + "cannot create the folder: " + ec.message());
 }
 
-void writeBytes(const std::filesystem::path& path, std::string_view bytes, const std::filesystem::path& shown) {
+void writeBytes(const std::filesystem::path& path, std::string_view bytes,
+                const std::filesystem::path& shown) {
   const std::filesystem::path& file = shown.empty() ? path : shown;
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) failErrno(file, "create", errno);
@@ -120,22 +141,28 @@ void writeAtomically(const std::filesystem::path& target,
     write(tmp);
     std::error_code ec;
     std::filesystem::rename(tmp, target, ec);
-    if (ec) throw Error(target.string() + ": cannot rename the complete file into place: " + ec.message());
+    if (ec)
+      throw Error(target.string() +
+                  ": cannot rename the complete file into place: " + ec.message());
+    forget(tmp);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
+    forget(tmp);
     throw;
   }
 }
 
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes) {
-  writeAtomically(target, [&](const std::filesystem::path& tmp) { writeBytes(tmp, bytes, target); });
+  writeAtomically(target,
+                  [&](const std::filesystem::path& tmp) { writeBytes(tmp, bytes, target); });
 }
 
 StagedFiles::~StagedFiles() {
   for (const auto& [tmp, target] : staged_) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
+    forget(tmp);
   }
 }
 
@@ -147,6 +174,7 @@ void StagedFiles::stage(const std::filesystem::path& target, std::string_view by
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
+    forget(tmp);
     throw;
   }
   staged_.emplace_back(tmp, target);
@@ -158,11 +186,27 @@ void StagedFiles::commit() {
     const auto [tmp, target] = staged_.front();
     std::error_code ec;
     std::filesystem::rename(tmp, target, ec);
-    if (ec) throw Error(target.string() + ": cannot rename the complete file into place: " + ec.message());
+    if (ec)
+      throw Error(target.string() +
+                  ": cannot rename the complete file into place: " + ec.message());
+    forget(tmp);
     staged_.erase(staged_.begin());
   }
 }
 
 void setWriteLimitForTesting(long long bytes) { gWriteLimit.store(bytes); }
+
+int removeTemporaries() {
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  int removed = 0;
+  for (const std::filesystem::path& tmp : temporaries()) {
+    std::error_code ignored;
+    removed += std::filesystem::remove(tmp, ignored) ? 1 : 0;
+  }
+  temporaries().clear();
+  return removed;
+}
+
+void forgetTemporary(const std::filesystem::path& tmp) { forget(tmp); }
 
 }  // namespace meso

@@ -6,6 +6,7 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io_memory.h"
 #include "meso/core/input_file.h"
+#include "meso/core/memory_budget.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -147,7 +148,8 @@ float srgbEncode(float v) {
 
 // The pixels of an opened image, all channels as float; at most maxValues of them (0: no limit
 // beyond OpenImageIO's).
-Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t maxValues = 0) {
+Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64_t fileBytes,
+                 size_t maxValues = 0) {
   const OIIO::ImageSpec& spec = in.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     fail(file, "image has zero size (" + std::to_string(spec.width) + "x" +
@@ -164,6 +166,19 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t
                    " channels: " + std::to_string(static_cast<long long>(mib)) +
                    " MiB as float, more than OpenImageIO's limits:imagesize_MB = " +
                    std::to_string(limitMib) + ")");
+  // Deflate compresses at most 1032:1: a PNG smaller than that share of its pixels is truncated or
+  // lies about its size (decoding would allocate for pixels that are not there).
+  const double rawBytes = static_cast<double>(spec.width) * spec.height * spec.nchannels * spec.format.size();
+  if (std::string(in.format_name()) == "png" && rawBytes > 1032.0 * static_cast<double>(fileBytes) + 65536.0)
+    fail(file, "truncated or corrupt PNG: " + std::to_string(fileBytes) + " bytes cannot hold the " +
+                   std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels its header declares");
+  // Float pixels plus the native scanlines they are converted from: refused from the declared size,
+  // before decoding (a 190-byte PNG declaring 60000 x 60000 once tried 13 GiB).
+  requireMemory(static_cast<double>(spec.width) * spec.height * spec.nchannels *
+                    (sizeof(float) + spec.format.size()),
+                file.string(), "image",
+                "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
+                    std::to_string(spec.nchannels) + " channels, as the header declares");
   const double values = static_cast<double>(spec.width) * spec.height * spec.nchannels;
   if (maxValues > 0 && values > static_cast<double>(maxValues))
     fail(file, "image too large (" + std::to_string(spec.width) + "x" +
@@ -216,7 +231,9 @@ Image readImage(const std::filesystem::path& file) {
   }
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) fail(file, "cannot read image: " + oiioMessage(""));
-  return readOpened(*in, file);
+  std::error_code ec;
+  const uint64_t bytes = std::filesystem::file_size(file, ec);
+  return readOpened(*in, file, ec ? UINT64_MAX / 2048 : bytes);
 }
 
 Image readImageFromMemory(const void* data, size_t size, const std::filesystem::path& name,
@@ -247,7 +264,7 @@ Image readImageFromMemory(const void* data, size_t size, const std::filesystem::
   config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxyPointer);
   if (!in->open(name.string(), spec, config))
     fail(name, "cannot read image: " + oiioMessage(in->geterror()));
-  return readOpened(*in, name, maxValues);
+  return readOpened(*in, name, size, maxValues);
 }
 
 std::string encodeExr(const Image& image) {

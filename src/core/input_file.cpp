@@ -25,8 +25,8 @@ const char* kindOf(mode_t mode) {
   return "not a regular file";
 }
 
-uint64_t checkStat(const struct stat& st, const std::filesystem::path& file, const std::string& what,
-                   uint64_t maxBytes) {
+uint64_t checkStat(const struct stat& st, const std::filesystem::path& file,
+                   const std::string& what, uint64_t maxBytes) {
   if (!S_ISREG(st.st_mode))
     throw Error(prefix(file, what) + "expected a regular file, found " + kindOf(st.st_mode));
   const uint64_t size = static_cast<uint64_t>(st.st_size);
@@ -38,15 +38,18 @@ uint64_t checkStat(const struct stat& st, const std::filesystem::path& file, con
 
 }  // namespace
 
-uint64_t checkInputFile(const std::filesystem::path& file, const std::string& what, uint64_t maxBytes) {
+uint64_t checkInputFile(const std::filesystem::path& file, const std::string& what,
+                        uint64_t maxBytes) {
   struct stat st;
   if (::stat(file.c_str(), &st) != 0)
-    throw Error(prefix(file, what) + (errno == ENOENT ? std::string("file not found")
-                                                       : std::string("cannot open: ") + std::strerror(errno)));
+    throw Error(prefix(file, what) + (errno == ENOENT
+                                          ? std::string("file not found")
+                                          : std::string("cannot open: ") + std::strerror(errno)));
   return checkStat(st, file, what, maxBytes);
 }
 
-std::string readInputFile(const std::filesystem::path& file, const std::string& what, uint64_t maxBytes) {
+std::string readInputFile(const std::filesystem::path& file, const std::string& what,
+                          uint64_t maxBytes) {
   checkInputFile(file, what, maxBytes);
   const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw Error(prefix(file, what) + "cannot open: " + std::strerror(errno));

@@ -31,7 +31,8 @@ struct RunResult {
 // Runs meso through the shell with `env` (variable assignments) in its environment, killed after
 // 20 s.
 RunResult run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = "timeout -s KILL 20 env " + env + " " + std::string(MESO_EXE) + " " + args + " 2>&1";
+  const std::string cmd =
+      "timeout -s KILL 20 env " + env + " " + std::string(MESO_EXE) + " " + args + " 2>&1";
   RunResult r;
   const auto start = std::chrono::steady_clock::now();
   FILE* p = popen(cmd.c_str(), "r");
@@ -68,12 +69,15 @@ class HostileTest : public meso::testing::TempDirTest {
     write("scene.toml", scene());
   }
   std::string scene(const std::string& extra = "") const {
-    return "[camera]\nposition = [0, 0, 3]\nresolution = [32, 18]\nspp = 1\n[[lights]]\ndirection = [0, 0, -1]\n"
-           "[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n" + extra;
+    return "[camera]\nposition = [0, 0, 3]\nresolution = [32, 18]\nspp = 1\n[[lights]]\ndirection "
+           "= [0, 0, -1]\n"
+           "[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n" +
+           extra;
   }
   std::string path3() const {
-    return scene() + "[path]\nframes = 3\n[[path.keys]]\ntime = 0\nposition = [0, 0, 3]\n[[path.keys]]\n"
-                     "time = 1\nposition = [0, 0.2, 3]\n";
+    return scene() +
+           "[path]\nframes = 3\n[[path.keys]]\ntime = 0\nposition = [0, 0, 3]\n[[path.keys]]\n"
+           "time = 1\nposition = [0, 0.2, 3]\n";
   }
   std::string render(const fs::path& out, const std::string& extra = "") const {
     return "render " + quoted(dir_ / "scene.toml") + " -q -o " + quoted(out) + " " + extra;
@@ -99,7 +103,8 @@ class HostileTest : public meso::testing::TempDirTest {
 TEST_F(HostileTest, VideoNameIsNeverShellCode) {
   write("scene.toml", path3());
   const fs::path marker = dir_ / "PWNED";
-  const fs::path video = dir_ / ("v'; touch " + marker.string() + "; echo '$(touch " + marker.string() + ").mp4");
+  const fs::path video =
+      dir_ / ("v'; touch " + marker.string() + "; echo '$(touch " + marker.string() + ").mp4");
   const RunResult r = run(render(dir_ / "out/f.exr", "--video " + quoted(video)));
   EXPECT_FALSE(fs::exists(marker)) << r.output;
   if (r.status == 0) {
@@ -111,9 +116,11 @@ TEST_F(HostileTest, VideoNameIsNeverShellCode) {
 // Without ffmpeg the run stops before rendering anything (it used to render every frame first).
 TEST_F(HostileTest, VideoWithoutFfmpegFailsBeforeRendering) {
   write("scene.toml", path3());
-  const RunResult r = run(render(dir_ / "out/f.exr", "--video " + quoted(dir_ / "v.mp4")), "PATH=/nonexistent");
+  const RunResult r =
+      run(render(dir_ / "out/f.exr", "--video " + quoted(dir_ / "v.mp4")), "PATH=/nonexistent");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("v.mp4: --video: expected ffmpeg on the PATH"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("v.mp4: --video: expected ffmpeg on the PATH"), std::string::npos)
+      << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
 }
 
@@ -128,20 +135,33 @@ TEST_F(HostileTest, SpecialOutputsAreRefusedWithStatusTwo) {
     std::string args, expected;
   };
   const Case cases[] = {
-      {render(dir_ / "out/a.exr", "--stats /dev/null"), "/dev/null: --stats: expected a regular file to write (or no file), found a character device"},
-      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "fifo")), "fifo: --stats: expected a regular file to write (or no file), found a FIFO"},
-      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "link.json")), "link.json: --stats: expected a regular file to write (or no file), found a symbolic link"},
-      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "out")), "out: --stats: expected a regular file to write (or no file), found a folder"},
-      {render(dir_ / "folder.exr"), "folder.exr: -o: expected a regular file to write (or no file), found a folder"},
-      {render(dir_ / "file.txt/a.exr"), "a.exr: -o: expected a folder to write into, " + (dir_ / "file.txt").string() + " is not a regular file"},
-      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "file.txt/s.json")), "s.json: --stats: expected a folder to write into"},
-      {"tables " + quoted(dir_ / "scene.toml") + " -o /proc/x", "/proc/x: -o: cannot create the folder"},
-      {"tables " + quoted(dir_ / "scene.toml") + " -o " + quoted(dir_ / "file.txt"), "file.txt: -o: expected a folder"},
+      {render(dir_ / "out/a.exr", "--stats /dev/null"),
+       "/dev/null: --stats: expected a regular file to write (or no file), found a character "
+       "device"},
+      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "fifo")),
+       "fifo: --stats: expected a regular file to write (or no file), found a FIFO"},
+      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "link.json")),
+       "link.json: --stats: expected a regular file to write (or no file), found a symbolic link"},
+      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "out")),
+       "out: --stats: expected a regular file to write (or no file), found a folder"},
+      {render(dir_ / "folder.exr"),
+       "folder.exr: -o: expected a regular file to write (or no file), found a folder"},
+      {render(dir_ / "file.txt/a.exr"), "a.exr: -o: expected a folder to write into, " +
+                                            (dir_ / "file.txt").string() +
+                                            " is not a regular file"},
+      {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "file.txt/s.json")),
+       "s.json: --stats: expected a folder to write into"},
+      {"tables " + quoted(dir_ / "scene.toml") + " -o /proc/x",
+       "/proc/x: -o: cannot create the folder"},
+      {"tables " + quoted(dir_ / "scene.toml") + " -o " + quoted(dir_ / "file.txt"),
+       "file.txt: -o: expected a folder"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
-    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << ": expected \"" << c.expected << "\" in\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos)
+        << c.args << ": expected \"" << c.expected << "\" in\n"
+        << r.output;
     EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
   }
   struct stat st;
@@ -157,7 +177,8 @@ TEST_F(HostileTest, BandsOutputOntoAFileIsStatusTwo) {
   // A 4 x 4 PGM height image.
   std::ofstream(dir_ / "h.pgm", std::ios::binary) << "P5\n4 4\n255\n" << std::string(16, '\x40');
   write("file.txt", "x");
-  const RunResult r = run("bands " + quoted(dir_ / "h.pgm") + " -n 2 -o " + quoted(dir_ / "file.txt"));
+  const RunResult r =
+      run("bands " + quoted(dir_ / "h.pgm") + " -n 2 -o " + quoted(dir_ / "file.txt"));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("file.txt: -o: expected a folder"), std::string::npos) << r.output;
 }
@@ -172,18 +193,26 @@ TEST_F(HostileTest, SpecialInputsAreRefusedWithoutBlocking) {
   };
   write("mesh-fifo.toml", scene().replace(scene().find("quad.obj"), 8, "fifo.obj"));
   const Case cases[] = {
-      {"render " + quoted(dir_ / "fifo.toml") + " -q -o " + quoted(dir_ / "out/a.exr"), "fifo.toml: scene: expected a regular file, found a FIFO"},
-      {"render /dev/zero -q -o " + quoted(dir_ / "out/a.exr"), "/dev/zero: scene: expected a regular file, found a character device"},
-      {"tables " + quoted(dir_ / "fifo.toml") + " --no-plots", "fifo.toml: scene: expected a regular file, found a FIFO"},
-      {"render " + quoted(dir_ / "mesh-fifo.toml") + " -q -o " + quoted(dir_ / "out/a.exr"), "objects.mesh: not a regular file"},
-      {"bands " + quoted(dir_ / "fifo.png") + " -o " + quoted(dir_ / "out"), "fifo.png: image: expected a regular file, found a FIFO"},
-      {"consistency --height /dev/zero --theta-v 0", "/dev/zero: image: expected a regular file, found a character device"},
+      {"render " + quoted(dir_ / "fifo.toml") + " -q -o " + quoted(dir_ / "out/a.exr"),
+       "fifo.toml: scene: expected a regular file, found a FIFO"},
+      {"render /dev/zero -q -o " + quoted(dir_ / "out/a.exr"),
+       "/dev/zero: scene: expected a regular file, found a character device"},
+      {"tables " + quoted(dir_ / "fifo.toml") + " --no-plots",
+       "fifo.toml: scene: expected a regular file, found a FIFO"},
+      {"render " + quoted(dir_ / "mesh-fifo.toml") + " -q -o " + quoted(dir_ / "out/a.exr"),
+       "objects.mesh: not a regular file"},
+      {"bands " + quoted(dir_ / "fifo.png") + " -o " + quoted(dir_ / "out"),
+       "fifo.png: image: expected a regular file, found a FIFO"},
+      {"consistency --height /dev/zero --theta-v 0",
+       "/dev/zero: image: expected a regular file, found a character device"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
     EXPECT_LT(r.seconds, 5.0) << c.args;
-    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << ": expected \"" << c.expected << "\" in\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos)
+        << c.args << ": expected \"" << c.expected << "\" in\n"
+        << r.output;
   }
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
 }
@@ -195,30 +224,38 @@ TEST_F(HostileTest, OptionValuesAreStrict) {
     std::string args, expected;
   };
   const Case cases[] = {
-      {render(dir_ / "out/a.exr", "--dicing-rate nan"), "--dicing-rate: expected a finite number, got \"nan\""},
+      {render(dir_ / "out/a.exr", "--dicing-rate nan"),
+       "--dicing-rate: expected a finite number, got \"nan\""},
       {render(dir_ / "out/a.exr", "--D inf"), "--D: "},
-      {render(dir_ / "out/a.exr", "--thresholds=-2,-1,nan,2"), "--thresholds: expected a finite number, got \"nan\""},
-      {render(dir_ / "out/a.exr", "--frames 1x:2y"), "--frames: expected A, A: or A:B with 0 <= A <= B < 3, got \"1x:2y\""},
+      {render(dir_ / "out/a.exr", "--thresholds=-2,-1,nan,2"),
+       "--thresholds: expected a finite number, got \"nan\""},
+      {render(dir_ / "out/a.exr", "--frames 1x:2y"),
+       "--frames: expected A, A: or A:B with 0 <= A <= B < 3, got \"1x:2y\""},
       {render(dir_ / "out/a.exr", "--frames 0:79:8"), "got \"0:79:8\" (a step is not supported)"},
       {render(dir_ / "out/a.exr", "--frames 2:1"), "--frames: expected A, A: or A:B"},
-      {render(dir_ / "out/a.exr", "--shard 1/2x"), "--shard: expected i/n with 0 <= i < n, got \"1/2x\""},
+      {render(dir_ / "out/a.exr", "--shard 1/2x"),
+       "--shard: expected i/n with 0 <= i < n, got \"1/2x\""},
       {"consistency --normalize nan", "--normalize: expected a finite number, got \"nan\""},
       {"consistency --theta-v 10,nan", "--theta-v: expected a finite number, got \"nan\""},
-      {"trade " + quoted(dir_ / "scene.toml") + " --band nan", "--band: expected a finite number, got \"nan\""},
+      {"trade " + quoted(dir_ / "scene.toml") + " --band nan",
+       "--band: expected a finite number, got \"nan\""},
       {"trade " + quoted(dir_ / "scene.toml") + " --frames 0:1:1", "(a step is not supported)"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
-    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << ": expected \"" << c.expected << "\" in\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos)
+        << c.args << ": expected \"" << c.expected << "\" in\n"
+        << r.output;
   }
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
 }
 
 // A full disk: the frame's EXR and PNG do not appear (half a PNG used to be left, exit 0).
 TEST_F(HostileTest, FullDiskLeavesNoPartialOutput) {
-  if (!mountTmpfs("full", 4096)) GTEST_SKIP() << "cannot mount a tmpfs here (needs root): the write hook test in "
-                                                 "core/atomic_file_test covers the same path";
+  if (!mountTmpfs("full", 4096))
+    GTEST_SKIP() << "cannot mount a tmpfs here (needs root): the write hook test in "
+                    "core/atomic_file_test covers the same path";
   const RunResult r = run(render(dir_ / "full/a.exr"));
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
@@ -229,9 +266,12 @@ TEST_F(HostileTest, FullDiskLeavesNoPartialOutput) {
 TEST_F(HostileTest, FailedStatsWriteLeavesNoFrame) {
   if (!mountTmpfs("full", 4096)) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
   std::ofstream(dir_ / "full/filler", std::ios::binary) << std::string(4096, 'x');
-  const RunResult r = run(render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "full/stats.json")));
+  const RunResult r =
+      run(render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "full/stats.json")));
   EXPECT_NE(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("full/stats.json: cannot write: No space left on device"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("full/stats.json: cannot write: No space left on device"),
+            std::string::npos)
+      << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
   EXPECT_EQ(filesUnder(dir_ / "full"), 1);  // the filler
 }
@@ -239,31 +279,116 @@ TEST_F(HostileTest, FailedStatsWriteLeavesNoFrame) {
 // Mesh problems found after reading name the mesh file; relief on a mesh without vt warns.
 TEST_F(HostileTest, MeshProblemsNameTheFile) {
   write("loop.toml", scene().replace(scene().find("bilinear"), 8, "loop"));
-  RunResult r = run("render " + quoted(dir_ / "loop.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
+  RunResult r =
+      run("render " + quoted(dir_ / "loop.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find((dir_ / "quad.obj").string() + ": Loop subdivision needs an all-triangle mesh"),
-            std::string::npos) << r.output;
+  EXPECT_NE(
+      r.output.find((dir_ / "quad.obj").string() + ": Loop subdivision needs an all-triangle mesh"),
+      std::string::npos)
+      << r.output;
   std::string gon;
   for (int i = 0; i < 100000; ++i)
-    gon += "v " + std::to_string(std::cos(i * 6.283185307 / 100000)) + " " +
-           std::to_string(std::sin(i * 6.283185307 / 100000)) + " 0\n";
+    gon.append("v ")
+        .append(std::to_string(std::cos(i * 6.283185307 / 100000)))
+        .append(" ")
+        .append(std::to_string(std::sin(i * 6.283185307 / 100000)))
+        .append(" 0\n");
   gon += "f";
-  for (int i = 1; i <= 100000; ++i) gon += " " + std::to_string(i);
+  for (int i = 1; i <= 100000; ++i) gon.append(" ").append(std::to_string(i));
   write("gon.obj", gon + "\n");
   write("gon.toml", scene().replace(scene().find("quad.obj"), 8, "gon.obj"));
   r = run("render " + quoted(dir_ / "gon.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find((dir_ / "gon.obj").string() + ": control mesh face 0 has 100000 vertices"), std::string::npos)
+  EXPECT_NE(
+      r.output.find((dir_ / "gon.obj").string() + ": control mesh face 0 has 100000 vertices"),
+      std::string::npos)
       << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
-  write("relief.toml", "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
-                       "  amplitude = 0.01\n  scale = 4.0\n" + scene("material = \"m\"\n") +
-                       "[render]\ncache_dir = \"" + (dir_ / "cache").string() + "\"\n[render.tables]\n"
-                       "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
-                       "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
+  write("relief.toml",
+        "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+        "  amplitude = 0.01\n  scale = 4.0\n" +
+            scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
+            "\"\n[render.tables]\n"
+            "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
+            "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
   r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("quad.obj: the mesh has no texture coordinates (vt)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("quad.obj: the mesh has no texture coordinates (vt)"), std::string::npos)
+      << r.output;
+}
+
+// Jobs whose estimated memory exceeds --memory-limit are refused before allocating, naming the key
+// and the estimate; the micropolygon cap is lowered to what fits.
+TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
+  // 69 bytes of PNG declaring a 60000 x 60000 grey image (13 GiB as float).
+  const std::string png(
+      "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\xea\x60\x00\x00\xea"
+      "\x60\x08"
+      "\x00\x00\x00\x00\xa5\xb9\x2a\x9e\x00\x00\x00\x0c\x49\x44\x41\x54\x78\x9c\x63\x60\xa0\x3d\x00"
+      "\x00\x00"
+      "\x64\x00\x01\x86\x64\x3c\x35\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82",
+      69);
+  std::ofstream(dir_ / "huge.png", std::ios::binary) << png;
+  RunResult r = run("bands " + quoted(dir_ / "huge.png") + " -o " + quoted(dir_ / "out"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(
+      r.output.find(
+          "huge.png: truncated or corrupt PNG: 69 bytes cannot hold the 60000x60000 pixels its "
+          "header declares"),
+      std::string::npos)
+      << r.output;
+  EXPECT_LT(r.seconds, 5.0);
+  // A PNG that could hold them (padded to 4 MB) is refused by the memory estimate instead.
+  std::ofstream(dir_ / "padded.png", std::ios::binary)
+      << png.substr(0, 33) << std::string("\x00\x40\x00\x00tEXt", 8) << std::string(0x400000, 'x')
+      << std::string("\x00\x00\x00\x00", 4) << png.substr(33);
+  r = run("bands " + quoted(dir_ / "padded.png") + " -o " + quoted(dir_ / "out") +
+          " --memory-limit 4096");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(
+      r.output.find(
+          "padded.png: image: needs an estimated 17166.1 MiB (decoding 60000x60000, 1 channels, as "
+          "the header declares), more than the memory limit of 4096.0 MiB"),
+      std::string::npos)
+      << r.output;
+  EXPECT_LT(r.seconds, 5.0);
+
+  r = run(render(dir_ / "out/a.exr", "--width 16384 --height 16384 --memory-limit 4096"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(
+      r.output.find(
+          "scene.toml: camera.resolution: needs an estimated 24064.0 MiB (the film of 16384x16384"),
+      std::string::npos)
+      << r.output;
+
+  write("tables.toml",
+        "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = {}\n" +
+            scene("material = \"m\"\n") +
+            "[render.tables]\ntheta_v_bins = 90\nphi_v_bins = 64\ntheta_n_bins = 1024\n"
+            "phi_bins = 1024\n");
+  for (const std::string& command :
+       {"render " + quoted(dir_ / "tables.toml") + " -q -o " + quoted(dir_ / "out/a.exr"),
+        "tables " + quoted(dir_ / "tables.toml") + " --no-plots"}) {
+    r = run(command);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("tables.toml: render.tables.theta_n_bins/phi_bins: needs an estimated"),
+              std::string::npos)
+        << r.output;
+    EXPECT_LT(r.seconds, 5.0);
+  }
+
+  write("relief.toml",
+        "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+        "  amplitude = 0.01\n  scale = 4.0\n" +
+            scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
+            "\"\n[render.tables]\n"
+            "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
+            "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
+  r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr") +
+          " --algorithm displacement --memory-limit 64");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("render.max_micropolygons: lowered from 80000000 to "), std::string::npos)
+      << r.output;
 }
 
 }  // namespace

@@ -54,6 +54,12 @@ class StagedFiles {
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;  // tmp, target
 };
 
+// Removes every temporary made by temporarySibling() that was neither renamed nor removed yet (for
+// a process stopped by SIGINT/SIGTERM on its way out: no partial file stays behind). Returns how
+// many were removed. forgetTemporary() drops one from that list (after renaming it by hand).
+int removeTemporaries();
+void forgetTemporary(const std::filesystem::path& tmp);
+
 // Test hook: when set, writeBytes fails once the file would grow past this many bytes, as a full
 // disk does (ENOSPC). Negative (the default): no limit.
 void setWriteLimitForTesting(long long bytes);

@@ -16,10 +16,12 @@ inline constexpr uint64_t kMaxImageBytes = uint64_t(4) << 30;
 // Returns the size of `file`, throwing meso::Error("FILE: what: expected ...") when it does not
 // exist, is not a regular file (after following symlinks) or is larger than maxBytes. Never opens
 // the file (opening a FIFO blocks).
-uint64_t checkInputFile(const std::filesystem::path& file, const std::string& what, uint64_t maxBytes);
+uint64_t checkInputFile(const std::filesystem::path& file, const std::string& what,
+                        uint64_t maxBytes);
 
 // The bytes of `file`, checked as checkInputFile does on the opened descriptor (O_NONBLOCK, so a
 // FIFO swapped in after the check cannot block) and read up to maxBytes.
-std::string readInputFile(const std::filesystem::path& file, const std::string& what, uint64_t maxBytes);
+std::string readInputFile(const std::filesystem::path& file, const std::string& what,
+                          uint64_t maxBytes);
 
 }  // namespace meso

@@ -1,7 +1,8 @@
 // Checks the text of OBJ and ASCII OFF meshes before OpenMesh reads them. OpenMesh skips what it
-// cannot use (a face with an index out of range, a NaN vertex) and trusts what it reads (an OFF face
-// of -5 vertices made it allocate 4 GB), so a broken file used to end in "mesh has no faces", or in
-// a silently different mesh. Every problem is reported as FILE:LINE:COL: key: what was expected.
+// cannot use (a face with an index out of range, a NaN vertex) and trusts what it reads (an OFF
+// face of -5 vertices made it allocate 4 GB), so a broken file used to end in "mesh has no faces",
+// or in a silently different mesh. Every problem is reported as FILE:LINE:COL: key: what was
+// expected.
 #pragma once
 
 #include <filesystem>
@@ -15,6 +16,7 @@ struct MeshTextCounts {
 };
 
 // `ext` is ".obj", ".off" or ".ply" (lower case). Throws meso::Error for the first problem found.
-MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file, const std::string& ext);
+MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file,
+                             const std::string& ext);
 
 }  // namespace meso
