@@ -27,7 +27,8 @@ void runBands(const BandsCommandOptions& o) {
   if (o.levels < 1 || o.levels > 16) throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
   createOutputFolder(o.outDir, "-o");
   for (int k = 1; k <= o.levels; ++k)
-    checkOutputFile(o.outDir / (o.height.stem().string() + "_band" + std::to_string(k) + ".exr"), "-o");
+    checkOutputFile(o.outDir / (o.height.stem().string() + "_band" + std::to_string(k) + ".exr"),
+                    "-o");
   HeightTableOptions options;
   options.periodic = !o.clamp;
   const HeightTable table = loadHeightTable(o.height, options);

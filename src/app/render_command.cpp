@@ -149,7 +149,8 @@ std::string findOnPath(const std::string& program) {
     const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
     const std::string candidate = dir + "/" + program;
     struct stat st;
-    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(candidate.c_str(), X_OK) == 0)
+    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+        ::access(candidate.c_str(), X_OK) == 0)
       return candidate;
     start = end + 1;
   }
@@ -159,7 +160,8 @@ std::string findOnPath(const std::string& program) {
 std::string ffmpegOrThrow(const std::filesystem::path& video) {
   const std::string ffmpeg = findOnPath("ffmpeg");
   if (ffmpeg.empty())
-    throw Error(video.string() + ": --video: expected ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
+    throw Error(video.string() +
+                ": --video: expected ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
   return ffmpeg;
 }
 
@@ -188,19 +190,21 @@ std::string escapePercent(const std::string& s) {
   return out;
 }
 
-void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video, const std::filesystem::path& output,
-                   double fps, int firstFrame) {
+void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video,
+                   const std::filesystem::path& output, double fps, int firstFrame) {
   const std::filesystem::path tmp = temporarySibling(video);
   const std::string pattern =
       (output.parent_path() / (escapePercent(output.stem().string()) + "_%04d.png")).string();
-  const int status = runProgram({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps),
-                                 "-start_number", std::to_string(firstFrame), "-i", pattern, "-c:v", "libx264",
-                                 "-pix_fmt", "yuv420p", tmp.string()});
+  const int status =
+      runProgram({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps),
+                  "-start_number", std::to_string(firstFrame), "-i", pattern, "-c:v", "libx264",
+                  "-pix_fmt", "yuv420p", tmp.string()});
   std::error_code ec;
   if (status != 0) {
     std::filesystem::remove(tmp, ec);
     throw Error(video.string() + ": ffmpeg failed to assemble " + pattern +
-                (status < 0 ? " (it did not start or was killed)" : " (exit status " + std::to_string(status) + ")"));
+                (status < 0 ? " (it did not start or was killed)"
+                            : " (exit status " + std::to_string(status) + ")"));
   }
   std::filesystem::rename(tmp, video, ec);
   forgetTemporary(tmp);
@@ -226,7 +230,8 @@ void installInterruptHandler() {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(kInterruptGraceMs));
     removeTemporaries();
-    static const char message[] = "meso: interrupted; complete outputs are kept, nothing partial was written\n";
+    static const char message[] =
+        "meso: interrupted; complete outputs are kept, nothing partial was written\n";
     (void)!::write(2, message, sizeof message - 1);
     ::_exit(130);
   }).detach();
@@ -240,7 +245,8 @@ void runRender(const RenderCommandOptions& o) {
   applyOverrides(o, scene);
   std::vector<std::string> memoryWarnings;
   checkRenderMemory(scene, memoryWarnings);
-  for (const std::string& w : memoryWarnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  for (const std::string& w : memoryWarnings)
+    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
     throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");
@@ -346,7 +352,8 @@ void runRender(const RenderCommandOptions& o) {
   if (!o.quiet && skipped > 0)
     std::fprintf(stderr, "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n", skipped);
   const auto assemble = [&] {
-    if (!o.video.empty()) assembleVideo(ffmpeg, o.video, output, scene.path.fps, frames.empty() ? 0 : frames.front());
+    if (!o.video.empty())
+      assembleVideo(ffmpeg, o.video, output, scene.path.fps, frames.empty() ? 0 : frames.front());
   };
   if (o.statsFile.empty()) assemble();
 

@@ -136,7 +136,6 @@ std::string formatNumber(double v) {
 
 // --- options ---
 
-
 template <class T>
 void checkValues(const std::vector<T>& values, const char* option, double lo, double hi) {
   if (values.empty()) throw Error(std::string(option) + ": needs at least one value");
@@ -834,7 +833,8 @@ void runTrade(const TradeCommandOptions& o) {
   const std::vector<Configuration> configs = configurations(o, scene);
   for (const Configuration& c : configs) sceneFor(scene, c);  // checks every D before rendering anything
   createOutputFolder(o.outDir, "-o");
-  for (const char* name : {"trade.csv", "trade.png", "temporal.csv"}) checkOutputFile(o.outDir / name, "-o");
+  for (const char* name : {"trade.csv", "trade.png", "temporal.csv"})
+    checkOutputFile(o.outDir / name, "-o");
 
   const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);

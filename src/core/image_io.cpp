@@ -131,7 +131,8 @@ std::string encodeWithOiio(const std::filesystem::path& name, const OIIO::ImageS
     fail(name, std::string("the ") + out->format_name() + " writer cannot write to memory");
   std::vector<unsigned char> buffer;
   OIIO::Filesystem::IOVecOutput proxy(buffer);
-  if (!out->set_ioproxy(&proxy)) fail(name, "cannot write to memory: " + oiioMessage(out->geterror()));
+  if (!out->set_ioproxy(&proxy))
+    fail(name, "cannot write to memory: " + oiioMessage(out->geterror()));
   if (!out->open(name.string(), spec))
     fail(name, "cannot open for writing: " + oiioMessage(out->geterror()));
   if (!out->write_image(format, data)) fail(name, "write failed: " + oiioMessage(out->geterror()));
@@ -168,17 +169,20 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64
                    std::to_string(limitMib) + ")");
   // Deflate compresses at most 1032:1: a PNG smaller than that share of its pixels is truncated or
   // lies about its size (decoding would allocate for pixels that are not there).
-  const double rawBytes = static_cast<double>(spec.width) * spec.height * spec.nchannels * spec.format.size();
-  if (std::string(in.format_name()) == "png" && rawBytes > 1032.0 * static_cast<double>(fileBytes) + 65536.0)
-    fail(file, "truncated or corrupt PNG: " + std::to_string(fileBytes) + " bytes cannot hold the " +
-                   std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels its header declares");
+  const double rawBytes =
+      static_cast<double>(spec.width) * spec.height * spec.nchannels * spec.format.size();
+  if (std::string(in.format_name()) == "png" &&
+      rawBytes > 1032.0 * static_cast<double>(fileBytes) + 65536.0)
+    fail(file, "truncated or corrupt PNG: " + std::to_string(fileBytes) +
+                   " bytes cannot hold the " + std::to_string(spec.width) + "x" +
+                   std::to_string(spec.height) + " pixels its header declares");
   // Float pixels plus the native scanlines they are converted from: refused from the declared size,
   // before decoding (a 190-byte PNG declaring 60000 x 60000 once tried 13 GiB).
   requireMemory(static_cast<double>(spec.width) * spec.height * spec.nchannels *
                     (sizeof(float) + spec.format.size()),
                 file.string(), "image",
-                "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
-                    std::to_string(spec.nchannels) + " channels, as the header declares");
+                "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    ", " + std::to_string(spec.nchannels) + " channels, as the header declares");
   const double values = static_cast<double>(spec.width) * spec.height * spec.nchannels;
   if (maxValues > 0 && values > static_cast<double>(maxValues))
     fail(file, "image too large (" + std::to_string(spec.width) + "x" +

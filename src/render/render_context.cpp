@@ -59,8 +59,9 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     times.load += load.seconds();
     Timer tess;
     if (!mesh.hasUvs() && hasRelief(scene.materials[object.material]))
-      ctx.warnings.push_back(object.mesh.string() + ": the mesh has no texture coordinates (vt): its relief follows each face's own (s, t) chart and does not "
-                             "continue across faces");
+      ctx.warnings.push_back(object.mesh.string() +
+                             ": the mesh has no texture coordinates (vt): its relief follows each "
+                             "face's own (s, t) chart and does not continue across faces");
     LimitSurface surface = [&] {
       try {
         return LimitSurface(mesh, object.scheme);

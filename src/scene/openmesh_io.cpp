@@ -41,7 +41,8 @@ void readUvs(const PolyMesh& mesh, ControlMesh& out) {
 
 // OpenMesh's PLY reader loops forever on a header without end_header, and its readers trust the
 // element counts: check the header and the counts against the file size before handing it over.
-void checkHeader(std::string_view bytes, const std::filesystem::path& file, const std::string& ext) {
+void checkHeader(std::string_view bytes, const std::filesystem::path& file,
+                 const std::string& ext) {
   const std::string head(bytes.substr(0, 65536));
   const uintmax_t size = bytes.size();
   if (ext == ".ply") {
@@ -80,7 +81,8 @@ ControlMesh loadControlMesh(const std::filesystem::path& file) {
 
 ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (ext != ".obj" && ext != ".ply" && ext != ".off")
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
   if (bytes.empty()) fail(file, "empty mesh file");
@@ -105,10 +107,11 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
   std::cerr.rdbuf(cerrBuffer);
   if (!ok) fail(file, "cannot read mesh (malformed or truncated " + ext.substr(1) + " file?)");
   if (mesh.n_faces() == 0)
-    fail(file, counts.checked ? "mesh has no faces: the reader rejected all " + std::to_string(counts.faces) +
-                                    " (non-manifold: an edge shared by more than two faces, or neighbours of "
-                                    "opposite orientation)"
-                              : "mesh has no faces");
+    fail(file, counts.checked
+                   ? "mesh has no faces: the reader rejected all " + std::to_string(counts.faces) +
+                         " (non-manifold: an edge shared by more than two faces, or neighbours of "
+                         "opposite orientation)"
+                   : "mesh has no faces");
 
   ControlMesh out;
   out.positions.reserve(mesh.n_vertices());

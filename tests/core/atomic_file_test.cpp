@@ -71,7 +71,8 @@ TEST_F(OutputFileTest, FailedWriteLeavesNothing) {
   setWriteLimitForTesting(1000);
   const std::string e = errorOf([&] { writeFileAtomically(target, std::string(5000, 'x')); });
   setWriteLimitForTesting(-1);
-  EXPECT_NE(e.find(target.string() + ": cannot write: No space left on device"), std::string::npos) << e;
+  EXPECT_NE(e.find(target.string() + ": cannot write: No space left on device"), std::string::npos)
+      << e;
   EXPECT_TRUE(fs::is_empty(dir_));
   writeFileAtomically(target, std::string(5000, 'y'));
   EXPECT_EQ(read(target), std::string(5000, 'y'));
@@ -82,8 +83,10 @@ TEST_F(OutputFileTest, FullTmpfsLeavesNothing) {
   const fs::path at = dir_ / "tmpfs";
   fs::create_directories(at);
   if (::mount("tmpfs", at.c_str(), "tmpfs", 0, "size=4096") != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here (needs root); FailedWriteLeavesNothing covers the same path";
-  const std::string e = errorOf([&] { writeFileAtomically(at / "big.bin", std::string(1 << 20, 'x')); });
+    GTEST_SKIP()
+        << "cannot mount a tmpfs here (needs root); FailedWriteLeavesNothing covers the same path";
+  const std::string e =
+      errorOf([&] { writeFileAtomically(at / "big.bin", std::string(1 << 20, 'x')); });
   const bool empty = fs::is_empty(at);
   ::umount2(at.c_str(), MNT_DETACH);
   EXPECT_NE(e.find("big.bin: cannot write: No space left on device"), std::string::npos) << e;
@@ -115,16 +118,22 @@ TEST_F(OutputFileTest, SpecialFilesAreRefused) {
   fs::create_directories(dir_ / "folder");
   std::ofstream(dir_ / "file") << "x";
   EXPECT_NE(errorOf([&] { checkOutputFile("/dev/null", "--stats"); })
-                .find("/dev/null: --stats: expected a regular file to write (or no file), found a character device"),
+                .find("/dev/null: --stats: expected a regular file to write (or no file), found a "
+                      "character device"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "fifo", "x"); }).find("found a FIFO"), std::string::npos);
-  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "link", "x"); }).find("found a symbolic link"), std::string::npos);
-  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "folder", "x"); }).find("found a folder"), std::string::npos);
+  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "fifo", "x"); }).find("found a FIFO"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "link", "x"); }).find("found a symbolic link"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "folder", "x"); }).find("found a folder"),
+            std::string::npos);
   EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "file/x", "x"); })
-                .find("expected a folder to write into, " + (dir_ / "file").string() + " is not a regular file"),
+                .find("expected a folder to write into, " + (dir_ / "file").string() +
+                      " is not a regular file"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { createOutputFolder(dir_ / "file/sub", "-o"); }).find("-o: expected a folder"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { createOutputFolder(dir_ / "file/sub", "-o"); }).find("-o: expected a folder"),
+      std::string::npos);
   EXPECT_TRUE(fs::is_fifo(dir_ / "fifo"));
   EXPECT_TRUE(fs::is_symlink(dir_ / "link"));
   EXPECT_FALSE(fs::exists(dir_ / "elsewhere"));
@@ -138,13 +147,22 @@ TEST_F(OutputFileTest, InputsAreRegularFilesOfBoundedSize) {
   ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0644), 0);
   std::ofstream(dir_ / "f.txt") << "hello";
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_NE(errorOf([&] { readInputFile(dir_ / "fifo", "scene", 1000); }).find("fifo: scene: expected a regular file, found a FIFO"),
+  EXPECT_NE(errorOf([&] {
+              readInputFile(dir_ / "fifo", "scene", 1000);
+            }).find("fifo: scene: expected a regular file, found a FIFO"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { readInputFile("/dev/zero", "scene", 1000); }).find("found a character device"), std::string::npos);
-  EXPECT_NE(errorOf([&] { readInputFile(dir_, "scene", 1000); }).find("found a folder"), std::string::npos);
-  EXPECT_NE(errorOf([&] { readInputFile(dir_ / "none", "scene", 1000); }).find("none: scene: file not found"),
+  EXPECT_NE(
+      errorOf([&] { readInputFile("/dev/zero", "scene", 1000); }).find("found a character device"),
+      std::string::npos);
+  EXPECT_NE(errorOf([&] { readInputFile(dir_, "scene", 1000); }).find("found a folder"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { readInputFile(dir_ / "f.txt", "scene", 4); }).find("expected a file of at most"),
+  EXPECT_NE(errorOf([&] {
+              readInputFile(dir_ / "none", "scene", 1000);
+            }).find("none: scene: file not found"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] {
+              readInputFile(dir_ / "f.txt", "scene", 4);
+            }).find("expected a file of at most"),
             std::string::npos);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
   EXPECT_EQ(readInputFile(dir_ / "f.txt", "scene", 5), "hello");
