@@ -49,6 +49,7 @@
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <malloc.h>
@@ -628,10 +629,15 @@ class Canvas {
     if (!OIIO::ImageBufAlgo::render_text(buf_, x, y, s, size, font_, OIIO::cspan<float>(kBlack.c, 3), align))
       (void)buf_.geterror();
   }
+  // Encoded in memory, then written and checked by atomic_file (OpenImageIO's file writer does not
+  // report a full disk).
   void write(const fs::path& file) {
-    writeAtomically(file, [&](const fs::path& tmp) {
-      if (!buf_.write(tmp.string(), OIIO::TypeDesc::UINT8)) throw Error(file.string() + ": " + buf_.geterror());
-    });
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    buf_.set_write_ioproxy(&proxy);
+    if (!buf_.write("trade.png", OIIO::TypeDesc::UINT8)) throw Error(file.string() + ": " + buf_.geterror());
+    buf_.set_write_ioproxy(nullptr);
+    writeFileAtomically(file, std::string(bytes.begin(), bytes.end()));
   }
 
  private:
