@@ -126,7 +126,9 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   const fs::path file = fileFor(key);
   // Built in memory and written by atomic_file, which checks every write, the fsync and the close.
   std::string out;
-  const auto append = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  const auto append = [&out](const void* p, size_t n) {
+    out.append(static_cast<const char*>(p), n);
+  };
   Header h{};
   std::memcpy(h.magic, kMagic, sizeof kMagic);
   h.version = kFormatVersion;

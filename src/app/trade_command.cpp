@@ -635,7 +635,8 @@ class Canvas {
     std::vector<unsigned char> bytes;
     OIIO::Filesystem::IOVecOutput proxy(bytes);
     buf_.set_write_ioproxy(&proxy);
-    if (!buf_.write("trade.png", OIIO::TypeDesc::UINT8)) throw Error(file.string() + ": " + buf_.geterror());
+    if (!buf_.write("trade.png", OIIO::TypeDesc::UINT8))
+      throw Error(file.string() + ": " + buf_.geterror());
     buf_.set_write_ioproxy(nullptr);
     writeFileAtomically(file, std::string(bytes.begin(), bytes.end()));
   }
