@@ -1,5 +1,6 @@
 #include "bands_command.h"
 
+#include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 #include "meso/relief/band_split.h"
@@ -24,11 +25,14 @@ Image toImage(const HeightTable& t) {
 
 void runBands(const BandsCommandOptions& o) {
   if (o.levels < 1 || o.levels > 16) throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
+  createOutputFolder(o.outDir, "-o");
+  for (int k = 1; k <= o.levels; ++k)
+    checkOutputFile(o.outDir / (o.height.stem().string() + "_band" + std::to_string(k) + ".exr"),
+                    "-o");
   HeightTableOptions options;
   options.periodic = !o.clamp;
   const HeightTable table = loadHeightTable(o.height, options);
   const std::vector<HeightBand> bands = splitBands(table, o.levels);
-  std::filesystem::create_directories(o.outDir);
   std::printf("band,file,freq_cycles_per_tile,low_cut,high_cut,min,max\n");
   std::vector<double> sum(table.texels().size(), 0.0);
   for (size_t k = 0; k < bands.size(); ++k) {

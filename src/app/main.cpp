@@ -1,11 +1,13 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
 #include "bands_command.h"
+#include "cli_values.h"
 #include "consistency_command.h"
 #include "render_command.h"
 #include "tables_command.h"
 #include "trade_command.h"
 
 #include "meso/core/error.h"
+#include "meso/core/memory_budget.h"
 
 #include <CLI/CLI.hpp>
 
@@ -169,6 +171,29 @@ void addTradeCommand(CLI::App& cli) {
   t->callback([] { meso::app::runTrade(o); });
 }
 
+// CLI11 reads "nan" and "inf" into floats, and Range() lets NaN through (every comparison with it
+// is false): every floating-point option of every command must be a finite number.
+void requireFiniteNumbers(CLI::App& app) {
+  const CLI::Validator finite(
+      [](std::string& text) { return meso::app::finiteNumberProblem(text); }, "FINITE",
+      "finite number");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_name().find("FLOAT") != std::string::npos) option->check(finite);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    requireFiniteNumbers(*sub);
+}
+
+// --memory-limit on every command; applied while parsing, before the command runs.
+void addMemoryLimit(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    sub->add_option_function<uint64_t>(
+           "--memory-limit", [](const uint64_t& mib) { meso::setMemoryLimitBytes(mib << 20); },
+           "MiB a job may use: jobs estimated above it are refused before allocating (default "
+           "half of physical memory, here " +
+               std::to_string(meso::defaultMemoryLimitBytes() >> 20) + ")")
+        ->check(CLI::Range(uint64_t{16}, uint64_t{1} << 30));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -183,6 +208,8 @@ int main(int argc, char** argv) {
   meso::app::BandsCommandOptions bandsOptions;
   addBandsCommand(cli, bandsOptions);
   addTradeCommand(cli);
+  requireFiniteNumbers(cli);
+  addMemoryLimit(cli);
   meso::app::installInterruptHandler();
   try {
     cli.parse(argc, argv);

@@ -124,23 +124,23 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   if (ec)
     throw Error(folder_.string() + ": cannot create the reference cache folder: " + ec.message());
   const fs::path file = fileFor(key);
-  writeAtomically(file, [&](const fs::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    Header h{};
-    std::memcpy(h.magic, kMagic, sizeof kMagic);
-    h.version = kFormatVersion;
-    h.width = r.width, h.height = r.height, h.frames = static_cast<int32_t>(r.frames.size());
-    h.key = key;
-    h.micropolygons = r.micropolygons;
-    h.seconds = r.seconds, h.peakRssMib = r.peakRssMib, h.geometryMib = r.geometryMib;
-    out.write(reinterpret_cast<const char*>(&h), sizeof h);
-    for (const std::vector<float>& f : r.frames)
-      out.write(reinterpret_cast<const char*>(f.data()),
-                static_cast<std::streamsize>(f.size() * sizeof(float)));
-    const uint64_t sum = checksum(r.frames);
-    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    if (!out.flush()) throw Error(file.string() + ": cannot write the reference cache file");
-  });
+  // Built in memory and written by atomic_file, which checks every write, the fsync and the close.
+  std::string out;
+  const auto append = [&out](const void* p, size_t n) {
+    out.append(static_cast<const char*>(p), n);
+  };
+  Header h{};
+  std::memcpy(h.magic, kMagic, sizeof kMagic);
+  h.version = kFormatVersion;
+  h.width = r.width, h.height = r.height, h.frames = static_cast<int32_t>(r.frames.size());
+  h.key = key;
+  h.micropolygons = r.micropolygons;
+  h.seconds = r.seconds, h.peakRssMib = r.peakRssMib, h.geometryMib = r.geometryMib;
+  append(&h, sizeof h);
+  for (const std::vector<float>& f : r.frames) append(f.data(), f.size() * sizeof(float));
+  const uint64_t sum = checksum(r.frames);
+  append(&sum, sizeof sum);
+  writeFileAtomically(file, out);
 }
 
 }  // namespace meso::app

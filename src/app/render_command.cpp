@@ -1,5 +1,8 @@
 #include "render_command.h"
 
+#include "cli_values.h"
+#include "memory_estimates.h"
+
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
@@ -15,11 +18,21 @@
 #include <tbb/info.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <thread>
+
+#include <semaphore.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 namespace meso::app {
 namespace {
@@ -81,14 +94,6 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"objects", objects}};
 }
 
-void writeText(const std::filesystem::path& file, const std::string& text) {
-  writeAtomically(file, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text << '\n';
-    if (!out.flush()) throw Error(file.string() + ": cannot write");
-  });
-}
-
 std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
   return std::filesystem::path("out") / (scene.stem().string() + ".exr");
 }
@@ -98,8 +103,14 @@ std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
 namespace {
 
 std::atomic<bool> gInterrupted{false};
+sem_t* gWake = nullptr;
+// How long a command has to stop by itself after SIGINT/SIGTERM before the watchdog ends it.
+constexpr int kInterruptGraceMs = 100;
 
-extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+extern "C" void onInterrupt(int) {
+  gInterrupted.store(true);
+  if (gWake) sem_post(gWake);
+}
 
 }  // namespace
 
@@ -116,32 +127,6 @@ std::filesystem::path frameOutput(const std::filesystem::path& output, int frame
 
 std::filesystem::path pngBeside(std::filesystem::path exr) { return exr.replace_extension(".png"); }
 
-// Parses "A:B", "A:" or "A" against [0, count).
-std::pair<int, int> parseFrameRange(const std::string& text, int count) {
-  if (text.empty()) return {0, count - 1};
-  const size_t colon = text.find(':');
-  try {
-    const int a = std::stoi(text.substr(0, colon));
-    const int b = colon == std::string::npos ? a : (colon + 1 < text.size() ? std::stoi(text.substr(colon + 1)) : count - 1);
-    if (a < 0 || b < a || b >= count) throw std::out_of_range("range");
-    return {a, b};
-  } catch (const std::logic_error&) {
-    throw Error("--frames: expected A:B with 0 <= A <= B < " + std::to_string(count) + ", got \"" + text + "\"");
-  }
-}
-
-std::pair<int, int> parseShard(const std::string& text) {
-  if (text.empty()) return {0, 1};
-  const size_t slash = text.find('/');
-  try {
-    const int i = std::stoi(text.substr(0, slash)), n = std::stoi(text.substr(slash + 1));
-    if (slash == std::string::npos || n < 1 || i < 0 || i >= n) throw std::out_of_range("shard");
-    return {i, n};
-  } catch (const std::logic_error&) {
-    throw Error("--shard: expected i/n with 0 <= i < n, got \"" + text + "\"");
-  }
-}
-
 std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scene) {
   const bool animated = !scene.path.keys.empty();
   if (!animated && (!o.frames.empty() || !o.shard.empty()))
@@ -154,23 +139,102 @@ std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scen
   return frames;
 }
 
-void assembleVideo(const std::filesystem::path& video, const std::filesystem::path& output, double fps) {
-  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
-    throw Error(video.string() + ": --video needs ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
-  const std::filesystem::path tmp = temporarySibling(video);
-  const std::string pattern = (output.parent_path() / (output.stem().string() + "_%04d.png")).string();
-  const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" + pattern +
-                          "' -c:v libx264 -pix_fmt yuv420p '" + tmp.string() + "'";
-  if (std::system(cmd.c_str()) != 0) {
-    std::filesystem::remove(tmp);
-    throw Error(video.string() + ": ffmpeg failed to assemble " + pattern);
+// ffmpeg's full path from $PATH, or empty: looked up without a shell.
+std::string findOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "/usr/local/bin:/usr/bin:/bin";
+  for (size_t start = 0; start <= dirs.size();) {
+    size_t end = dirs.find(':', start);
+    if (end == std::string::npos) end = dirs.size();
+    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
+    const std::string candidate = dir + "/" + program;
+    struct stat st;
+    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+        ::access(candidate.c_str(), X_OK) == 0)
+      return candidate;
+    start = end + 1;
   }
-  std::filesystem::rename(tmp, video);
+  return {};
+}
+
+std::string ffmpegOrThrow(const std::filesystem::path& video) {
+  const std::string ffmpeg = findOnPath("ffmpeg");
+  if (ffmpeg.empty())
+    throw Error(video.string() +
+                ": --video: expected ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
+  return ffmpeg;
+}
+
+// Runs argv[0] with the arguments as given (no shell: quotes, $(...) and ; in file names are just
+// characters) and returns its exit status, -1 when it could not start or was killed.
+int runProgram(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  std::vector<std::string> copy = args;
+  for (std::string& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid;
+  if (posix_spawn(&pid, copy[0].c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// ffmpeg's image2 demuxer expands %d patterns: a literal % in the name is written %%.
+std::string escapePercent(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    out += c;
+    if (c == '%') out += '%';
+  }
+  return out;
+}
+
+void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video,
+                   const std::filesystem::path& output, double fps, int firstFrame) {
+  const std::filesystem::path tmp = temporarySibling(video);
+  const std::string pattern =
+      (output.parent_path() / (escapePercent(output.stem().string()) + "_%04d.png")).string();
+  const int status =
+      runProgram({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps),
+                  "-start_number", std::to_string(firstFrame), "-i", pattern, "-c:v", "libx264",
+                  "-pix_fmt", "yuv420p", tmp.string()});
+  std::error_code ec;
+  if (status != 0) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(video.string() + ": ffmpeg failed to assemble " + pattern +
+                (status < 0 ? " (it did not start or was killed)"
+                            : " (exit status " + std::to_string(status) + ")"));
+  }
+  std::filesystem::rename(tmp, video, ec);
+  forgetTemporary(tmp);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(video.string() + ": --video: cannot rename the complete video into place");
+  }
 }
 
 }  // namespace
 
 void installInterruptHandler() {
+  // Commands poll interruptRequested() in their long loops and stop cleanly; a loop that does not
+  // (inside a library, OpenSubdiv, table building) is stopped by this watchdog, woken by the
+  // handler through a semaphore (sem_post is async-signal-safe): after a grace period it removes
+  // every temporary and exits with 130. Final names only ever hold complete files, so nothing
+  // partial remains either way.
+  static sem_t wake;
+  sem_init(&wake, 0, 0);
+  gWake = &wake;
+  std::thread([] {
+    while (sem_wait(gWake) != 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(kInterruptGraceMs));
+    removeTemporaries();
+    static const char message[] =
+        "meso: interrupted; complete outputs are kept, nothing partial was written\n";
+    (void)!::write(2, message, sizeof message - 1);
+    ::_exit(130);
+  }).detach();
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);
 }
@@ -179,9 +243,22 @@ void runRender(const RenderCommandOptions& o) {
   Timer total, phase;
   Scene scene = loadScene(o.scene);
   applyOverrides(o, scene);
+  std::vector<std::string> memoryWarnings;
+  checkRenderMemory(scene, memoryWarnings);
+  for (const std::string& w : memoryWarnings)
+    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
     throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");
+  // Every output is checked before any work: nothing is rendered for a run that cannot finish.
+  checkOutputFile(output, "-o");
+  checkOutputFile(pngBeside(output), "-o (its PNG preview)");
+  if (!o.statsFile.empty()) checkOutputFile(o.statsFile, "--stats");
+  std::string ffmpeg;
+  if (!o.video.empty()) {
+    checkOutputFile(o.video, "--video");
+    ffmpeg = ffmpegOrThrow(o.video);
+  }
   const bool animated = !scene.path.keys.empty();
   const std::vector<int> frames = framesToRender(o, scene);
   const std::optional<CameraPath> path = animated ? std::optional<CameraPath>(scene.path.keys) : std::nullopt;
@@ -189,7 +266,8 @@ void runRender(const RenderCommandOptions& o) {
 
   const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  if (!output.parent_path().empty()) std::filesystem::create_directories(output.parent_path());
+  createOutputFolder(output.parent_path(), "-o");
+  if (!o.statsFile.empty()) createOutputFolder(o.statsFile.parent_path(), "--stats");
 
   PrepareTimes prep;
   RenderContext ctx = prepareRenderContext(scene, prep, false);
@@ -213,8 +291,15 @@ void runRender(const RenderCommandOptions& o) {
   nlohmann::json perFrame = nlohmann::json::array();
   double renderSeconds = 0.0, writeSeconds = 0.0;
   int rendered = 0, skipped = 0;
+  // The last frame rendered stays staged until the stats are written: a run that cannot write its
+  // stats leaves that frame under no final name.
+  StagedFiles lastFrame;
   for (int f : frames) {
     const std::filesystem::path exr = frameOutput(output, f, animated), png = pngBeside(exr);
+    if (animated) {
+      checkOutputFile(exr, "-o");
+      checkOutputFile(png, "-o (its PNG preview)");
+    }
     if (animated && !o.overwrite && std::filesystem::exists(exr) && std::filesystem::exists(png)) {
       ++skipped;
       continue;
@@ -233,12 +318,15 @@ void runRender(const RenderCommandOptions& o) {
     try {
       film = renderFrame(ctx, ro, counters);
     } catch (const Interrupted&) {
+      lastFrame.commit();  // complete frames are kept
       throw RenderInterrupted();
     }
     const double r = phase.seconds();
     phase.reset();
-    writeExr(exr, film);
-    writePngPreview(png, film);
+    lastFrame.commit();
+    lastFrame.stage(exr, encodeExr(film));
+    lastFrame.stage(png, encodePngPreview(film));
+    if (o.statsFile.empty()) lastFrame.commit();
     const double w = phase.seconds();
     renderSeconds += r;
     writeSeconds += w;
@@ -253,14 +341,21 @@ void runRender(const RenderCommandOptions& o) {
     if (!o.quiet)
       std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", exr.string().c_str(),
                    png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
-    if (gInterrupted.load()) throw RenderInterrupted();
+    if (gInterrupted.load()) {
+      lastFrame.commit();
+      throw RenderInterrupted();
+    }
   }
   if (counters.nonFinite.load() > 0)
     std::fprintf(stderr, "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in meso: please report "
                  "the scene)\n", static_cast<long long>(counters.nonFinite.load()));
   if (!o.quiet && skipped > 0)
     std::fprintf(stderr, "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n", skipped);
-  if (!o.video.empty()) assembleVideo(o.video, output, scene.path.fps);
+  const auto assemble = [&] {
+    if (!o.video.empty())
+      assembleVideo(ffmpeg, o.video, output, scene.path.fps, frames.empty() ? 0 : frames.front());
+  };
+  if (o.statsFile.empty()) assemble();
 
   if (!o.statsFile.empty()) {
     const double peak = peakRssMib();
@@ -287,7 +382,11 @@ void runRender(const RenderCommandOptions& o) {
         {"frames", perFrame},
         {"settings", settingsJson(scene, output)}};
     stats["settings"]["threads_used"] = threads;
-    writeText(o.statsFile, stats.dump(2));
+    StagedFiles statsFile;
+    statsFile.stage(o.statsFile, stats.dump(2) + "\n");
+    lastFrame.commit();
+    statsFile.commit();
+    assemble();
   }
 }
 

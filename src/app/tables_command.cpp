@@ -1,6 +1,9 @@
 #include "tables_command.h"
 
 #include "meso/appearance/table_plots.h"
+#include "memory_estimates.h"
+
+#include "meso/core/atomic_file.h"
 #include "meso/core/image_io.h"
 #include "meso/core/timer.h"
 #include "meso/render/relief_levels.h"
@@ -12,7 +15,10 @@
 namespace meso::app {
 
 void runTables(const TablesCommandOptions& o) {
-  const Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene);
+  std::vector<std::string> memoryWarnings;
+  checkRenderMemory(scene, memoryWarnings, false);
+  if (!o.noPlots) createOutputFolder(o.outDir, "-o");
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
   PrepareTimes times;
@@ -29,7 +35,6 @@ void runTables(const TablesCommandOptions& o) {
                     material.relief[i].source.c_str(), relief.levels[i].amplitude, relief.levels[i].scale,
                     relief.levels[i].freqPerU, t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
         if (o.noPlots) continue;
-        std::filesystem::create_directories(o.outDir);
         std::string stem = material.name + "_level" + std::to_string(i + 1);
         if (relief.metrics.size() > 1) stem += "_metric" + std::to_string(k + 1);
         writePngPreview(o.outDir / (stem + "_histogram.png"), plotHistogram(t.distr));

@@ -36,6 +36,7 @@
 // out), pooled over the frame pairs.
 #include "trade_command.h"
 
+#include "cli_values.h"
 #include "reference_cache.h"
 #include "render_command.h"
 
@@ -48,6 +49,7 @@
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <malloc.h>
@@ -134,20 +136,6 @@ std::string formatNumber(double v) {
 }
 
 // --- options ---
-
-std::pair<int, int> parseFrameRange(const std::string& text, int count) {
-  if (text.empty()) return {0, count - 1};
-  const size_t colon = text.find(':');
-  try {
-    const int a = std::stoi(text.substr(0, colon));
-    const int b = colon == std::string::npos ? a
-                  : (colon + 1 < text.size() ? std::stoi(text.substr(colon + 1)) : count - 1);
-    if (a < 0 || b < a || b >= count) throw std::out_of_range("range");
-    return {a, b};
-  } catch (const std::logic_error&) {
-    throw Error("--frames: expected A:B with 0 <= A <= B < " + std::to_string(count) + ", got \"" + text + "\"");
-  }
-}
 
 template <class T>
 void checkValues(const std::vector<T>& values, const char* option, double lo, double hi) {
@@ -538,13 +526,7 @@ std::string referenceVerdict(const ReferenceStudy& s) {
 
 // --- outputs ---
 
-void writeText(const fs::path& file, const std::string& text) {
-  writeAtomically(file, [&](const fs::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out.flush()) throw Error(file.string() + ": cannot write");
-  });
-}
+void writeText(const fs::path& file, const std::string& text) { writeFileAtomically(file, text); }
 
 // "a;b;c" (near to far).
 std::string bandList(const std::vector<double>& bands) {
@@ -647,10 +629,16 @@ class Canvas {
     if (!OIIO::ImageBufAlgo::render_text(buf_, x, y, s, size, font_, OIIO::cspan<float>(kBlack.c, 3), align))
       (void)buf_.geterror();
   }
+  // Encoded in memory, then written and checked by atomic_file (OpenImageIO's file writer does not
+  // report a full disk).
   void write(const fs::path& file) {
-    writeAtomically(file, [&](const fs::path& tmp) {
-      if (!buf_.write(tmp.string(), OIIO::TypeDesc::UINT8)) throw Error(file.string() + ": " + buf_.geterror());
-    });
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    buf_.set_write_ioproxy(&proxy);
+    if (!buf_.write("trade.png", OIIO::TypeDesc::UINT8))
+      throw Error(file.string() + ": " + buf_.geterror());
+    buf_.set_write_ioproxy(nullptr);
+    writeFileAtomically(file, std::string(bytes.begin(), bytes.end()));
   }
 
  private:
@@ -851,7 +839,9 @@ void runTrade(const TradeCommandOptions& o) {
     throw Error("--temporal: needs at least two frames: a scene with a [path] and --frames A:B with B > A");
   const std::vector<Configuration> configs = configurations(o, scene);
   for (const Configuration& c : configs) sceneFor(scene, c);  // checks every D before rendering anything
-  fs::create_directories(o.outDir);
+  createOutputFolder(o.outDir, "-o");
+  for (const char* name : {"trade.csv", "trade.png", "temporal.csv"})
+    checkOutputFile(o.outDir / name, "-o");
 
   const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);

@@ -1,31 +1,212 @@
 #include "meso/core/atomic_file.h"
 
+#include "meso/core/error.h"
+
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <mutex>
+#include <set>
 #include <string>
 #include <system_error>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace meso {
+namespace {
+
+std::atomic<long long> gWriteLimit{-1};
+
+// Temporaries not yet renamed or removed: what an interrupted process must delete on its way out.
+std::mutex gTemporariesMutex;
+std::set<std::filesystem::path>& temporaries() {
+  static std::set<std::filesystem::path> set;
+  return set;
+}
+
+void forget(const std::filesystem::path& tmp) {
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  temporaries().erase(tmp);
+}
+
+const char* typeName(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+[[noreturn]] void failErrno(const std::filesystem::path& file, const char* doing, int err) {
+  throw Error(file.string() + ": cannot " + doing + ": " + std::strerror(err));
+}
+
+}  // namespace
 
 std::filesystem::path temporarySibling(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
-  std::string name = "." + target.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                     std::to_string(counter.fetch_add(1)) + target.extension().string();
-  return target.parent_path() / name;
+  // append() rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter.
+  std::string name = ".";
+  name.append(target.stem().string())
+      .append(".tmp-")
+      .append(std::to_string(::getpid()))
+      .append("-");
+  name.append(std::to_string(counter.fetch_add(1))).append(target.extension().string());
+  std::filesystem::path tmp = target.parent_path() / name;
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  temporaries().insert(tmp);
+  return tmp;
+}
+
+void checkOutputFile(const std::filesystem::path& target, const std::string& what) {
+  const std::string prefix = target.string() + ": " + (what.empty() ? "" : what + ": ");
+  struct stat st;
+  if (::lstat(target.c_str(), &st) == 0) {
+    if (!S_ISREG(st.st_mode))
+      throw Error(prefix + "expected a regular file to write (or no file), found " +
+                  typeName(st.st_mode));
+    return;
+  }
+  if (errno != ENOENT && errno != ENOTDIR)
+    throw Error(prefix + "cannot inspect: " + std::strerror(errno));
+  // Missing: every existing ancestor must be a folder.
+  for (std::filesystem::path p = target.parent_path(); !p.empty(); p = p.parent_path()) {
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode))
+        throw Error(prefix + "expected a folder to write into, " + p.string() + " is " +
+                    typeName(st.st_mode));
+      return;
+    }
+    if (p == p.parent_path()) break;
+  }
+}
+
+void createOutputFolder(const std::filesystem::path& folder, const std::string& what) {
+  if (folder.empty()) return;
+  const std::string prefix = folder.string() + ": " + (what.empty() ? "" : what + ": ");
+  struct stat st;
+  for (std::filesystem::path p = folder; !p.empty(); p = p.parent_path()) {
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode))
+        throw Error(prefix + "expected a folder, " + p.string() + " is " + typeName(st.st_mode));
+      break;
+    }
+    if (p == p.parent_path()) break;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw Error(prefix + "cannot create the folder: " + ec.message());
+}
+
+void writeBytes(const std::filesystem::path& path, std::string_view bytes,
+                const std::filesystem::path& shown) {
+  const std::filesystem::path& file = shown.empty() ? path : shown;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) failErrno(file, "create", errno);
+  const long long limit = gWriteLimit.load();
+  size_t done = 0;
+  while (done < bytes.size()) {
+    size_t chunk = std::min<size_t>(bytes.size() - done, size_t(1) << 20);
+    if (limit >= 0 && static_cast<long long>(done + chunk) > limit) {
+      ::close(fd);
+      failErrno(file, "write", ENOSPC);
+    }
+    const ssize_t n = ::write(fd, bytes.data() + done, chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : EIO;
+      ::close(fd);
+      failErrno(file, "write", err);
+    }
+    done += static_cast<size_t>(n);
+  }
+  // Delayed allocation (and NFS) report a full disk only here.
+  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+    const int err = errno;
+    ::close(fd);
+    failErrno(file, "write (fsync)", err);
+  }
+  if (::close(fd) != 0) failErrno(file, "write (close)", errno);
 }
 
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path&)>& write) {
+  checkOutputFile(target, "");
   const std::filesystem::path tmp = temporarySibling(target);
   try {
     write(tmp);
-    std::filesystem::rename(tmp, target);
+    std::error_code ec;
+    std::filesystem::rename(tmp, target, ec);
+    if (ec)
+      throw Error(target.string() +
+                  ": cannot rename the complete file into place: " + ec.message());
+    forget(tmp);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
+    forget(tmp);
     throw;
   }
 }
+
+void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes) {
+  writeAtomically(target,
+                  [&](const std::filesystem::path& tmp) { writeBytes(tmp, bytes, target); });
+}
+
+StagedFiles::~StagedFiles() {
+  for (const auto& [tmp, target] : staged_) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    forget(tmp);
+  }
+}
+
+void StagedFiles::stage(const std::filesystem::path& target, std::string_view bytes) {
+  checkOutputFile(target, "");
+  const std::filesystem::path tmp = temporarySibling(target);
+  try {
+    writeBytes(tmp, bytes, target);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    forget(tmp);
+    throw;
+  }
+  staged_.emplace_back(tmp, target);
+}
+
+void StagedFiles::commit() {
+  for (const auto& [tmp, target] : staged_) checkOutputFile(target, "");
+  while (!staged_.empty()) {
+    const auto [tmp, target] = staged_.front();
+    std::error_code ec;
+    std::filesystem::rename(tmp, target, ec);
+    if (ec)
+      throw Error(target.string() +
+                  ": cannot rename the complete file into place: " + ec.message());
+    forget(tmp);
+    staged_.erase(staged_.begin());
+  }
+}
+
+void setWriteLimitForTesting(long long bytes) { gWriteLimit.store(bytes); }
+
+int removeTemporaries() {
+  std::lock_guard<std::mutex> lock(gTemporariesMutex);
+  int removed = 0;
+  for (const std::filesystem::path& tmp : temporaries()) {
+    std::error_code ignored;
+    removed += std::filesystem::remove(tmp, ignored) ? 1 : 0;
+  }
+  temporaries().clear();
+  return removed;
+}
+
+void forgetTemporary(const std::filesystem::path& tmp) { forget(tmp); }
 
 }  // namespace meso

@@ -5,6 +5,8 @@
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io_memory.h"
+#include "meso/core/input_file.h"
+#include "meso/core/memory_budget.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -16,6 +18,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -118,14 +121,24 @@ class CheckedMemReader final : public OIIO::Filesystem::IOProxy {
   size_t size_;
 };
 
-void writeWithOiio(const std::filesystem::path& tmp, const OIIO::ImageSpec& spec,
-                   OIIO::TypeDesc format, const void* data) {
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) fail(tmp, "cannot create image writer: " + oiioMessage(""));
-  if (!out->open(tmp.string(), spec))
-    fail(tmp, "cannot open for writing: " + oiioMessage(out->geterror()));
-  if (!out->write_image(format, data)) fail(tmp, "write failed: " + oiioMessage(out->geterror()));
-  if (!out->close()) fail(tmp, "close failed: " + oiioMessage(out->geterror()));
+// Encodes into memory: OpenImageIO's file writers do not report every failed write (libpng's
+// fwrite on a full disk went unnoticed: exit 0 with half a PNG), so meso writes the bytes itself.
+std::string encodeWithOiio(const std::filesystem::path& name, const OIIO::ImageSpec& spec,
+                           OIIO::TypeDesc format, const void* data) {
+  auto out = OIIO::ImageOutput::create(name.extension().string().substr(1));
+  if (!out) fail(name, "cannot create image writer: " + oiioMessage(""));
+  if (!out->supports("ioproxy"))
+    fail(name, std::string("the ") + out->format_name() + " writer cannot write to memory");
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput proxy(buffer);
+  if (!out->set_ioproxy(&proxy))
+    fail(name, "cannot write to memory: " + oiioMessage(out->geterror()));
+  if (!out->open(name.string(), spec))
+    fail(name, "cannot open for writing: " + oiioMessage(out->geterror()));
+  if (!out->write_image(format, data)) fail(name, "write failed: " + oiioMessage(out->geterror()));
+  if (!out->close()) fail(name, "close failed: " + oiioMessage(out->geterror()));
+  out.reset();
+  return std::string(buffer.begin(), buffer.end());
 }
 
 // IEC 61966-2-1 sRGB encoding of a linear value in [0, 1].
@@ -136,7 +149,8 @@ float srgbEncode(float v) {
 
 // The pixels of an opened image, all channels as float; at most maxValues of them (0: no limit
 // beyond OpenImageIO's).
-Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t maxValues = 0) {
+Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64_t fileBytes,
+                 size_t maxValues = 0) {
   const OIIO::ImageSpec& spec = in.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     fail(file, "image has zero size (" + std::to_string(spec.width) + "x" +
@@ -153,6 +167,22 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t
                    " channels: " + std::to_string(static_cast<long long>(mib)) +
                    " MiB as float, more than OpenImageIO's limits:imagesize_MB = " +
                    std::to_string(limitMib) + ")");
+  // Deflate compresses at most 1032:1: a PNG smaller than that share of its pixels is truncated or
+  // lies about its size (decoding would allocate for pixels that are not there).
+  const double rawBytes =
+      static_cast<double>(spec.width) * spec.height * spec.nchannels * spec.format.size();
+  if (std::string(in.format_name()) == "png" &&
+      rawBytes > 1032.0 * static_cast<double>(fileBytes) + 65536.0)
+    fail(file, "truncated or corrupt PNG: " + std::to_string(fileBytes) +
+                   " bytes cannot hold the " + std::to_string(spec.width) + "x" +
+                   std::to_string(spec.height) + " pixels its header declares");
+  // Float pixels plus the native scanlines they are converted from: refused from the declared size,
+  // before decoding (a 190-byte PNG declaring 60000 x 60000 once tried 13 GiB).
+  requireMemory(static_cast<double>(spec.width) * spec.height * spec.nchannels *
+                    (sizeof(float) + spec.format.size()),
+                file.string(), "image",
+                "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    ", " + std::to_string(spec.nchannels) + " channels, as the header declares");
   const double values = static_cast<double>(spec.width) * spec.height * spec.nchannels;
   if (maxValues > 0 && values > static_cast<double>(maxValues))
     fail(file, "image too large (" + std::to_string(spec.width) + "x" +
@@ -185,6 +215,7 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, size_t
 
 Image readImage(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) fail(file, "no such file");
+  checkInputFile(file, "image", kMaxImageBytes);
   {
     std::error_code ec;
     const uint64_t size = std::filesystem::file_size(file, ec);
@@ -204,7 +235,9 @@ Image readImage(const std::filesystem::path& file) {
   }
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) fail(file, "cannot read image: " + oiioMessage(""));
-  return readOpened(*in, file);
+  std::error_code ec;
+  const uint64_t bytes = std::filesystem::file_size(file, ec);
+  return readOpened(*in, file, ec ? UINT64_MAX / 2048 : bytes);
 }
 
 Image readImageFromMemory(const void* data, size_t size, const std::filesystem::path& name,
@@ -235,10 +268,10 @@ Image readImageFromMemory(const void* data, size_t size, const std::filesystem::
   config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxyPointer);
   if (!in->open(name.string(), spec, config))
     fail(name, "cannot read image: " + oiioMessage(in->geterror()));
-  return readOpened(*in, name, maxValues);
+  return readOpened(*in, name, size, maxValues);
 }
 
-void writeExr(const std::filesystem::path& file, const Image& image) {
+std::string encodeExr(const Image& image) {
   OIIO::ImageSpec spec(image.width, image.height, image.numChannels(), OIIO::TypeDesc::FLOAT);
   spec.channelnames = image.channels;
   spec.alpha_channel = image.channelIndex("A");
@@ -246,14 +279,12 @@ void writeExr(const std::filesystem::path& file, const Image& image) {
   spec.attribute("Software", "meso");
   // OpenEXR otherwise stamps the current time (capDate): the same render must give the same bytes.
   spec.attribute("DateTime", "");
-  writeAtomically(file, [&](const std::filesystem::path& tmp) {
-    writeWithOiio(tmp, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
-  });
+  return encodeWithOiio("image.exr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
-void writePngPreview(const std::filesystem::path& file, const Image& image) {
+std::string encodePngPreview(const Image& image) {
   const int rgb[3] = {image.channelIndex("R"), image.channelIndex("G"), image.channelIndex("B")};
-  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) fail(file, "image has no R, G, B channels");
+  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) fail("preview.png", "image has no R, G, B channels");
   std::vector<uint8_t> bytes(static_cast<size_t>(image.width) * image.height * 3);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
@@ -262,9 +293,17 @@ void writePngPreview(const std::filesystem::path& file, const Image& image) {
             static_cast<uint8_t>(std::lround(255.0f * srgbEncode(image.at(x, y, rgb[c]))));
   OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
-  writeAtomically(file, [&](const std::filesystem::path& tmp) {
-    writeWithOiio(tmp, spec, OIIO::TypeDesc::UINT8, bytes.data());
-  });
+  return encodeWithOiio("preview.png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void writeExr(const std::filesystem::path& file, const Image& image) {
+  checkOutputFile(file, "");
+  writeFileAtomically(file, encodeExr(image));
+}
+
+void writePngPreview(const std::filesystem::path& file, const Image& image) {
+  checkOutputFile(file, "");
+  writeFileAtomically(file, encodePngPreview(image));
 }
 
 }  // namespace meso

@@ -58,7 +58,17 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     transformControlMesh(mesh, object.transform);
     times.load += load.seconds();
     Timer tess;
-    LimitSurface surface(mesh, object.scheme);
+    if (!mesh.hasUvs() && hasRelief(scene.materials[object.material]))
+      ctx.warnings.push_back(object.mesh.string() +
+                             ": the mesh has no texture coordinates (vt): its relief follows each "
+                             "face's own (s, t) chart and does not continue across faces");
+    LimitSurface surface = [&] {
+      try {
+        return LimitSurface(mesh, object.scheme);
+      } catch (const Error& e) {
+        throw Error(object.mesh.string() + ": " + e.what());
+      }
+    }();
     times.tessellate += tess.seconds();
     ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, false});
   }

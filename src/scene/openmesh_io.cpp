@@ -3,6 +3,8 @@
 #include "meso/scene/mesh_io.h"
 
 #include "meso/core/error.h"
+#include "meso/core/input_file.h"
+#include "meso/scene/mesh_text_check.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -39,12 +41,10 @@ void readUvs(const PolyMesh& mesh, ControlMesh& out) {
 
 // OpenMesh's PLY reader loops forever on a header without end_header, and its readers trust the
 // element counts: check the header and the counts against the file size before handing it over.
-void checkHeader(const std::filesystem::path& file, const std::string& ext) {
-  std::ifstream in(file, std::ios::binary);
-  std::string head(65536, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  const uintmax_t size = std::filesystem::file_size(file);
+void checkHeader(std::string_view bytes, const std::filesystem::path& file,
+                 const std::string& ext) {
+  const std::string head(bytes.substr(0, 65536));
+  const uintmax_t size = bytes.size();
   if (ext == ".ply") {
     if (head.rfind("ply", 0) != 0) fail(file, "not a PLY file (no \"ply\" magic)");
     const size_t end = head.find("end_header");
@@ -72,15 +72,22 @@ void checkHeader(const std::filesystem::path& file, const std::string& ext) {
 }  // namespace
 
 ControlMesh loadControlMesh(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) fail(file, "mesh file not found");
-  if (!std::filesystem::is_regular_file(file, ec)) fail(file, "not a regular file");
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext != ".obj" && ext != ".ply" && ext != ".off")
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
-  if (std::filesystem::file_size(file, ec) == 0) fail(file, "empty mesh file");
-  checkHeader(file, ext);
+  return parseControlMesh(readInputFile(file, "mesh", kMaxMeshBytes), file);
+}
+
+ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".obj" && ext != ".ply" && ext != ".off")
+    fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
+  if (bytes.empty()) fail(file, "empty mesh file");
+  checkHeader(bytes, file, ext);
+  const MeshTextCounts counts = checkMeshText(bytes, file, ext);
 
   PolyMesh mesh;
   mesh.request_halfedge_texcoords2D();
@@ -92,13 +99,19 @@ ControlMesh loadControlMesh(const std::filesystem::path& file) {
   std::streambuf* cerrBuffer = std::cerr.rdbuf(nullptr);
   bool ok = false;
   try {
-    ok = OpenMesh::IO::read_mesh(mesh, file.string(), options);
+    std::istringstream stream{std::string(bytes)};
+    ok = OpenMesh::IO::read_mesh(mesh, stream, ext, options);
   } catch (...) {
     ok = false;
   }
   std::cerr.rdbuf(cerrBuffer);
   if (!ok) fail(file, "cannot read mesh (malformed or truncated " + ext.substr(1) + " file?)");
-  if (mesh.n_faces() == 0) fail(file, "mesh has no faces");
+  if (mesh.n_faces() == 0)
+    fail(file, counts.checked
+                   ? "mesh has no faces: the reader rejected all " + std::to_string(counts.faces) +
+                         " (non-manifold: an edge shared by more than two faces, or neighbours of "
+                         "opposite orientation)"
+                   : "mesh has no faces");
 
   ControlMesh out;
   out.positions.reserve(mesh.n_vertices());

@@ -2,6 +2,8 @@
 // FILE:LINE:COL: key: what was expected.
 #include "meso/scene/scene_parser.h"
 
+#include "meso/core/input_file.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <toml++/toml.h>
 
@@ -494,13 +496,7 @@ Scene parseScene(std::string_view text, const std::filesystem::path& file) {
 }
 
 Scene loadScene(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw Error(file.string() + ": is a folder, expected a scene file");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file.string() + ": cannot open scene file (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseScene(text.str(), file);
+  return parseScene(readInputFile(file, "scene", kMaxSceneBytes), file);
 }
 
 }  // namespace meso

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -60,14 +63,105 @@ TEST_F(MeshIoTest, ObjWithoutUvsPlyAndOff) {
 }
 
 TEST_F(MeshIoTest, BadMeshesAreClearErrors) {
-  EXPECT_NE(errorOf(dir_ / "absent.obj").find("absent.obj: mesh file not found"), std::string::npos);
+  EXPECT_NE(errorOf(dir_ / "absent.obj").find("absent.obj: mesh: file not found"),
+            std::string::npos);
   EXPECT_NE(errorOf(write("e.obj", "")).find("e.obj: empty mesh file"), std::string::npos);
   EXPECT_NE(errorOf(write("f.obj", "v 0 0 0\nv 1 0 0\n")).find("f.obj: mesh has no faces"), std::string::npos);
   EXPECT_NE(errorOf(write("g.xyz", "1 2 3\n")).find("g.xyz: unknown mesh format"), std::string::npos);
-  EXPECT_NE(errorOf(write("h.off", "OFF\n3 1 0\n0 0 0\n1 0")).find("h.off: "), std::string::npos);
-  EXPECT_NE(errorOf(write("i.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).find("i.obj: "), std::string::npos);
+  EXPECT_NE(errorOf(write("h.off", "OFF\n3 1 0\n0 0 0\n1 0"))
+                .find("h.off: truncated OFF: the header declares 3 vertices and 1 faces; the file "
+                      "ends after 1 vertices and 0 faces (expected a vertex at line 4)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(write("i.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"))
+                .find("i.obj:1:7: v: expected a finite single-precision number, got \"nan\""),
+            std::string::npos);
   const std::string truncated = errorOf(write("j.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"));
   EXPECT_NE(truncated.find("j.ply: "), std::string::npos) << truncated;
+}
+
+// The mesh problems that all used to end in "mesh has no faces": each names what is wrong and
+// where (FILE:LINE:COL: key, or FILE: with the element).
+TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::string off3 = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+  struct Case {
+    const char* file;
+    std::string text;
+    std::string expected;  // after the file's path
+  };
+  const Case cases[] = {
+      {"nan.obj", "v 0 nan 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+       ":1:5: v: expected a finite single-precision number, got \"nan\""},
+      {"big.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n",
+       ":2:3: v: expected a finite single-precision number, got \"1e39\""},
+      {"range.obj", tri + "f 1 2 4\n",
+       ":4:7: f: vertex index 4 out of range: the file has 3 vertexs"},
+      {"zero.obj", tri + "f 0 1 2\n",
+       ":4:3: f: expected a vertex index of 1 or more (OBJ counts from 1), got 0"},
+      {"negative.obj", tri + "f -1 -2 -4\n",
+       ":4:9: f: vertex index -4 out of range: the file has 3 vertexs before this face"},
+      {"two.obj", tri + "f 1 2\n", ":4:1: f: expected a face of at least 3 vertices, got 2"},
+      {"garbage.obj", "\x7f\x45LF\x02\x01 binary\n" + tri + "f 1 2 3\n", ":1:1: unexpected bytes"},
+      {"nul.obj", tri + std::string("f 1 2 3\n\0\0\0\n", 12),
+       ":5:1: unexpected binary data (a NUL byte)"},
+      {"vt.obj", tri + "vt 0 0\nf 1/1 2/2 3/3\n",
+       ":5:7: f: texture coordinate index 2 out of range: the file has 1"},
+      {"repeat.obj", tri + "f 1 2 2\n", ":4:7: f: vertex 2 appears twice in the face"},
+      {"trunc.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       ": truncated OFF: the header declares 3 vertices and 2 faces; the file ends after 3 "
+       "vertices and 1 faces"},
+      {"range.off", off3 + "3 0 1 3\n",
+       ":6:7: face 0: vertex index 3 out of range [0, 3) (OFF counts from 0)"},
+      {"negative.off", off3 + "3 0 -1 2\n", ":6:5: face 0: vertex index -1 out of range [0, 3)"},
+      {"size.off", off3 + "-5 0 1 2\n", ":6:1: face 0: expected a face size of 3 or more, got -5"},
+      {"two.off", off3 + "2 0 1\n", ":6:1: face 0: expected a face size of 3 or more, got 2"},
+      {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n",
+       ":4:1: vertex 1: expected a finite single-precision number"},
+      {"junk.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2x\n",
+       ":6:7: face 0: expected an integer index, got \"2x\""},
+  };
+  for (const Case& c : cases) {
+    const std::string message = errorOf(write(c.file, c.text));
+    EXPECT_NE(message.find((dir_ / c.file).string() + c.expected), std::string::npos)
+        << c.file << ": expected \"" << c.expected << "\" in\n"
+        << message;
+    EXPECT_EQ(message.find("mesh has no faces"), std::string::npos) << message;
+  }
+}
+
+// A face size of -5 once made OpenMesh reserve 4 GB: refused by the check, in milliseconds.
+TEST_F(MeshIoTest, HugeOrNegativeFaceSizesAreRefusedFast) {
+  const auto start = std::chrono::steady_clock::now();
+  errorOf(write("size.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n-5 0 1 2\n"));
+  errorOf(write("huge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n"));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+}
+
+// Inputs must be regular files: a FIFO would block, /dev/zero would never end.
+TEST_F(MeshIoTest, SpecialFilesAreRefusedWithoutBlocking) {
+  const fs::path fifo = dir_ / "fifo.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  EXPECT_NE(errorOf(fifo).find("fifo.obj: mesh: expected a regular file, found a FIFO"),
+            std::string::npos);
+  fs::create_symlink("/dev/zero", dir_ / "zero.obj");
+  EXPECT_NE(errorOf(dir_ / "zero.obj")
+                .find("zero.obj: mesh: expected a regular file, found a character device"),
+            std::string::npos);
+}
+
+// Valid OBJ forms the check must keep accepting: relative (negative) indices, v/vt/vn and v//vn
+// corners, comments, groups and unknown printable statements.
+TEST_F(MeshIoTest, ValidObjFormsStillLoad) {
+  const ControlMesh m = loadControlMesh(write(
+      "ok.obj",
+      "# a comment\nmtllib x.mtl\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 "
+      "1\n"
+      "vt 0 1\nvn 0 0 1\ng g1\nusemtl m\ns off\nf -4/-4/1 -3/-3/1 -2/-2/1 -1/-1/1\nfoo bar\n"));
+  EXPECT_EQ(m.faceSizes, std::vector<int>{4});
+  EXPECT_TRUE(m.hasUvs());
+  const ControlMesh n =
+      loadControlMesh(write("n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n"));
+  EXPECT_EQ(n.faceSizes, std::vector<int>{3});
 }
 
 }  // namespace

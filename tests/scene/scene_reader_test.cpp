@@ -277,7 +277,7 @@ TEST_F(SceneReaderTest, MissingSceneFile) {
     loadScene(dir_ / "absent.toml");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("absent.toml: cannot open scene file (No such file or directory)"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("absent.toml: scene: file not found"), std::string::npos);
   }
 }
 

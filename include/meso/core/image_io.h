@@ -4,11 +4,17 @@
 #include "meso/core/image.h"
 
 #include <filesystem>
+#include <string>
 
 namespace meso {
 
 // Reads any format OpenImageIO knows, all channels, as float. Throws meso::Error("FILE: ...").
 Image readImage(const std::filesystem::path& file);
+
+// The bytes of an OpenEXR file of all channels (float, zip) and of an 8-bit sRGB PNG preview of
+// R, G, B: encoded in memory, so that the caller writes (and checks) them with atomic_file.h.
+std::string encodeExr(const Image& image);
+std::string encodePngPreview(const Image& image);
 
 // Writes all channels to an OpenEXR file (half or float per channel as stored: float here).
 void writeExr(const std::filesystem::path& file, const Image& image);

@@ -1,0 +1,29 @@
+// Memory estimated before it is allocated: a job whose estimate exceeds the limit is refused with
+// the estimate and the key that caused it, instead of running to bad_alloc after gigabytes (or for
+// minutes). The limit is the process's (--memory-limit; default half of physical memory), set once
+// by the command line before any work, read by the image decoder deep in the relief loaders.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace meso {
+
+uint64_t physicalMemoryBytes();
+
+// Half of physical memory (4 GiB when it cannot be read).
+uint64_t defaultMemoryLimitBytes();
+
+// The limit in force (defaultMemoryLimitBytes() until set).
+uint64_t memoryLimitBytes();
+void setMemoryLimitBytes(uint64_t bytes);
+
+// "1234.5 MiB".
+std::string formatMib(double bytes);
+
+// Throws meso::Error("WHERE: KEY: needs an estimated N MiB (WHAT), more than the memory limit of
+// M MiB (--memory-limit)") when bytes > memoryLimitBytes(). `where` may be empty.
+void requireMemory(double bytes, const std::string& where, const std::string& key,
+                   const std::string& what);
+
+}  // namespace meso

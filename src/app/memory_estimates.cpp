@@ -1,0 +1,57 @@
+#include "memory_estimates.h"
+
+#include "meso/core/memory_budget.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace meso::app {
+
+double filmBytes(int width, int height) {
+  const double pixels = static_cast<double>(width) * height;
+  return pixels * (11 * 4     // film
+                   + 11 * 4   // EXR encoded in memory (at most about the raw size)
+                   + 3 + 3);  // PNG bytes and their encoding
+}
+
+double levelTablesBytes(const TableResolution& r, std::string* key) {
+  const double slices = static_cast<double>(r.thetaVBins) * r.phiVBins;
+  const double histograms = slices * r.thetaNBins * r.phiBins * (4 + 12 + 4 + 4);
+  const double brdf = slices * r.brdfThetaL * r.brdfPhi * 2 * 4 * 2;
+  const double relief = static_cast<double>(r.meshResolution) * r.meshResolution * 2 * 96;
+  if (key)
+    *key = histograms >= brdf && histograms >= relief ? "render.tables.theta_n_bins/phi_bins"
+           : brdf >= relief                           ? "render.tables.brdf_theta_l/brdf_phi"
+                                                      : "render.tables.mesh_resolution";
+  return histograms + brdf + relief;
+}
+
+void checkRenderMemory(Scene& scene, std::vector<std::string>& warnings, bool withFilm) {
+  const std::string file = scene.file.string();
+  const double film = withFilm ? filmBytes(scene.camera.width, scene.camera.height) : 0.0;
+  requireMemory(film, file, "camera.resolution",
+                "the film of " + std::to_string(scene.camera.width) + "x" +
+                    std::to_string(scene.camera.height) +
+                    " pixels, 11 float channels, and its EXR and PNG");
+  std::string key;
+  size_t levels = 0;
+  for (const Material& m : scene.materials) levels += m.relief.size();
+  const double tables = static_cast<double>(levels) * levelTablesBytes(scene.render.tables, &key);
+  requireMemory(film + tables, file, key,
+                "the appearance tables of " + std::to_string(levels) +
+                    " relief level(s) at [render.tables] " + formatMib(tables) + ", and the film " +
+                    formatMib(film));
+  const double left = static_cast<double>(memoryLimitBytes()) - film - tables;
+  const int64_t fits = static_cast<int64_t>(std::max(0.0, left) / kBytesPerMicropolygon);
+  if (fits < scene.render.maxMicropolygons) {
+    if (levels > 0)  // only a scene with relief displaces anything
+      warnings.push_back("render.max_micropolygons: lowered from " +
+                         std::to_string(scene.render.maxMicropolygons) + " to " +
+                         std::to_string(std::max<int64_t>(fits, 1000)) +
+                         " so that the micropolygons fit in the memory limit of " +
+                         formatMib(static_cast<double>(memoryLimitBytes())) + " (--memory-limit)");
+    scene.render.maxMicropolygons = std::max<int64_t>(fits, 1000);
+  }
+}
+
+}  // namespace meso::app

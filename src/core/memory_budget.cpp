@@ -1,0 +1,52 @@
+#include "meso/core/memory_budget.h"
+
+#include "meso/core/error.h"
+
+#include <atomic>
+#include <cstdio>
+
+#include <unistd.h>
+
+namespace meso {
+namespace {
+
+std::atomic<uint64_t> gLimit{0};  // 0: not set yet
+
+}  // namespace
+
+uint64_t physicalMemoryBytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), size = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && size > 0 ? static_cast<uint64_t>(pages) * static_cast<uint64_t>(size) : 0;
+}
+
+uint64_t defaultMemoryLimitBytes() {
+  const uint64_t physical = physicalMemoryBytes();
+  return physical > 0 ? physical / 2 : uint64_t(4) << 30;
+}
+
+uint64_t memoryLimitBytes() {
+  const uint64_t limit = gLimit.load();
+  return limit > 0 ? limit : defaultMemoryLimitBytes();
+}
+
+void setMemoryLimitBytes(uint64_t bytes) { gLimit.store(bytes); }
+
+std::string formatMib(double bytes) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", bytes / (1024.0 * 1024.0));
+  return buf;
+}
+
+void requireMemory(double bytes, const std::string& where, const std::string& key,
+                   const std::string& what) {
+  const uint64_t limit = memoryLimitBytes();
+  if (bytes <= static_cast<double>(limit)) return;
+  std::string message = where.empty() ? "" : where + ": ";
+  message.append(key).append(": needs an estimated ").append(formatMib(bytes));
+  if (!what.empty()) message.append(" (").append(what).append(")");
+  message.append(", more than the memory limit of ").append(formatMib(static_cast<double>(limit)));
+  message.append(" (--memory-limit MIB; default half of physical memory)");
+  throw Error(message);
+}
+
+}  // namespace meso
