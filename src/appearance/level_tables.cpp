@@ -37,7 +37,7 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
                             std::vector<std::string>* warnings) {
   const ShadowingResolution& r = s.shadowing;
   Hasher hash;
-  hash.value(levelKey).string("shadows-v2").value(r.thetaL).value(r.phi).value(r.raysPerSlice).value(r.azimuthsPerSlice);
+  hash.value(levelKey).string("shadows-v5").value(r.thetaL).value(r.phi).value(r.raysPerSlice).value(r.azimuthsPerSlice).value(r.thetaVRefine);
   hash.value(kShadowMaxTiles);
   hash.value(phong);
   const uint64_t key = hash.digest();
@@ -46,7 +46,7 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   if (!warning.empty() && warnings) warnings->push_back(warning);
   ShadowingTable table;
   if (cached && ShadowingTable::fromData(*cached, r, table) && table.numPhiV() == layout.resolution().phiV &&
-      table.numThetaV() == layout.resolution().thetaV)
+      table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1)
     return table;
   const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
   table = ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
