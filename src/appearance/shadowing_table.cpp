@@ -43,13 +43,14 @@ Vec3 toTile(const Vec3& w, const MetricShape& s) {
 }
 
 struct Hit {
-  Vec3 p;        // tile coordinates, just off the surface
-  Vec3 n;        // unit Blinn normal in the surface frame
+  Vec3 p;  // tile coordinates, just off the surface
+  Vec3 n;  // unit Blinn normal in the surface frame
 };
 
 // The visible hits of one slice, each lifted off the relief along its tile normal.
-std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief, const PeriodicTile& tile,
-                                               const MetricShape& shape, float thetaV, float phiLo, float phiWidth,
+std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
+                                               const PeriodicTile& tile, const MetricShape& shape,
+                                               float thetaV, float phiLo, float phiWidth,
                                                int azimuths, int rays, Rng& rng) {
   std::vector<std::pair<Hit, float>> hits;  // with the view azimuth they were seen from
   hits.reserve(static_cast<size_t>(rays));
@@ -58,26 +59,30 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief, con
   const int perAzimuth = std::max(rays / std::max(azimuths, 1), 1);
   const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(perAzimuth))));
   for (int a = 0; a < azimuths; ++a)
-  for (int r = 0; r < side * side; ++r) {
-    const float phiV = phiLo + phiWidth * (static_cast<float>(a) + 0.5f) / static_cast<float>(azimuths);
-    const Vec3 eye = toTile(polar(thetaV, phiV), shape);
-    const Vec2 xy((static_cast<float>(r % side) + rng.uniform()) / side, (static_cast<float>(r / side) + rng.uniform()) / side);
-    Vec3 p;
-    if (!tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -eye, p)) continue;
-    const Vec2 g = relief.gradient(p.x, p.y);
-    const Vec3 nTile = glm::normalize(Vec3(-g.x, -g.y, 1.0f));
-    // Off the surface by 1e-4 tile units along its normal: the tile's float rounding is ~1e-7.
-    hits.push_back({{p + 1e-4f * nTile, glm::normalize(Vec3(-g.x / shape.a, shape.b * g.x - shape.a * g.y, 1.0f))},
-                    phiV});
-  }
+    for (int r = 0; r < side * side; ++r) {
+      const float phiV =
+          phiLo + phiWidth * (static_cast<float>(a) + 0.5f) / static_cast<float>(azimuths);
+      const Vec3 eye = toTile(polar(thetaV, phiV), shape);
+      const Vec2 xy((static_cast<float>(r % side) + rng.uniform()) / side,
+                    (static_cast<float>(r / side) + rng.uniform()) / side);
+      Vec3 p;
+      if (!tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -eye, p)) continue;
+      const Vec2 g = relief.gradient(p.x, p.y);
+      const Vec3 nTile = glm::normalize(Vec3(-g.x, -g.y, 1.0f));
+      // Off the surface by 1e-4 tile units along its normal: the tile's float rounding is ~1e-7.
+      hits.push_back({{p + 1e-4f * nTile,
+                       glm::normalize(Vec3(-g.x / shape.a, shape.b * g.x - shape.a * g.y, 1.0f))},
+                      phiV});
+    }
   return hits;
 }
 
 }  // namespace
 
 ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const PeriodicTile& tile,
-                                     const VisibleNormalHistogram& layout, const HistogramSettings& hs,
-                                     ShadowingResolution res, float phong, uint64_t seed) {
+                                     const VisibleNormalHistogram& layout,
+                                     const HistogramSettings& hs, ShadowingResolution res,
+                                     float phong, uint64_t seed) {
   ShadowingTable t;
   const HistogramResolution& h = layout.resolution();
   t.res_ = res;
@@ -85,7 +90,8 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
   t.nPhi_ = phiNodes(res, t.phiV_);
   const int nV = (h.thetaV - 1) * std::max(res.thetaVRefine, 1) + 1;
   t.thetaV_.resize(nV);
-  for (int k = 0; k < nV; ++k) t.thetaV_[k] = layout.thetaVMax() * static_cast<float>(k) / static_cast<float>(nV - 1);
+  for (int k = 0; k < nV; ++k)
+    t.thetaV_[k] = layout.thetaVMax() * static_cast<float>(k) / static_cast<float>(nV - 1);
   const int slices = nV * t.phiV_;
   t.data_.assign(2 * static_cast<size_t>(slices) * t.numDelta() * t.nPhi_, 1.0f);
   const size_t half = t.data_.size() / 2;
@@ -99,7 +105,8 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
     // An isotropic table has one slice per theta_V: it gets the hits of 32 azimuth slices (as many
     // as twice the default 16 view-azimuth slices; at 8, the steep relief was 1.1% off by noise).
     const int rays = t.phiV_ > 1 ? res.raysPerSlice : 32 * res.raysPerSlice;
-    const auto hits = visibleHits(relief, tile, hs.shape, thetaV, phiLo, phiWidth, azimuths, rays, rng);
+    const auto hits =
+        visibleHits(relief, tile, hs.shape, thetaV, phiLo, phiWidth, azimuths, rays, rng);
     float previous = -1.0f;
     for (int i = 0; i < t.numDelta(); ++i) {
       const float thetaL = std::clamp(thetaV + t.delta(i), 0.0f, 0.5f * kPi);
@@ -120,7 +127,8 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
           const float wd = std::max(glm::dot(L, hit.n), 0.0f);
           const Vec3 H = glm::normalize(L + V);
           const float ws = std::pow(std::max(glm::dot(H, hit.n), 0.0f), phong);
-          if (wd <= 0.0f && !(ws > 1e-6f)) continue;  // reflects nothing: lit or not does not matter
+          if (wd <= 0.0f && !(ws > 1e-6f))
+            continue;  // reflects nothing: lit or not does not matter
           const bool lit = !tile.occluded(hit.p, toTile(L, hs.shape), kShadowMaxTiles);
           d += wd, s += ws;
           if (lit) dLit += wd, sLit += ws;
@@ -145,7 +153,8 @@ ShadowingTable::Value ShadowingTable::entry(int slice, int i, int j) const {
   return {data_[index(slice, i, j)], data_[data_.size() / 2 + index(slice, i, j)]};
 }
 
-ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL, float phiVL) const {
+ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL,
+                                             float phiVL) const {
   if (data_.empty()) return {};
   const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
   int m0 = 0, m1 = 0;
@@ -157,7 +166,8 @@ ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float the
     wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
   }
   // The same offset theta_L - theta_V in both theta_V slices: along the hot-spot ridge.
-  const float tv = std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
+  const float tv =
+      std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
   const Axis b = locate(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
   const float p = wrapAngle(phiVL);
   const Axis c = phiV_ > 1 ? locate(p, -kPi, kPi, nPhi_) : locate(std::abs(p), 0.0f, kPi, nPhi_);
@@ -183,11 +193,13 @@ std::vector<float> ShadowingTable::toData() const {
   return out;
 }
 
-bool ShadowingTable::fromData(const std::vector<float>& data, ShadowingResolution res, ShadowingTable& out) {
+bool ShadowingTable::fromData(const std::vector<float>& data, ShadowingResolution res,
+                              ShadowingTable& out) {
   if (data.size() < 2) return false;
   const int nThetaV = static_cast<int>(data[0]), phiV = static_cast<int>(data[1]);
   if (nThetaV < 2 || phiV < 1 || nThetaV > 4096 || phiV > 4096) return false;
-  const size_t n = 2 * static_cast<size_t>(nThetaV) * phiV * (2 * res.thetaL - 1) * phiNodes(res, phiV);
+  const size_t n =
+      2 * static_cast<size_t>(nThetaV) * phiV * (2 * res.thetaL - 1) * phiNodes(res, phiV);
   if (data.size() != 2 + nThetaV + n) return false;
   ShadowingTable t;
   t.res_ = res;

@@ -20,7 +20,8 @@ TileAngles tileAngles(const TileMap& m, const Vec3& V) {
   const Vec3 vt = m.toTile(V);
   const float len = glm::length(vt);
   TileAngles a;
-  a.f = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), len > 0.0f && std::isfinite(len) ? vt / len : Vec3(0, 0, 1),
+  a.f = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f),
+                      len > 0.0f && std::isfinite(len) ? vt / len : Vec3(0, 0, 1),
                       Vec3(1.0f, 0.0f, 0.0f));
   a.phiV = std::atan2(a.f.T.y, a.f.T.x);
   return a;
@@ -36,8 +37,9 @@ bool lightAngles(const TileAngles& a, const Vec3& lt, float& thetaL, float& phiV
 
 }  // namespace
 
-LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m, const Vec3& V,
-                             const ShadowingTable& s0, const ShadowingTable& s1, float w) {
+LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
+                             const Vec3& V, const ShadowingTable& s0, const ShadowingTable& s1,
+                             float w) {
   LightShadows out;
   if (s0.empty()) return out;
   const TileAngles a = tileAngles(m, V);
@@ -59,8 +61,9 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
   return out;
 }
 
-Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P, const TileMap& m,
-                       const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w, const LightShadows& shadows) {
+Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
+                       const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
+                       float w, const LightShadows& shadows) {
   Vec3 I = material.ka;
   const TileAngles a = tileAngles(m, V);
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -78,7 +81,8 @@ Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, 
       v.diffuse += w * (v1.diffuse - v.diffuse);
       v.specular += w * (v1.specular - v.specular);
     }
-    I += s.radiance * (material.kd * (v.diffuse * len * sh.diffuse) + material.ks * (v.specular * sh.specular));
+    I += s.radiance *
+         (material.kd * (v.diffuse * len * sh.diffuse) + material.ks * (v.specular * sh.specular));
   }
   return I;
 }

@@ -22,7 +22,8 @@ Vec3 shadowRayStart(const ShadowOrigin& o) {
   return start + shadowOffset(o) * n;
 }
 
-LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights, const ShadowOrigin& o) {
+LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
+                          const ShadowOrigin& o) {
   LightShadows out;
   const Vec3 start = shadowRayStart(o);
   const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));

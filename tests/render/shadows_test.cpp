@@ -70,7 +70,8 @@ TEST(Shadows, FlatPlaneUnderGrazingLightHasNoAcne) {
       const float e = radians(elevation);
       Scene scene = quadScene(writeQuads("meso_shadow_plane.obj", {{50.0f, 0.0f}}),
                               {-std::cos(e), 0.3f * std::cos(e), -std::sin(e)});
-      for (Object& o : scene.objects) o.transform = glm::translate(Mat4(1.0f), Vec3(offset, 0.0f, 0.0f));
+      for (Object& o : scene.objects)
+        o.transform = glm::translate(Mat4(1.0f), Vec3(offset, 0.0f, 0.0f));
       scene.camera.position += Vec3(offset, 0.0f, 0.0f);
       scene.camera.lookAt += Vec3(offset, 0.0f, 0.0f);
       const Image lit = render(scene);
@@ -81,16 +82,18 @@ TEST(Shadows, FlatPlaneUnderGrazingLightHasNoAcne) {
         for (int x = 0; x < lit.width; ++x) {
           const float u = unshadowed.at(x, y, 0);
           ASSERT_GT(u, 0.0f);
-          ASSERT_NEAR(lit.at(x, y, 0), u, 1e-4f * u) << "elevation " << elevation << " at " << x << "," << y;
+          ASSERT_NEAR(lit.at(x, y, 0), u, 1e-4f * u)
+              << "elevation " << elevation << " at " << x << "," << y;
         }
     }
 }
 
 // A floor with a 1 x 1 quad floating 1 above it and a light at 45 degrees: the floor is dark
-// exactly in the quad's shadow (x in [-1.5, -0.5], |y| < 0.5) and lit elsewhere, tested away from the
-// shadow's edges.
+// exactly in the quad's shadow (x in [-1.5, -0.5], |y| < 0.5) and lit elsewhere, tested away from
+// the shadow's edges.
 TEST(Shadows, FloatingQuadCastsItsShadowAndNothingElse) {
-  Scene scene = quadScene(writeQuads("meso_shadow_quads.obj", {{50.0f, 0.0f}, {0.5f, 1.0f}}), {-1.0f, 0.0f, -1.0f});
+  Scene scene = quadScene(writeQuads("meso_shadow_quads.obj", {{50.0f, 0.0f}, {0.5f, 1.0f}}),
+                          {-1.0f, 0.0f, -1.0f});
   const Image img = render(scene);
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times, false);
@@ -102,9 +105,11 @@ TEST(Shadows, FloatingQuadCastsItsShadowAndNothingElse) {
       const float t = -ray.origin.z / ray.direction.z;
       const Vec3 p = ray.origin + t * ray.direction;
       if (std::abs(p.x) < 0.7f && std::abs(p.y) < 0.7f) continue;  // the quad hides the floor here
-      const float margin = 0.15f;                                      // about two pixels
-      const bool inside = p.x > -1.5f + margin && p.x < -0.5f - margin && std::abs(p.y) < 0.5f - margin;
-      const bool outside = p.x < -1.5f - margin || p.x > -0.5f + margin || std::abs(p.y) > 0.5f + margin;
+      const float margin = 0.15f;                                  // about two pixels
+      const bool inside =
+          p.x > -1.5f + margin && p.x < -0.5f - margin && std::abs(p.y) < 0.5f - margin;
+      const bool outside =
+          p.x < -1.5f - margin || p.x > -0.5f + margin || std::abs(p.y) > 0.5f + margin;
       if (inside) {
         EXPECT_EQ(img.at(x, y, 0), 0.0f) << x << "," << y;
         ++dark;
@@ -141,20 +146,25 @@ TEST(Shadows, ShadowRayStartsJustOffTheSurface) {
 // tests/render/data/golden_no_shadows.exr (written by the unshadowed meso from shadow_golden.toml).
 TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
   const fs::path dir = fs::path(MESO_SOURCE_DIR) / "tests/render/data";
-  const fs::path out = fs::temp_directory_path() / (std::to_string(::getpid()) + "_meso_golden.exr");
-  const std::string cmd = std::string(MESO_EXE) + " render " + (dir / "shadow_golden.toml").string() +
-                          " --no-shadows -q -o " + out.string() + " > /dev/null 2>&1";
+  const fs::path out =
+      fs::temp_directory_path() / (std::to_string(::getpid()) + "_meso_golden.exr");
+  const std::string cmd = std::string(MESO_EXE) + " render " +
+                          (dir / "shadow_golden.toml").string() + " --no-shadows -q -o " +
+                          out.string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   const Image golden = readImage(dir / "golden_no_shadows.exr");
   const Image now = readImage(out);
   ASSERT_EQ(golden.pixels.size(), now.pixels.size());
-  EXPECT_EQ(0, std::memcmp(golden.pixels.data(), now.pixels.data(), golden.pixels.size() * sizeof(float)));
+  EXPECT_EQ(0, std::memcmp(golden.pixels.data(), now.pixels.data(),
+                           golden.pixels.size() * sizeof(float)));
   // And shadows on changes it (the torus shadows the floor), so the comparison is not vacuous.
-  const std::string on = std::string(MESO_EXE) + " render " + (dir / "shadow_golden.toml").string() + " -q -o " +
-                         out.string() + " > /dev/null 2>&1";
+  const std::string on = std::string(MESO_EXE) + " render " +
+                         (dir / "shadow_golden.toml").string() + " -q -o " + out.string() +
+                         " > /dev/null 2>&1";
   ASSERT_EQ(std::system(on.c_str()), 0);
   const Image shadowed = readImage(out);
-  EXPECT_NE(0, std::memcmp(golden.pixels.data(), shadowed.pixels.data(), golden.pixels.size() * sizeof(float)));
+  EXPECT_NE(0, std::memcmp(golden.pixels.data(), shadowed.pixels.data(),
+                           golden.pixels.size() * sizeof(float)));
   fs::remove(out);
   fs::remove(fs::path(out).replace_extension(".png"));
 }

@@ -16,13 +16,15 @@ namespace meso {
 // takes it: area-preserving), seen from V: the tables of the two metric classes around the
 // surface's own mixed by w (s1 may equal s0). Lights below the macro horizon get {1, 1} (they add
 // nothing anyway); an empty table gives {1, 1}.
-LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m, const Vec3& V,
-                             const ShadowingTable& s0, const ShadowingTable& s1, float w);
+LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
+                             const Vec3& V, const ShadowingTable& s0, const ShadowingTable& s1,
+                             float w);
 
 // shadeBrdf (level_shading.h, the TileMap overload) with each light's diffuse and specular terms
 // scaled by `shadows`: the same lookups at the same angles, so {1, 1} for every light gives its
 // value up to the order of float sums.
-Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P, const TileMap& m,
-                       const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w, const LightShadows& shadows);
+Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
+                       const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
+                       float w, const LightShadows& shadows);
 
 }  // namespace meso

@@ -32,6 +32,7 @@ float shadowOffset(const ShadowOrigin& o);
 
 // Visibility of each light (the first kMaxShadowedLights of them) from o: {1, 1} when the
 // occlusion ray towards it (up to a point light's position) hits nothing, {0, 0} otherwise.
-LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights, const ShadowOrigin& o);
+LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
+                          const ShadowOrigin& o);
 
 }  // namespace meso
