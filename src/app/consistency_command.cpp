@@ -68,6 +68,8 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
   TableSettings settings;
   settings.variant = o.variant == "separable" ? RedistributionVariant::Separable : RedistributionVariant::Conditional;
+  settings.shadows = o.shadows;
+  if (o.shadowRays > 0) settings.shadowing.raysPerSlice = o.shadowRays;
   const TableCache cache(o.noCache ? std::filesystem::path() : (o.cacheDir.empty() ? TableCache::defaultFolder() : o.cacheDir));
   std::vector<std::string> warnings;
   const LevelTables tables = buildLevelTables(*relief, o.phong, settings, nullptr, cache, &warnings);
@@ -80,6 +82,7 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   s.phong = o.phong;
   s.samplesPerAzimuth = o.samples;
   s.azimuths = o.azimuths;
+  s.shadows = o.shadows;
   std::vector<ConsistencyRow> rows;
   for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
   const std::string table = formatConsistency(rows, o.format == "markdown" ? TableFormat::Markdown : TableFormat::Csv, o.normalize);

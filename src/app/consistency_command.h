@@ -32,6 +32,8 @@ struct ConsistencyCommandOptions {
   std::string variant = "conditional";
   std::filesystem::path cacheDir;  // empty: the default cache folder
   bool noCache = false;
+  bool shadows = false;  // relief self-shadowing in every renderer but bump
+  int shadowRays = 0;    // visible hits per slice of the shadowing table; 0: the renderer's default
 };
 
 // Prints the table on stdout. Throws meso::Error on bad input.

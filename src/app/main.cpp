@@ -50,6 +50,7 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, displacement red, synthesis magenta)");
   render->add_flag("--no-bump-filter", o.noBumpFilter,
                    "--algorithm bump: point-sample the slopes instead of filtering them over the pixel footprint (Schilling)");
+  render->add_flag("--no-shadows", o.noShadows, "No shadow rays and no relief self-shadowing (overrides render.shadows)");
   render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]; default all");
   render->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)");
   render->add_flag("--overwrite", o.overwrite, "Re-render frames whose EXR and PNG already exist");
@@ -93,6 +94,11 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
       ->check(CLI::IsMember({"conditional", "separable"}))->capture_default_str();
   c->add_option("--cache-dir", o.cacheDir, "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
   c->add_flag("--no-cache", o.noCache, "Build the tables without reading or writing the cache");
+  c->add_flag("--shadows", o.shadows,
+              "Relief self-shadowing: shadow rays in displacement, the traced shadowing factor in redistribution and brdf "
+              "(SCENE: the scene's render.shadows is used)");
+  c->add_option("--shadow-rays", o.shadowRays, "--shadows: visible hits per view slice of the shadowing table (0: the renderer's)")
+      ->check(CLI::Range(0, 1 << 22));
   c->callback([&o] { meso::app::runConsistency(o); });
 }
 

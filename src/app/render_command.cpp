@@ -58,6 +58,7 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.dicingMetric) scene.render.dicingMetric = *o.dicingMetric;
   if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
   if (o.normals) scene.render.normals = *o.normals;
+  if (o.noShadows) scene.render.shadows = false;
   TransitionSettings& t = scene.render.transition;
   if (o.transitionD) t.D = *o.transitionD;
   if (o.transitionEps) t.eps = *o.transitionEps;
@@ -81,6 +82,7 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"dicing_metric", scene.render.dicingMetric},
           {"max_micropolygons", scene.render.maxMicropolygons},
           {"normals", scene.render.normals},
+          {"shadows", scene.render.shadows},
           {"transition", {{"D", scene.render.transition.D}, {"eps", scene.render.transition.eps},
                           {"e1", scene.render.transition.e1}, {"e2", scene.render.transition.e2},
                           {"e3", scene.render.transition.e3}, {"e4", scene.render.transition.e4}}},

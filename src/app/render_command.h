@@ -28,7 +28,8 @@ struct RenderCommandOptions {
   std::optional<float> transitionD, transitionEps;
   std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   bool falseColour = false;
-  bool noBumpFilter = false;     // --algorithm bump: point-sampled slopes instead of Schilling's pyramids
+  bool noBumpFilter = false;
+  bool noShadows = false;        // render.shadows = false     // --algorithm bump: point-sampled slopes instead of Schilling's pyramids
   bool quiet = false;
   std::string frames;            // "A:B" (inclusive) or "A"; empty: every frame of the path
   std::string shard;             // "i/n": render frames f with f % n == i

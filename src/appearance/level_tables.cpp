@@ -31,6 +31,31 @@ BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableS
   return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe) : BrdfTable::fromDistribution(distr, s.brdf, phong);
 }
 
+// The self-shadowing factor of a level, from the cache or traced in the periodic tile.
+ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHistogram& layout, float phong,
+                            const TableSettings& s, uint64_t levelKey, const TableCache& cache,
+                            std::vector<std::string>* warnings) {
+  const ShadowingResolution& r = s.shadowing;
+  Hasher hash;
+  hash.value(levelKey).string("shadows-v5").value(r.thetaL).value(r.phi).value(r.raysPerSlice).value(r.azimuthsPerSlice).value(r.thetaVRefine);
+  hash.value(kShadowMaxTiles);
+  hash.value(phong);
+  const uint64_t key = hash.digest();
+  std::string warning;
+  std::optional<std::vector<float>> cached = cache.load(key, &warning);
+  if (!warning.empty() && warnings) warnings->push_back(warning);
+  ShadowingTable table;
+  if (cached && ShadowingTable::fromData(*cached, r, table) && table.numPhiV() == layout.resolution().phiV &&
+      table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1)
+    return table;
+  const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
+  table = ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
+  warning.clear();
+  cache.store(key, table.toData(), &warning);
+  if (!warning.empty() && warnings) warnings->push_back(warning);
+  return table;
+}
+
 }  // namespace
 
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
@@ -69,8 +94,16 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
   }
   Redistribution redistribution(distr, settings.variant);
   distr.dropMeanNormals();
-  return LevelTables{std::move(distr), std::move(redistribution), std::move(brdf), key, fromCache,
-                     timer.seconds(), payload.size() * sizeof(float)};
+  ShadowingTable shadowing;
+  double shadowingSeconds = 0.0;
+  if (settings.shadows) {
+    Timer shadowTimer;
+    shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings);
+    shadowingSeconds = shadowTimer.seconds();
+  }
+  return LevelTables{std::move(distr),     std::move(redistribution), std::move(brdf),
+                     std::move(shadowing), shadowingSeconds,          key,
+                     fromCache,            timer.seconds(),           payload.size() * sizeof(float)};
 }
 
 }  // namespace meso

@@ -31,6 +31,34 @@ PeriodicTile::PeriodicTile(const PeriodicRelief& relief, int n) {
 }
 
 bool PeriodicTile::trace(Vec3 o, const Vec3& d, Vec2& hitXY) const {
+  Vec3 hit;
+  if (!traceHit(o, d, hit)) return false;
+  hitXY = {hit.x, hit.y};
+  return true;
+}
+
+bool PeriodicTile::occluded(Vec3 o, const Vec3& d, int maxTiles) const {
+  o.x -= std::floor(o.x);
+  o.y -= std::floor(o.y);
+  for (int crossing = 0; crossing < maxTiles; ++crossing) {
+    if (d.z > 0.0f && o.z > zMax_) return false;
+    float tExit = std::numeric_limits<float>::infinity();
+    int axis = -1;
+    for (int a = 0; a < 2; ++a) {
+      if (d[a] == 0.0f) continue;
+      const float t = ((d[a] > 0.0f ? 1.0f : 0.0f) - o[a]) / d[a];
+      if (t < tExit) tExit = t, axis = a;
+    }
+    if (axis < 0) return d.z <= 0.0f || o.z <= zMax_ ? scene_.occluded(Ray{o, d}) : false;
+    if (scene_.occluded(Ray{o, d, 0.0f, std::max(tExit, 0.0f) * 1.0001f + 1e-6f})) return true;
+    o += tExit * d;
+    o[axis] = d[axis] > 0.0f ? 0.0f : 1.0f;
+    if (d.z <= 0.0f && o.z < zMin_ - 1e-3f) return false;  // left through the bottom: the relief is a height field above it
+  }
+  return true;
+}
+
+bool PeriodicTile::traceHit(Vec3 o, const Vec3& d, Vec3& hitP) const {
   for (int crossing = 0; crossing < 100000; ++crossing) {
     float tExit = std::numeric_limits<float>::infinity();
     int axis = -1;
@@ -44,7 +72,7 @@ bool PeriodicTile::trace(Vec3 o, const Vec3& d, Vec2& hitXY) const {
     RayHit hit;
     if (scene_.intersect(ray, hit)) {
       const Vec3 p = o + hit.t * d;
-      hitXY = {p.x - std::floor(p.x), p.y - std::floor(p.y)};
+      hitP = {p.x - std::floor(p.x), p.y - std::floor(p.y), p.z};
       return true;
     }
     if (axis < 0 || o.z + tExit * d.z < zMin_ - 1e-3f) return false;

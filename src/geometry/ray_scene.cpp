@@ -242,6 +242,27 @@ bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   return true;
 }
 
+bool RayScene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.tNear;
+  r.tfar = ray.tFar;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  // rtcOccluded1 sets tfar to -inf when it finds any hit.
+  rtcOccluded1(impl_->scene, &context, &r);
+  return r.tfar < 0.0f;
+}
+
 size_t RayScene::deviceBytes() const {
   return static_cast<size_t>(std::max(0LL, impl_->bytes.load()));
 }

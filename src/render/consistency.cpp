@@ -33,6 +33,17 @@ Vec3 blinnNormal(const PeriodicRelief& relief, Vec2 xy) {
   return glm::normalize(Vec3(-g.x, -g.y, 1.0f));
 }
 
+// The BRDF renderer with the level's self-shadowing: each of its terms scaled by its own factor.
+double shadowedBrdf(const Material& material, const Light& light, const ViewFrame& frame, const BrdfTable& brdf,
+                    const ShadowingTable::Value& S) {
+  Material diffuse = material, specular = material;
+  diffuse.ks = Vec3(0.0f);
+  specular.kd = Vec3(0.0f);
+  const Light lights[] = {light};
+  return S.diffuse * shadeBrdf(diffuse, lights, Vec3(0.0f), frame, brdf).x +
+         S.specular * shadeBrdf(specular, lights, Vec3(0.0f), frame, brdf).x;
+}
+
 }  // namespace
 
 ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
@@ -47,6 +58,12 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
     light.direction = -polar(s.thetaL, phiV - s.phi);
     const Light lights[] = {light};
     const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
+    // The tabulated self-shadowing at this view and light, for redistribution and the BRDF.
+    LightShadows S;
+    const ShadowingTable::Value sv = s.shadows ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi) : ShadowingTable::Value{};
+    S.light[0] = {sv.diffuse, sv.specular};
+    const LightShadows* redistributionShadows = s.shadows ? &S : nullptr;
+    const Vec3 L = -light.direction;
     const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
     ConsistencyRow& row = perAzimuth[a];
     int hits = 0;
@@ -57,18 +74,24 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
       const Vec3 P(xy, 0.0f);
       const Vec3 n = blinnNormal(relief, xy);
       row.bump += shadeLocal(material, lights, P, n, V).x;
-      row.redistribution += shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n), V).x;
-      // The displaced relief, projected-area weighted: uniform origins above it along -V.
-      Vec2 hit;
-      if (tile.trace(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
-        row.displacement += shadeLocal(material, lights, Vec3(hit, 0.0f), blinnNormal(relief, hit), V).x;
+      row.redistribution += shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n), V,
+                                       redistributionShadows).x;
+      // The displaced relief, projected-area weighted: uniform origins above it along -V; with
+      // shadows a real shadow ray from each hit, lifted off the relief along its normal.
+      Vec3 hit;
+      if (tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
+        const Vec3 nHit = blinnNormal(relief, Vec2(hit));
+        LightShadows visible;
+        if (s.shadows && tile.occluded(hit + 1e-4f * nHit, L)) visible.light[0] = {0.0f, 0.0f};
+        row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V, s.shadows ? &visible : nullptr).x;
         ++hits;
       }
     }
     row.bump /= side * side;
     row.redistribution /= side * side;
     row.displacement /= std::max(hits, 1);
-    row.brdf = shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
+    row.brdf = s.shadows ? shadowedBrdf(material, light, frame, tables.brdf, sv)
+                         : shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
   });
   ConsistencyRow total;
   total.thetaV = thetaV;

@@ -3,6 +3,7 @@
 
 #include "meso/relief/height_table.h"
 #include "meso/relief/level_frames.h"
+#include "meso/render/shading.h"
 #include "meso/render/transition.h"
 
 #include <tbb/parallel_for.h>
@@ -42,16 +43,18 @@ float samplesPerU(const ReliefLevel& finest) {
 
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                                        const TransitionSettings& transition, Vec3 eye,
-                                       float pixelsPerRadian)
+                                       float pixelsPerRadian, std::span<const Light> lights)
     : relief_(relief),
       mode_(mode),
       transition_(transition),
       eye_(eye),
       pixelsPerRadian_(pixelsPerRadian),
-      bound_(displacementBound(relief)) {}
+      bound_(displacementBound(relief)),
+      lights_(lights.begin(), lights.end()) {}
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
-                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode) {
+                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode,
+                                  std::span<const Light> lights) {
   LevelTransitions out;
   const int n = static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
   out.count = n;
@@ -65,6 +68,9 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     const ReliefLevel& level = relief.levels[i];
     const SurfaceFrame& f = out.frames[i];
     out.T[i] = levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian, settings);
+    for (const Light& light : lights)  // the terminator, like the silhouette (section 4.2)
+      out.T[i] = std::max(out.T[i], levelTransition(level, lengthPerU, glm::dot(f.N, sampleLight(light, sp.P).L),
+                                                    distance, pixelsPerRadian, settings));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {
@@ -79,7 +85,7 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
 }
 
 LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
-  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_);
+  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   LevelDisplacement out;
   out.disp = t.disp;
   out.raised = t.raised;
@@ -87,7 +93,7 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
 }
 
 Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
-  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_);
+  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.

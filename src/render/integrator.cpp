@@ -2,6 +2,7 @@
 
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
+#include "meso/render/shadow_rays.h"
 #include "meso/render/surface_shader.h"
 
 #include <tbb/blocked_range2d.h>
@@ -60,8 +61,23 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
     footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy), ctx.camera.generateRay(fx, fy + 1.0f),
                             footprintScale);
-  const ShadeResult r =
-      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint, &limitP);
+  // Macro shadows: occlusion rays from the hit on the very triangles this frame traced.
+  LightShadows shadows;
+  if (ctx.shadows && !ctx.scene->lights.empty()) {
+    const uint32_t* k = &object.mesh.indices[3 * static_cast<size_t>(hit.triangle)];
+    const Vec3& p0 = object.mesh.positions[k[0]];
+    const Vec3 n = glm::cross(object.mesh.positions[k[1]] - p0, object.mesh.positions[k[2]] - p0);
+    const float len = glm::length(n);
+    ShadowOrigin o;
+    o.hit = ray.origin + hit.t * ray.direction;
+    o.facetN = len > 0.0f && std::isfinite(len) ? n / len : sp.N;
+    o.V = -ray.direction;
+    o.rayT = hit.t;
+    o.limitP = object.displaced ? nullptr : &limitP;
+    shadows = traceShadows(*ctx.rays, ctx.scene->lights, o);
+  }
+  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint,
+                                     &limitP, ctx.shadows ? &shadows : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;

@@ -50,7 +50,7 @@ bool RenderContext::viewDependent() const {
 
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame) {
   RenderContext ctx{&scene, Camera(scene.camera), {}, nullptr, {}, {}, parseAlgorithm(scene.render.algorithm),
-                    scene.render.normals == "facet"};
+                    scene.render.normals == "facet", scene.render.shadows};
   ctx.reliefs.resize(scene.materials.size());
   for (const Object& object : scene.objects) {
     Timer load;
@@ -74,13 +74,17 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   }
   Timer tables;
   const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
+  TableSettings settings = tableSettings(scene.render.tables);
+  // Self-shadowing tables only where a far-field renderer draws relief: bump ignores relief
+  // shadows, displacement traces them.
+  settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
     bool used = false;
     for (const PreparedObject& o : ctx.objects)
       if (o.material == static_cast<int>(m)) sampleMetrics(o.surface, samples), used = true;
     if (!used || !hasRelief(scene.materials[m])) continue;
-    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, tableSettings(scene.render.tables),
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
                                          metricClassesFor(samples, scene.render.tables.metricStep));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
@@ -123,8 +127,8 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     }
     object.mesh = {};
     const MaterialRelief& relief = ctx.reliefs[object.material];
-    const ReliefDisplacement displacement(relief, mode, rs.transition, settings.position,
-                                          ctx.camera.pixelsPerRadian());
+    const ReliefDisplacement displacement(relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian(),
+                                          ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
     dicing.maxMicropolygons = std::max<size_t>(budget, 1);
     AdaptiveTessellation t = tessellateAdaptive(
         object.surface, screen, dicing,

@@ -2,6 +2,7 @@
 #include "meso/render/surface_shader.h"
 
 #include "meso/render/level_shading.h"
+#include "meso/render/relief_shadowing.h"
 #include "meso/render/shading.h"
 #include "meso/render/transition.h"
 #include "meso/relief/level_frames.h"
@@ -30,6 +31,7 @@ struct LevelContext {
   const Footprint* footprint;
   const LevelTransitions* transitions;  // T, weights and disp per level (auto mode only)
   MetricPosition metric;                // where the surface's metric falls between table classes
+  const LightShadows* shadows = nullptr;  // macro visibility per light; null: no shadows at all
 };
 
 // The frame's tangents as the class's shape sees them: [P_u, P_v] [[a, b], [0, 1/a]]^-1, so that a
@@ -39,12 +41,29 @@ LevelFrame unshaped(const LevelFrame& f, const MetricShape& s) {
   return {f.Pu / s.a, s.a * f.Pv - s.b * f.Pu, f.N};
 }
 
-// The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
-Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped) {
+// The tile map the level's BRDF and self-shadowing tables are looked up through on frame f.
+TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
   const LevelFrame f = unshaped(shaped, c.relief.metrics[c.metric.k0].shape);
-  const TileMap m = makeTileMap(f.Pu, f.Pv, f.N, areaLengthPerU(f.Pu, f.Pv));
-  return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, c.relief.tables(i, c.metric.k0).brdf,
-                   c.relief.tables(i, c.metric.k1).brdf, c.metric.w);
+  return makeTileMap(f.Pu, f.Pv, f.N, areaLengthPerU(f.Pu, f.Pv));
+}
+
+// Level i's self-shadowing factor per light on frame f (docs/shadows.md).
+LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f) {
+  return reliefShadowing(c.ctx.scene->lights, c.sp.P, brdfTileMap(c, f), c.V, c.relief.tables(i, c.metric.k0).shadowing,
+                         c.relief.tables(i, c.metric.k1).shadowing, c.metric.w);
+}
+
+// The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
+// With shadows, each light is scaled by `shadows` times the self-shadowing of this level and of
+// every finer one (the BRDF stands for all of them), looked up at this frame's angles.
+Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped, const LightShadows* shadows) {
+  const TileMap m = brdfTileMap(c, shaped);
+  const BrdfTable& t0 = c.relief.tables(i, c.metric.k0).brdf;
+  const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
+  if (!shadows) return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w);
+  LightShadows s = *shadows;
+  for (size_t k = i; k < c.relief.levels.size(); ++k) s *= levelShadowing(c, k, shaped);
+  return shadeBrdfShadowed(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w, s);
 }
 
 // The level's redistributed normal on frame f. Each class's map is exact in distribution; near the
@@ -76,10 +95,10 @@ Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
 // Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
 // local model. `own` is the algorithm colour of the level above, mixed towards synthesis by how
 // much synthesized detail shows.
-ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& own) {
+ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& own, const LightShadows* shadows) {
   ShadeResult r;
   if (!c.relief.synthesis) {
-    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V);
+    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, shadows);
     r.normal = f.N;
     r.algorithm = own;
     return r;
@@ -89,7 +108,7 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
   const float pixelsPerUnit =
       c.distance > 0.0f ? c.ctx.camera.pixelsPerRadian() * lengthPerU * cosV / c.distance : 1e30f;
   const SynthesisShade s = shadeSynthesisLevel(*c.relief.synthesis, c.material, c.ctx.scene->lights, c.sp.P, f.Pu,
-                                               f.N, c.V, c.sp.uv, pixelsPerUnit);
+                                               f.N, c.V, c.sp.uv, pixelsPerUnit, shadows);
   r.colour = s.colour;
   r.normal = s.normal;
   r.synthesis = s.weight;
@@ -102,8 +121,11 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
 // level's geometry was raised by disp = ramp(T; e3, e4) when the frame was tessellated, and its
 // normal goes through theta_W (n' = R_thetaV(R_thetaW^-1(n)), exactly the Blinn normal at disp = 1);
 // the next level then shades that surface with the renderer its own T picks.
-ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
-  if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth);
+// With shadows, `shadows` is the light that reaches level i (macro visibility times the coarser
+// levels' self-shadowing); level i adds its own factor where it is not displaced (mixed towards 1
+// by disp: raised geometry casts real shadows).
+ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows) {
+  if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
   ShadeResult r;
   const ReliefLevel& level = c.relief.levels[i];
   const float T = c.transitions->T[i];
@@ -112,7 +134,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
   const float disp = c.raised ? c.transitions->disp[i] : 0.0f;
   r.disp[i] = disp;
   if (w.brdf > 0.0f) {
-    r.colour = w.brdf * levelBrdf(c, i, f);
+    r.colour = w.brdf * levelBrdf(c, i, f, shadows);
     r.algorithm = w.brdf * algorithm_colour::kBrdf;
   }
   r.T = T;
@@ -121,7 +143,14 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f) {
     LevelFrame next = f;
     const Vec3 nBump = bumpNormal(level, c.sp.uv, next);
     next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
-    const ShadeResult finer = shadeAuto(c, i + 1, next);
+    LightShadows below;
+    if (shadows) {
+      below = levelShadowing(c, i, f);
+      for (LightShadow& s : below.light)
+        s = {s.diffuse + disp * (1.0f - s.diffuse), s.specular + disp * (1.0f - s.specular)};
+      below *= *shadows;
+    }
+    const ShadeResult finer = shadeAuto(c, i + 1, next, shadows ? &below : nullptr);
     r.colour += (1.0f - w.brdf) * finer.colour;
     const Vec3 own = glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
     r.algorithm += (1.0f - w.brdf) * (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
@@ -164,11 +193,11 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
   const Vec3 e2 = glm::cross(f.N, e1);
   // Below the finest level: synthesized detail continues the relief (its own lobe replaces the
   // roughness that filtering removed); without it, Schilling's widened highlight.
-  if (c.relief.synthesis) return shadeBottom(c, f, algorithm_colour::kBump);
+  if (c.relief.synthesis) return shadeBottom(c, f, algorithm_colour::kBump, c.shadows);
   SlopeCovariance roughness;
   for (size_t i = 0; i < n; ++i) roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
   ShadeResult r;
-  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness);
+  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness, c.shadows);
   r.algorithm = algorithm_colour::kBump;
   r.normal = f.N;
   return r;
@@ -178,20 +207,25 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
   if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid) return shadeFilteredBump(c, f);
   ShadeResult r;
   if (algorithm == Algorithm::Brdf) {
-    r.colour = levelBrdf(c, 0, f);
+    r.colour = levelBrdf(c, 0, f, c.shadows);
     r.algorithm = algorithm_colour::kBrdf;
     r.normal = f.N;
     return r;
   }
+  // Redistribution carries each level's self-shadowing factor; displacement traced real shadow
+  // rays; bump (the inconsistent baseline) has macro shadows only.
+  LightShadows shadows = c.shadows ? *c.shadows : LightShadows{};
   for (size_t i = 0; i < c.relief.levels.size(); ++i) {
     const LevelFrame before = f;
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
+    if (algorithm == Algorithm::Redistribution && c.shadows) shadows *= levelShadowing(c, i, before);
     f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump) : nBump;
   }
   return shadeBottom(c, f,
                      algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
                      : algorithm == Algorithm::Displacement ? algorithm_colour::kDisplacement
-                                                            : algorithm_colour::kBump);
+                                                            : algorithm_colour::kBump,
+                     c.shadows ? &shadows : nullptr);
 }
 
 }  // namespace
@@ -219,7 +253,8 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
 }
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP) {
+                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP,
+                         const LightShadows* shadows) {
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
@@ -228,7 +263,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   if (relief.levels.empty() && !relief.synthesis) {
     ShadeResult r;
     r.normal = frame.N;
-    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V);
+    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V, shadows);
     r.algorithm = algorithm_colour::kSmooth;
     return r;
   }
@@ -236,14 +271,14 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     // --normals facet: the micropolygon's own normal, for comparison with the Blinn normal.
     ShadeResult r;
     r.normal = glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal;
-    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V);
+    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V, shadows);
     r.algorithm = algorithm_colour::kDisplacement;
     return r;
   }
   if (relief.levels.empty()) {  // an NDF alone
     const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
-                         footprint, nullptr, {}};
-    return shadeBottom(c, frame, algorithm_colour::kSmooth);
+                         footprint, nullptr, {}, shadows};
+    return shadeBottom(c, frame, algorithm_colour::kSmooth, shadows);
   }
   // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
   // coordinates), exactly as the tessellator raised the geometry.
@@ -251,12 +286,13 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   LevelTransitions transitions;
   if (ctx.algorithm == Algorithm::Auto)
     transitions = levelTransitions(relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
-                                   ctx.scene->render.transition, DisplacementMode::ByTransition);
+                                   ctx.scene->render.transition, DisplacementMode::ByTransition,
+                                   ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
   const LevelContext c{ctx,      material,     relief,
                        sp,       V,            glm::length(sp.P - ctx.camera.position()),
                        object.displaced, footprint, &transitions,
-                       relief.metricAt(metricOf(sp.Pu, sp.Pv))};
-  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame) : shadeFixed(c, ctx.algorithm, frame);
+                       relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows};
+  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows) : shadeFixed(c, ctx.algorithm, frame);
 }
 
 }  // namespace meso

@@ -144,7 +144,8 @@ Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c) {
 
 SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
                                    std::span<const Light> lights, const Vec3& P, const Vec3& Pu,
-                                   const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit) {
+                                   const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit,
+                                   const LightShadows* shadows) {
   SynthesisShade out;
   const float c = level.sampler->turbulence().octaveCount(pixelsPerUnit);
   out.weight = smoothstep01(c);
@@ -157,11 +158,15 @@ SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& 
   const ScaledSlopeNdf lobe(*level.ndf, std::sqrt(std::max(1.0f - kStructureShare * out.weight * out.weight, 1e-4f)));
   out.normal = ndfFrameToWorld(N, T, m);
   out.colour = material.ka;
-  for (const Light& light : lights) {
-    const LightSample s = sampleLight(light, P);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const LightShadow shadow = shadows ? (*shadows)[i] : LightShadow{};
+    if (shadows && shadow.diffuse <= 0.0f && shadow.specular <= 0.0f) continue;
+    const LightSample s = sampleLight(lights[i], P);
     const SynthesizedShading f = shadeSynthesized(lobe, N, T, V, s.L, m);
     const float diffuse = level.lambert ? f.diffuse : std::max(glm::dot(s.L, N), 0.0f) * (glm::dot(V, N) > 0.0f);
-    out.colour += s.radiance * (material.kd * diffuse + material.ks * (f.specular / level.peak));
+    // Multiplying by exactly 1 keeps the unshadowed bits.
+    out.colour += s.radiance * (material.kd * (diffuse * shadow.diffuse) +
+                                material.ks * ((f.specular / level.peak) * shadow.specular));
   }
   return out;
 }

@@ -384,6 +384,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.dicingMetric = r.choice("dicing_metric", s.dicingMetric, {"isotropic", "projected"});
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
   s.normals = r.choice("normals", s.normals, {"bump", "facet"});
+  s.shadows = r.boolean("shadows", s.shadows);
   if (const std::optional<std::string> c = r.string("cache_dir"))
     s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
   if (const toml::table* t = r.subtable("tables")) {

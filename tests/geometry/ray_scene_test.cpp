@@ -96,6 +96,27 @@ TEST(RayScene, MissesAndRayIntervalsAreRespected) {
   EXPECT_NEAR(hit.t, 1.0f, 1e-6f);
 }
 
+// occluded() agrees with intersect() on the interval [tNear, tFar], on triangles and on grids.
+TEST(RayScene, OccludedMatchesIntersectOnTheRayInterval) {
+  ControlMesh quad = test::grid(1);
+  RayScene scene;
+  scene.addMesh(tessellateUniform(LimitSurface(quad, SubdivisionScheme::Bilinear), 1));
+  scene.commit();
+  EXPECT_FALSE(scene.occluded(Ray{Vec3(0.5f, 0.5f, 1.0f), Vec3(0, 0, 1)}));
+  EXPECT_FALSE(scene.occluded(Ray{Vec3(3.0f, 0.5f, 1.0f), Vec3(0, 0, -1)}));
+  EXPECT_FALSE(scene.occluded(Ray{Vec3(0.5f, 0.5f, 1.0f), Vec3(0, 0, -1), 0.0f, 0.9f}));
+  EXPECT_FALSE(scene.occluded(Ray{Vec3(0.5f, 0.5f, 1.0f), Vec3(0, 0, -1), 1.1f}));
+  EXPECT_TRUE(scene.occluded(Ray{Vec3(0.5f, 0.5f, 1.0f), Vec3(0, 0, -1), 0.0f, 1.1f}));
+  EXPECT_TRUE(scene.occluded(Ray{Vec3(0.5f, 0.5f, -1.0f), Vec3(0, 0, 1)}));  // either side
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-0.5f, 1.5f);
+  RayHit hit;
+  for (int i = 0; i < 2000; ++i) {
+    const Ray ray{Vec3(u(rng), u(rng), 1.0f), randomDirection(rng)};
+    EXPECT_EQ(scene.occluded(ray), scene.intersect(ray, hit)) << i;
+  }
+}
+
 TEST(RayScene, MeshIndicesAreGeometryIdsAndDataIsCopied) {
   RayScene scene;
   {

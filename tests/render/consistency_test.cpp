@@ -82,6 +82,39 @@ void expectConsistent(const PeriodicRelief& relief, const char* name) {
   }
 }
 
+// With relief self-shadowing (DESIGN.md section 6): displacement with a real shadow ray at every
+// visible hit, redistribution and the BRDF with the traced shadowing factor, agree pairwise; and
+// the shadows are not negligible (without them the displaced relief is clearly brighter).
+void expectConsistentShadows(const PeriodicRelief& relief, const char* name, float thetaLDeg, float phiDeg) {
+  TableSettings settings;
+  settings.shadows = true;
+  const TableCache noCache{std::filesystem::path()};
+  const LevelTables tables = buildLevelTables(relief, 20.0f, settings, nullptr, noCache, nullptr);
+  ASSERT_FALSE(tables.shadowing.empty());
+  const PeriodicTile tile(relief, 192);
+  ConsistencySettings s;
+  s.azimuths = 16;
+  s.samplesPerAzimuth = 4096;
+  s.thetaL = radians(thetaLDeg);
+  s.phi = radians(phiDeg);
+  for (float deg : {0.0f, 30.0f, 60.0f}) {
+    s.shadows = true;
+    const ConsistencyRow r = measureConsistency(relief, tile, tables, radians(deg), s);
+    s.shadows = false;
+    const ConsistencyRow unshadowed = measureConsistency(relief, tile, tables, radians(deg), s);
+    const double values[3] = {r.redistribution, r.brdf, r.displacement};
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j)
+        EXPECT_LT(std::abs(values[i] - values[j]) / values[j], 0.015)
+            << name << " at theta_V " << deg << ": redistribution " << r.redistribution << " brdf " << r.brdf
+            << " displacement " << r.displacement;
+    EXPECT_GT(unshadowed.displacement / r.displacement, 1.04) << name << " at theta_V " << deg;
+    EXPECT_GT(unshadowed.brdf / r.brdf, 1.04) << name << " at theta_V " << deg;
+  }
+}
+
+TEST(Consistency, EggCrateAgreesWithShadows) { expectConsistentShadows(EggCrate(0.25f), "egg crate", 70.0f, 90.0f); }
+
 TEST(Consistency, RandomWavesAgree) { expectConsistent(RandomWaves(5, 0.03f), "random waves"); }
 TEST(Consistency, EggCrateAgrees) { expectConsistent(EggCrate(0.25f), "egg crate"); }
 

@@ -207,5 +207,34 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
   }
 }
 
+
+// Becker & Max section 4.2: the shadow terminator is treated like the silhouette. Near relief (nu > D)
+// at a light's terminator gets the silhouette's T; an overhead light changes nothing, and far relief
+// (nu < D) keeps the view's own T whatever the lights.
+TEST(Displacement, TheShadowTerminatorRaisesTLikeTheSilhouette) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.01f, 4.0f, 2)));
+  const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  Light grazing, overhead;
+  grazing.direction = glm::normalize(Vec3(-1.0f, 0.0f, -0.01f));
+  overhead.direction = Vec3(0.0f, 0.0f, -1.0f);
+  const TransitionSettings ts;
+  for (float distance : {0.5f, 200.0f}) {
+    const Vec3 eye(0.0f, 0.0f, distance);
+    const float T = levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition).T[0];
+    const Light lit[] = {overhead}, terminator[] = {overhead, grazing};
+    EXPECT_EQ(levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, lit).T[0], T);
+    const float Tt = levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, terminator).T[0];
+    const float cosL = 0.01f / std::sqrt(1.0001f);
+    const float silhouette = levelTransition(relief.levels[0], 1.0f, cosL, distance, 500.0f, ts);
+    if (T > 0.0f) {
+      EXPECT_GT(Tt, 5.0f * T) << distance;
+      EXPECT_FLOAT_EQ(Tt, silhouette);
+    } else {
+      EXPECT_EQ(Tt, T) << distance;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace meso

@@ -161,8 +161,10 @@ TEST(Metric, GeometryAndShadingAgreeOnDispPerLevel) {
   const RenderContext ctx = prepareRenderContext(s, times);
   const PreparedObject& object = ctx.objects[0];
   ASSERT_TRUE(object.displaced);
+  // With shadows (the default) the lights' terminators count in T, for the tessellator as for the shader.
+  ASSERT_TRUE(ctx.shadows);
   const ReliefDisplacement geometry(ctx.reliefs[0], DisplacementMode::ByTransition, s.render.transition,
-                                    ctx.camera.position(), ctx.camera.pixelsPerRadian());
+                                    ctx.camera.position(), ctx.camera.pixelsPerRadian(), s.lights);
   Rng rng(12);
   int partial = 0;
   for (int k = 0; k < 10000; ++k) {

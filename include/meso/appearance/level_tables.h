@@ -5,6 +5,7 @@
 #include "meso/appearance/brdf_table.h"
 #include "meso/appearance/histogram_builder.h"
 #include "meso/appearance/redistribution.h"
+#include "meso/appearance/shadowing_table.h"
 #include "meso/appearance/table_cache.h"
 
 #include <string>
@@ -19,12 +20,18 @@ struct TableSettings {
   // between tilt and azimuth of visible normals and miss displacement by up to 5% at 60 degrees,
   // the conditional maps by under 0.4% (measured on two reliefs, tests/render/consistency_test.cpp).
   RedistributionVariant variant = RedistributionVariant::Conditional;
+  // render.shadows: also trace the relief's self-shadowing factor (ShadowingTable), cached under
+  // its own key (the level's key with a shadows flag), so the unshadowed tables keep theirs.
+  bool shadows = false;
+  ShadowingResolution shadowing;
 };
 
 struct LevelTables {
   VisibleNormalHistogram distr;
   Redistribution redistribution;
   BrdfTable brdf;
+  ShadowingTable shadowing;  // empty unless TableSettings::shadows
+  double shadowingSeconds = 0.0;  // its build or load time (part of `seconds`)
   uint64_t key = 0;         // cache key (also shapes the keys of coarser levels built over this one)
   bool fromCache = false;
   double seconds = 0.0;     // build or load time

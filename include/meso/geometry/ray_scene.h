@@ -57,6 +57,9 @@ class RayScene {
   void commit();
   // Closest hit along the ray; false on a miss. Thread-safe after commit().
   bool intersect(const Ray& ray, RayHit& hit) const;
+  // True when anything lies on the ray between tNear and tFar (Embree's any-hit occlusion query,
+  // cheaper than intersect: it stops at the first hit found). Thread-safe after commit().
+  bool occluded(const Ray& ray) const;
 
   size_t numTriangles() const { return numTriangles_; }
   // Bytes Embree holds for this scene (geometry buffers, BVH and build scratch) now, and the most

@@ -21,6 +21,10 @@ struct ConsistencySettings {
   int azimuths = 64;           // view azimuths averaged (the tables are azimuth averages too)
   int samplesPerAzimuth = 4096;
   uint64_t seed = 1;
+  // Relief self-shadowing (DESIGN.md section 6): displacement traces a shadow ray towards L at
+  // every visible hit, redistribution and brdf are scaled by the level's ShadowingTable (which the
+  // tables must then hold); bump, the inconsistent baseline, stays unshadowed.
+  bool shadows = false;
 };
 
 struct ConsistencyRow {

@@ -11,6 +11,8 @@
 #include "meso/scene/scene.h"
 
 #include <array>
+#include <span>
+#include <vector>
 
 namespace meso {
 
@@ -39,8 +41,13 @@ struct LevelTransitions {
   int raised = 0;  // leading levels with disp > 0
 };
 
+// With lights (render.shadows), the shadow terminator is treated like the silhouette (Becker & Max
+// section 4.2): T_i = max over V and each light's L of (nu_i - D) / (|cos theta| + eps), so relief
+// near a light's terminator is displaced (its shadows then come from real shadow rays) as soon as
+// it spans enough pixels, while far relief (nu < D) keeps the view's own T.
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
-                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode);
+                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode,
+                                  std::span<const Light> lights = {});
 
 // How the surface at one point is displaced: disp_i per level (0 for levels left flat) and the
 // number of leading levels with disp > 0 (finer levels have shorter wavelengths, hence lower T, so
@@ -54,8 +61,10 @@ struct LevelDisplacement {
 // of the surface after levels 1..i-1 were raised, P_u[i+1] = P_u[i] + disp_i B_u[i] N[i].
 class ReliefDisplacement : public VertexDisplacement {
  public:
+  // lights: those whose terminators count in T (levelTransitions); empty without shadows.
   ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
-                     const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian);
+                     const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian,
+                     std::span<const Light> lights = {});
   Vec3 offset(int face, Vec2 st, const SurfacePoint& sp) const override;
   float bound() const override { return bound_; }
 
@@ -70,6 +79,7 @@ class ReliefDisplacement : public VertexDisplacement {
   Vec3 eye_;
   float pixelsPerRadian_;
   float bound_ = 0.0f;
+  std::vector<Light> lights_;
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).

@@ -64,6 +64,7 @@ struct RenderContext {
   std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
   Algorithm algorithm = Algorithm::Auto;
   bool facetNormals = false;            // render.normals = "facet"
+  bool shadows = false;                 // render.shadows: shadow rays and tabulated self-shadowing
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).

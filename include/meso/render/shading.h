@@ -5,6 +5,7 @@
 #include "meso/relief/slope_covariance.h"
 #include "meso/scene/scene.h"
 
+#include <array>
 #include <span>
 
 namespace meso {
@@ -18,12 +19,41 @@ struct LightSample {
 
 LightSample sampleLight(const Light& light, const Vec3& P);
 
+// How much of one light reaches a shading point (DESIGN.md section 6): the macro visibility of a
+// shadow ray (0 or 1) times the relief's tabulated self-shadowing (ShadowingTable), separately for
+// the diffuse and the specular term since the lit part of a relief faces the light more than the
+// whole. {1, 1}: unshadowed.
+struct LightShadow {
+  float diffuse = 1.0f;
+  float specular = 1.0f;
+};
+
+// Shadowing is tracked for this many lights of a scene; any further lights are unshadowed.
+inline constexpr int kMaxShadowedLights = 16;
+
+// One factor per light (index as in Scene::lights, the first kMaxShadowedLights of them).
+struct LightShadows {
+  std::array<LightShadow, kMaxShadowedLights> light{};
+  const LightShadow& operator[](size_t i) const {
+    static constexpr LightShadow kLit{};
+    return i < light.size() ? light[i] : kLit;
+  }
+  // This shadowing times another's (e.g. the macro shadows times a level's self-shadowing).
+  LightShadows& operator*=(const LightShadows& o) {
+    for (size_t i = 0; i < light.size(); ++i) {
+      light[i].diffuse *= o.light[i].diffuse;
+      light[i].specular *= o.light[i].specular;
+    }
+    return *this;
+  }
+};
+
 // Reflected intensity towards V (unit, pointing from P to the eye) for a surface with shading
 // normal N (unit). The ambient term is ka under unit white ambient light. Lights below the shading
-// horizon (L.N <= 0) contribute nothing; no shadows (relief self-shadowing is left out so that the
-// renderers stay comparable, DESIGN.md section 6).
+// horizon (L.N <= 0) contribute nothing. `shadows` (may be null: all lit) scales each light's
+// diffuse and specular terms; null gives exactly the unshadowed value.
 Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
-                const Vec3& N, const Vec3& V);
+                const Vec3& N, const Vec3& V, const LightShadows* shadows = nullptr);
 
 // The same with Schilling's roughness-modified highlight (his Appendix A): the highlight of a
 // surface whose normal offsets, in the orthonormal tangent basis (e1, e2) of N, have the extra
@@ -35,6 +65,6 @@ Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const V
 // up to float rounding.
 Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
                     const Vec3& N, const Vec3& V, const Vec3& e1, const Vec3& e2,
-                    const SlopeCovariance& roughness);
+                    const SlopeCovariance& roughness, const LightShadows* shadows = nullptr);
 
 }  // namespace meso

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "meso/render/render_context.h"
+#include "meso/render/shading.h"
 
 #include <array>
 
@@ -47,9 +48,11 @@ struct ShadeResult {
 // object is displaced by --algorithm displacement; it may be null otherwise.
 // footprint (may be null) filters the bump renderer's slope lookups and widens its highlight by
 // the roughness filtering removed. limitP (may be null: sp.P) is the limit-surface point of the
-// hit, from which T and disp are evaluated as the tessellator did.
+// hit, from which T and disp are evaluated as the tessellator did. shadows (may be null: no
+// shadows at all, the unshadowed images bit for bit) is each light's macro visibility at the hit;
+// the relief's tabulated self-shadowing multiplies it where a level is not displaced.
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
                          const Vec3& V, const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr,
-                         const Vec3* limitP = nullptr);
+                         const Vec3* limitP = nullptr, const LightShadows* shadows = nullptr);
 
 }  // namespace meso

@@ -9,6 +9,8 @@
 // in, structure and lobe convolve back to the NDF (exactly for Gaussian slope distributions).
 #pragma once
 
+#include "meso/render/shading.h"
+
 #include "meso/appearance/brdf_table.h"
 #include "meso/synthesis/index_texture.h"
 #include "meso/synthesis/ndf.h"
@@ -88,9 +90,11 @@ Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c);
 
 // Shades a surface point whose frame is (Pu, N) (N unit, facing the eye), at surface parameters uv,
 // seen from V (unit, towards the eye) with pixelsPerUnit pixels per unit of u:
-// ka + sum over lights of radiance (kd (L.n_m) + ks D_lobe(h in n_m's frame) / peak).
+// ka + sum over lights of radiance (kd (L.n_m) + ks D_lobe(h in n_m's frame) / peak), each light's
+// terms scaled by `shadows` (may be null: all lit).
 SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
                                    std::span<const Light> lights, const Vec3& P, const Vec3& Pu,
-                                   const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit);
+                                   const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit,
+                                   const LightShadows* shadows = nullptr);
 
 }  // namespace meso

@@ -129,6 +129,9 @@ struct RenderSettings {
   std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
   int64_t maxMicropolygons = 80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
+  // Macro shadows (occlusion rays towards each light) and the relief's self-shadowing in the
+  // tables and in T (DESIGN.md section 6, docs/shadows.md). false: exactly the unshadowed images.
+  bool shadows = true;
   std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
   TableResolution tables;
 };

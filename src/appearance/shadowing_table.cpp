@@ -1,0 +1,216 @@
+// Becker & Max 1993, section 4.2 (shadows): the relief's self-shadowing factor, traced with shadow
+// rays from the visible hits of the periodic tile (DESIGN.md section 6).
+#include "meso/appearance/shadowing_table.h"
+
+#include "meso/core/rng.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+namespace {
+
+struct Axis {
+  int i0;
+  int i1;
+  float w;
+};
+
+Axis locate(float x, float lo, float hi, int n) {
+  float s = std::isfinite(x) ? (x - lo) / (hi - lo) * static_cast<float>(n - 1) : 0.0f;
+  s = std::clamp(s, 0.0f, static_cast<float>(n - 1));
+  const int i0 = std::min(static_cast<int>(s), std::max(n - 2, 0));
+  return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
+}
+
+float wrapAngle(float a) {
+  if (!std::isfinite(a)) return 0.0f;
+  a = std::fmod(a, 2.0f * kPi);
+  if (a > kPi) a -= 2.0f * kPi;
+  if (a < -kPi) a += 2.0f * kPi;
+  return a;
+}
+
+Vec3 polar(float theta, float phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+// A surface-frame direction into tile coordinates through the shape (histogram_builder.cpp).
+Vec3 toTile(const Vec3& w, const MetricShape& s) {
+  return glm::normalize(Vec3(w.x / s.a - s.b * w.y, s.a * w.y, w.z));
+}
+
+struct Hit {
+  Vec3 p;  // tile coordinates, just off the surface
+  Vec3 n;  // unit Blinn normal in the surface frame
+};
+
+// The visible hits of one slice, each lifted off the relief along its tile normal.
+std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
+                                               const PeriodicTile& tile, const MetricShape& shape,
+                                               float thetaV, float phiLo, float phiWidth,
+                                               int azimuths, int rays, Rng& rng) {
+  std::vector<std::pair<Hit, float>> hits;  // with the view azimuth they were seen from
+  hits.reserve(static_cast<size_t>(rays));
+  // Jittered strata over the tile per azimuth: the lit fraction is an area integral, and strata
+  // converge much faster than independent origins on its smooth shadow boundaries.
+  const int perAzimuth = std::max(rays / std::max(azimuths, 1), 1);
+  const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(perAzimuth))));
+  for (int a = 0; a < azimuths; ++a)
+    for (int r = 0; r < side * side; ++r) {
+      const float phiV =
+          phiLo + phiWidth * (static_cast<float>(a) + 0.5f) / static_cast<float>(azimuths);
+      const Vec3 eye = toTile(polar(thetaV, phiV), shape);
+      const Vec2 xy((static_cast<float>(r % side) + rng.uniform()) / side,
+                    (static_cast<float>(r / side) + rng.uniform()) / side);
+      Vec3 p;
+      if (!tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -eye, p)) continue;
+      const Vec2 g = relief.gradient(p.x, p.y);
+      const Vec3 nTile = glm::normalize(Vec3(-g.x, -g.y, 1.0f));
+      // Off the surface by 1e-4 tile units along its normal: the tile's float rounding is ~1e-7.
+      hits.push_back({{p + 1e-4f * nTile,
+                       glm::normalize(Vec3(-g.x / shape.a, shape.b * g.x - shape.a * g.y, 1.0f))},
+                      phiV});
+    }
+  return hits;
+}
+
+}  // namespace
+
+ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                     const VisibleNormalHistogram& layout,
+                                     const HistogramSettings& hs, ShadowingResolution res,
+                                     float phong, uint64_t seed) {
+  ShadowingTable t;
+  const HistogramResolution& h = layout.resolution();
+  t.res_ = res;
+  t.phiV_ = std::max(h.phiV, 1);
+  t.nPhi_ = phiNodes(res, t.phiV_);
+  const int nV = (h.thetaV - 1) * std::max(res.thetaVRefine, 1) + 1;
+  t.thetaV_.resize(nV);
+  for (int k = 0; k < nV; ++k)
+    t.thetaV_[k] = layout.thetaVMax() * static_cast<float>(k) / static_cast<float>(nV - 1);
+  const int slices = nV * t.phiV_;
+  t.data_.assign(2 * static_cast<size_t>(slices) * t.numDelta() * t.nPhi_, 1.0f);
+  const size_t half = t.data_.size() / 2;
+  const float phiLo0 = t.phiV_ > 1 ? -kPi : 0.0f;
+  tbb::parallel_for(0, slices, [&](int k) {
+    Rng rng(seed, static_cast<uint64_t>(k));
+    const float phiWidth = 2.0f * kPi / static_cast<float>(t.phiV_);
+    const float phiLo = t.phiV_ > 1 ? layout.phiVCentre(k % t.phiV_) - 0.5f * phiWidth : 0.0f;
+    const float thetaV = t.thetaV_[k / t.phiV_];
+    const int azimuths = t.phiV_ > 1 ? res.azimuthsPerSlice : 8 * res.azimuthsPerSlice;
+    // An isotropic table has one slice per theta_V: it gets the hits of 32 azimuth slices (as many
+    // as twice the default 16 view-azimuth slices; at 8, the steep relief was 1.1% off by noise).
+    const int rays = t.phiV_ > 1 ? res.raysPerSlice : 32 * res.raysPerSlice;
+    const auto hits =
+        visibleHits(relief, tile, hs.shape, thetaV, phiLo, phiWidth, azimuths, rays, rng);
+    float previous = -1.0f;
+    for (int i = 0; i < t.numDelta(); ++i) {
+      const float thetaL = std::clamp(thetaV + t.delta(i), 0.0f, 0.5f * kPi);
+      if (thetaL <= 0.0f) continue;  // theta_L = 0: a height field never shadows itself
+      if (thetaL == previous) {      // clamped at the horizon: the previous node's light
+        for (int j = 0; j < t.nPhi_; ++j) {
+          t.data_[t.index(k, i, j)] = t.data_[t.index(k, i - 1, j)];
+          t.data_[half + t.index(k, i, j)] = t.data_[half + t.index(k, i - 1, j)];
+        }
+        continue;
+      }
+      previous = thetaL;
+      for (int j = 0; j < t.nPhi_; ++j) {
+        const float phiVL = phiLo0 + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
+        double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
+        for (const auto& [hit, phiV] : hits) {
+          const Vec3 L = polar(thetaL, phiV - phiVL), V = polar(thetaV, phiV);
+          const float wd = std::max(glm::dot(L, hit.n), 0.0f);
+          const Vec3 H = glm::normalize(L + V);
+          const float ws = std::pow(std::max(glm::dot(H, hit.n), 0.0f), phong);
+          if (wd <= 0.0f && !(ws > 1e-6f))
+            continue;  // reflects nothing: lit or not does not matter
+          const bool lit = !tile.occluded(hit.p, toTile(L, hs.shape), kShadowMaxTiles);
+          d += wd, s += ws;
+          if (lit) dLit += wd, sLit += ws;
+        }
+        const size_t idx = t.index(k, i, j);
+        t.data_[idx] = d > 0.0 ? static_cast<float>(dLit / d) : 1.0f;
+        t.data_[half + idx] = s > 0.0 ? static_cast<float>(sLit / s) : 1.0f;
+      }
+    }
+  });
+  return t;
+}
+
+float ShadowingTable::delta(int i) const {
+  return -0.5f * kPi + 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res_.thetaL - 1);
+}
+float ShadowingTable::phi(int j) const {
+  return (phiV_ > 1 ? -kPi : 0.0f) + kPi * static_cast<float>(j) / static_cast<float>(res_.phi - 1);
+}
+
+ShadowingTable::Value ShadowingTable::entry(int slice, int i, int j) const {
+  return {data_[index(slice, i, j)], data_[data_.size() / 2 + index(slice, i, j)]};
+}
+
+ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL,
+                                             float phiVL) const {
+  if (data_.empty()) return {};
+  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  int m0 = 0, m1 = 0;
+  float wm = 0.0f;
+  if (phiV_ > 1) {
+    float s = (std::isfinite(phiV) ? phiV : 0.0f) / (2.0f * kPi) * static_cast<float>(phiV_) - 0.5f;
+    s -= static_cast<float>(phiV_) * std::floor(s / static_cast<float>(phiV_));
+    m0 = std::min(static_cast<int>(s), phiV_ - 1), m1 = (m0 + 1) % phiV_;
+    wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
+  }
+  // The same offset theta_L - theta_V in both theta_V slices: along the hot-spot ridge.
+  const float tv =
+      std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
+  const Axis b = locate(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
+  const float p = wrapAngle(phiVL);
+  const Axis c = phiV_ > 1 ? locate(p, -kPi, kPi, nPhi_) : locate(std::abs(p), 0.0f, kPi, nPhi_);
+  Value out{0.0f, 0.0f};
+  for (int corner = 0; corner < 16; ++corner) {
+    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? wm : 1.0f - wm) *
+                    ((corner & 4) ? b.w : 1.0f - b.w) * ((corner & 8) ? c.w : 1.0f - c.w);
+    if (w == 0.0f) continue;
+    const int k = ((corner & 1) ? a.i1 : a.i0) * phiV_ + ((corner & 2) ? m1 : m0);
+    const Value e = entry(k, (corner & 4) ? b.i1 : b.i0, (corner & 8) ? c.i1 : c.i0);
+    out.diffuse += w * e.diffuse;
+    out.specular += w * e.specular;
+  }
+  return out;
+}
+
+std::vector<float> ShadowingTable::toData() const {
+  std::vector<float> out;
+  out.push_back(static_cast<float>(thetaV_.size()));
+  out.push_back(static_cast<float>(phiV_));
+  out.insert(out.end(), thetaV_.begin(), thetaV_.end());
+  out.insert(out.end(), data_.begin(), data_.end());
+  return out;
+}
+
+bool ShadowingTable::fromData(const std::vector<float>& data, ShadowingResolution res,
+                              ShadowingTable& out) {
+  if (data.size() < 2) return false;
+  const int nThetaV = static_cast<int>(data[0]), phiV = static_cast<int>(data[1]);
+  if (nThetaV < 2 || phiV < 1 || nThetaV > 4096 || phiV > 4096) return false;
+  const size_t n =
+      2 * static_cast<size_t>(nThetaV) * phiV * (2 * res.thetaL - 1) * phiNodes(res, phiV);
+  if (data.size() != 2 + nThetaV + n) return false;
+  ShadowingTable t;
+  t.res_ = res;
+  t.phiV_ = phiV;
+  t.nPhi_ = phiNodes(res, phiV);
+  t.thetaV_.assign(data.begin() + 2, data.begin() + 2 + nThetaV);
+  t.data_.assign(data.begin() + 2 + nThetaV, data.end());
+  for (float v : t.data_)
+    if (!(v >= 0.0f && v <= 1.0f)) return false;
+  out = std::move(t);
+  return true;
+}
+
+}  // namespace meso

@@ -1,0 +1,90 @@
+// Becker & Max 1993, section 4.2: relief shadows in the far-field renderers, from the tabulated
+// self-shadowing factor (DESIGN.md section 6, docs/shadows.md).
+#include "meso/render/relief_shadowing.h"
+
+#include "meso/render/level_shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+namespace {
+
+// The angles a table is looked up at, as shadeBrdf (level_shading.cpp) computes them.
+struct TileAngles {
+  ViewFrame f;
+  float phiV = 0.0f;
+};
+
+TileAngles tileAngles(const TileMap& m, const Vec3& V) {
+  const Vec3 vt = m.toTile(V);
+  const float len = glm::length(vt);
+  TileAngles a;
+  a.f = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f),
+                      len > 0.0f && std::isfinite(len) ? vt / len : Vec3(0, 0, 1),
+                      Vec3(1.0f, 0.0f, 0.0f));
+  a.phiV = std::atan2(a.f.T.y, a.f.T.x);
+  return a;
+}
+
+// theta_L and phi_V - phi_L of a tile-space light direction lt (unit), or false below the horizon.
+bool lightAngles(const TileAngles& a, const Vec3& lt, float& thetaL, float& phiVL) {
+  const Vec3 l = toFrame(a.f, lt);
+  thetaL = std::acos(std::min(l.z, 1.0f));
+  phiVL = -std::atan2(l.y, l.x);
+  return true;
+}
+
+}  // namespace
+
+LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
+                             const Vec3& V, const ShadowingTable& s0, const ShadowingTable& s1,
+                             float w) {
+  LightShadows out;
+  if (s0.empty()) return out;
+  const TileAngles a = tileAngles(m, V);
+  const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 lt = m.toTile(sampleLight(lights[i], P).L);
+    const float len = glm::length(lt);
+    if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
+    float thetaL, phiVL;
+    lightAngles(a, lt / len, thetaL, phiVL);
+    ShadowingTable::Value v = s0.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
+    if (w > 0.0f && &s1 != &s0 && !s1.empty()) {
+      const ShadowingTable::Value v1 = s1.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
+      v.diffuse += w * (v1.diffuse - v.diffuse);
+      v.specular += w * (v1.specular - v.specular);
+    }
+    out.light[i] = {std::clamp(v.diffuse, 0.0f, 1.0f), std::clamp(v.specular, 0.0f, 1.0f)};
+  }
+  return out;
+}
+
+Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
+                       const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
+                       float w, const LightShadows& shadows) {
+  Vec3 I = material.ka;
+  const TileAngles a = tileAngles(m, V);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const LightShadow sh = shadows[i];
+    if (sh.diffuse <= 0.0f && sh.specular <= 0.0f) continue;
+    const LightSample s = sampleLight(lights[i], P);
+    const Vec3 lt = m.toTile(s.L);
+    const float len = glm::length(lt);
+    if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
+    float thetaL, phiVL;
+    lightAngles(a, lt / len, thetaL, phiVL);
+    BrdfTable::Value v = t0.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
+    if (w > 0.0f && &t1 != &t0) {
+      const BrdfTable::Value v1 = t1.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
+      v.diffuse += w * (v1.diffuse - v.diffuse);
+      v.specular += w * (v1.specular - v.specular);
+    }
+    I += s.radiance *
+         (material.kd * (v.diffuse * len * sh.diffuse) + material.ks * (v.specular * sh.specular));
+  }
+  return I;
+}
+
+}  // namespace meso

@@ -1,0 +1,47 @@
+// Macro shadows by Embree occlusion rays (DESIGN.md section 6; Becker & Max 1993, section 4.2).
+#include "meso/render/shadow_rays.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+
+float shadowOffset(const ShadowOrigin& o) {
+  const float extent = std::max({std::abs(o.hit.x), std::abs(o.hit.y), std::abs(o.hit.z)});
+  return 3e-5f * (1.0f + extent + std::abs(o.rayT));
+}
+
+Vec3 shadowRayStart(const ShadowOrigin& o) {
+  Vec3 n = o.facetN;
+  if (glm::dot(n, o.V) < 0.0f) n = -n;
+  Vec3 start = o.hit;
+  if (o.limitP) {
+    const float bulge = glm::dot(*o.limitP - o.hit, n);
+    if (bulge > 0.0f && std::isfinite(bulge)) start += bulge * n;
+  }
+  return start + shadowOffset(o) * n;
+}
+
+LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
+                          const ShadowOrigin& o) {
+  LightShadows out;
+  const Vec3 start = shadowRayStart(o);
+  const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
+  for (size_t i = 0; i < n; ++i) {
+    Ray ray;
+    ray.origin = start;
+    if (lights[i].type == LightType::Directional) {
+      ray.direction = -lights[i].direction;
+    } else {
+      const Vec3 toLight = lights[i].position - start;
+      const float d = glm::length(toLight);
+      if (!(d > 0.0f) || !std::isfinite(d)) continue;
+      ray.direction = toLight / d;
+      ray.tFar = d * (1.0f - 1e-5f);  // stop short of the light itself
+    }
+    if (rays.occluded(ray)) out.light[i] = {0.0f, 0.0f};
+  }
+  return out;
+}
+
+}  // namespace meso

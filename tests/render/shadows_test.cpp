@@ -1,0 +1,173 @@
+// Macro shadows (DESIGN.md section 6): no acne under a grazing light, shadows where an occluder
+// blocks the light and nowhere else, and bit-identical images with render.shadows = false.
+#include "meso/core/image_io.h"
+#include "meso/render/integrator.h"
+#include "meso/render/shadow_rays.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+namespace meso {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path writeQuads(const std::string& name, std::initializer_list<std::pair<float, float>> quads) {
+  // (half size, height) per quad, one file per process (ctest runs tests in parallel processes).
+  const fs::path file = fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
+  std::ofstream out(file);
+  int base = 1;
+  for (const auto& [h, z] : quads) {
+    out << "v " << -h << " " << -h << " " << z << "\nv " << h << " " << -h << " " << z << "\n"
+        << "v " << h << " " << h << " " << z << "\nv " << -h << " " << h << " " << z << "\n"
+        << "f " << base << " " << base + 1 << " " << base + 2 << " " << base + 3 << "\n";
+    base += 4;
+  }
+  return file;
+}
+
+Scene quadScene(const fs::path& mesh, const Vec3& lightTravel) {
+  Scene scene;
+  scene.camera.position = {0.3f, -0.2f, 8.0f};
+  scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  scene.camera.width = 64;
+  scene.camera.height = 48;
+  scene.camera.spp = 1;
+  Light light;
+  light.direction = glm::normalize(lightTravel);
+  scene.lights = {light};
+  Material m;
+  m.ka = Vec3(0.0f);
+  m.kd = Vec3(0.5f);
+  scene.materials = {m};
+  Object o;
+  o.mesh = mesh;
+  o.scheme = SubdivisionScheme::Bilinear;
+  scene.objects = {o};
+  scene.render.tessellationRate = 4;
+  return scene;
+}
+
+Image render(const Scene& scene) {
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderCounters counters;
+  return renderFrame(ctx, {scene.camera.spp, 3, false}, counters);
+}
+
+// A flat plane under lights 0.5 to 0.01 degrees above its horizon is uniformly lit: every pixel
+// equals the unshadowed one to 1e-4 (relative), on a plane far from the origin too.
+TEST(Shadows, FlatPlaneUnderGrazingLightHasNoAcne) {
+  for (float offset : {0.0f, 300.0f})
+    for (float elevation : {0.5f, 0.1f, 0.01f}) {
+      const float e = radians(elevation);
+      Scene scene = quadScene(writeQuads("meso_shadow_plane.obj", {{50.0f, 0.0f}}),
+                              {-std::cos(e), 0.3f * std::cos(e), -std::sin(e)});
+      for (Object& o : scene.objects)
+        o.transform = glm::translate(Mat4(1.0f), Vec3(offset, 0.0f, 0.0f));
+      scene.camera.position += Vec3(offset, 0.0f, 0.0f);
+      scene.camera.lookAt += Vec3(offset, 0.0f, 0.0f);
+      const Image lit = render(scene);
+      scene.render.shadows = false;
+      const Image unshadowed = render(scene);
+      ASSERT_TRUE(lit.allFinite());
+      for (int y = 0; y < lit.height; ++y)
+        for (int x = 0; x < lit.width; ++x) {
+          const float u = unshadowed.at(x, y, 0);
+          ASSERT_GT(u, 0.0f);
+          ASSERT_NEAR(lit.at(x, y, 0), u, 1e-4f * u)
+              << "elevation " << elevation << " at " << x << "," << y;
+        }
+    }
+}
+
+// A floor with a 1 x 1 quad floating 1 above it and a light at 45 degrees: the floor is dark
+// exactly in the quad's shadow (x in [-1.5, -0.5], |y| < 0.5) and lit elsewhere, tested away from
+// the shadow's edges.
+TEST(Shadows, FloatingQuadCastsItsShadowAndNothingElse) {
+  Scene scene = quadScene(writeQuads("meso_shadow_quads.obj", {{50.0f, 0.0f}, {0.5f, 1.0f}}),
+                          {-1.0f, 0.0f, -1.0f});
+  const Image img = render(scene);
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times, false);
+  int dark = 0, lit = 0;
+  const float lightOnFloor = 0.5f * std::sqrt(0.5f);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const Ray ray = ctx.camera.generateRay(x + 0.5f, y + 0.5f);
+      const float t = -ray.origin.z / ray.direction.z;
+      const Vec3 p = ray.origin + t * ray.direction;
+      if (std::abs(p.x) < 0.7f && std::abs(p.y) < 0.7f) continue;  // the quad hides the floor here
+      const float margin = 0.15f;                                  // about two pixels
+      const bool inside =
+          p.x > -1.5f + margin && p.x < -0.5f - margin && std::abs(p.y) < 0.5f - margin;
+      const bool outside =
+          p.x < -1.5f - margin || p.x > -0.5f + margin || std::abs(p.y) > 0.5f + margin;
+      if (inside) {
+        EXPECT_EQ(img.at(x, y, 0), 0.0f) << x << "," << y;
+        ++dark;
+      } else if (outside) {
+        EXPECT_NEAR(img.at(x, y, 0), lightOnFloor, 1e-5f) << x << "," << y;
+        ++lit;
+      }
+    }
+  EXPECT_GT(dark, 20);
+  EXPECT_GT(lit, 500);
+}
+
+// An occluder resting on the floor (its bottom face 1e-3 above it) leaks no light under its edge:
+// the shadow ray offset is far smaller than the gap.
+TEST(Shadows, ShadowRayStartsJustOffTheSurface) {
+  ShadowOrigin o;
+  o.hit = Vec3(2.0f, 1.0f, 0.0f);
+  o.facetN = Vec3(0.0f, 0.0f, -1.0f);  // either orientation: the start is on the eye's side
+  o.V = glm::normalize(Vec3(0.0f, 0.3f, 1.0f));
+  o.rayT = 5.0f;
+  const Vec3 start = shadowRayStart(o);
+  EXPECT_GT(start.z, 0.0f);
+  EXPECT_LT(start.z, 1e-3f);
+  EXPECT_FLOAT_EQ(start.x, 2.0f);
+  const Vec3 limit(2.0f, 1.0f, 0.01f);  // the limit surface above the chord lifts the start to it
+  o.limitP = &limit;
+  EXPECT_GT(shadowRayStart(o).z, 0.01f);
+  const Vec3 below(2.0f, 1.0f, -0.01f);  // but never lowers it
+  o.limitP = &below;
+  EXPECT_FLOAT_EQ(shadowRayStart(o).z, start.z);
+}
+
+// render.shadows = false renders exactly what meso rendered before shadows existed: the pixels of
+// tests/render/data/golden_no_shadows.exr (written by the unshadowed meso from shadow_golden.toml).
+TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
+  const fs::path dir = fs::path(MESO_SOURCE_DIR) / "tests/render/data";
+  const fs::path out =
+      fs::temp_directory_path() / (std::to_string(::getpid()) + "_meso_golden.exr");
+  const std::string cmd = std::string(MESO_EXE) + " render " +
+                          (dir / "shadow_golden.toml").string() + " --no-shadows -q -o " +
+                          out.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const Image golden = readImage(dir / "golden_no_shadows.exr");
+  const Image now = readImage(out);
+  ASSERT_EQ(golden.pixels.size(), now.pixels.size());
+  EXPECT_EQ(0, std::memcmp(golden.pixels.data(), now.pixels.data(),
+                           golden.pixels.size() * sizeof(float)));
+  // And shadows on changes it (the torus shadows the floor), so the comparison is not vacuous.
+  const std::string on = std::string(MESO_EXE) + " render " +
+                         (dir / "shadow_golden.toml").string() + " -q -o " + out.string() +
+                         " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(on.c_str()), 0);
+  const Image shadowed = readImage(out);
+  EXPECT_NE(0, std::memcmp(golden.pixels.data(), shadowed.pixels.data(),
+                           golden.pixels.size() * sizeof(float)));
+  fs::remove(out);
+  fs::remove(fs::path(out).replace_extension(".png"));
+}
+
+}  // namespace
+}  // namespace meso
