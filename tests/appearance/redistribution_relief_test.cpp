@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 namespace meso {
@@ -97,11 +96,6 @@ TEST(RedistributionOnRelief, MapsAreContinuous) {
       const Vec3 oa = normalOf(t.redistribution.toVisible(thetaV, a));
       const Vec3 ob = normalOf(t.redistribution.toVisible(thetaV, b));
       const float d = std::acos(std::clamp(glm::dot(oa, ob), -1.0f, 1.0f));
-      if (d > worst && std::getenv("MESO_DEBUG")) {
-        const NormalAngles x = t.redistribution.toVisible(thetaV, a), y = t.redistribution.toVisible(thetaV, b);
-        std::printf("tv %.4f a (%.6f %.6f) b (%.6f %.6f) -> (%.5f %.5f) (%.5f %.5f)\n", degrees(thetaV), degrees(a.thetaN),
-                    degrees(a.phi), degrees(b.thetaN), degrees(b.phi), degrees(x.thetaN), degrees(x.phi), degrees(y.thetaN), degrees(y.phi));
-      }
       worst = std::max(worst, d);
     }
     EXPECT_LT(degrees(worst), 0.5f) << "variant " << static_cast<int>(variant);
