@@ -15,25 +15,28 @@ using namespace meso;
 
 struct Waves : PeriodicRelief {
   float height(float x, float y) const override {
-    return 0.04f * (std::sin(2 * kPi * x) * std::sin(2 * kPi * y) + 0.5f * std::sin(2 * kPi * (2 * x + y)));
+    return 0.04f *
+           (std::sin(2 * kPi * x) * std::sin(2 * kPi * y) + 0.5f * std::sin(2 * kPi * (2 * x + y)));
   }
   Vec2 gradient(float x, float y) const override {
     const float c = 0.04f * 2 * kPi;
     return {c * (std::cos(2 * kPi * x) * std::sin(2 * kPi * y) + std::cos(2 * kPi * (2 * x + y))),
-            c * (std::sin(2 * kPi * x) * std::cos(2 * kPi * y) + 0.5f * std::cos(2 * kPi * (2 * x + y)))};
+            c * (std::sin(2 * kPi * x) * std::cos(2 * kPi * y) +
+                 0.5f * std::cos(2 * kPi * (2 * x + y)))};
   }
   uint64_t fingerprint() const override { return 1; }
 };
 
 const LevelTables& tables() {
-  static const LevelTables t =
-      buildLevelTables(Waves(), 20.0f, TableSettings{}, nullptr, TableCache{std::filesystem::path()}, nullptr);
+  static const LevelTables t = buildLevelTables(Waves(), 20.0f, TableSettings{}, nullptr,
+                                                TableCache{std::filesystem::path()}, nullptr);
   return t;
 }
 
 void BM_BuildLevelTablesDefault(benchmark::State& state) {
   for (auto _ : state) {
-    LevelTables t = buildLevelTables(Waves(), 20.0f, TableSettings{}, nullptr, TableCache{std::filesystem::path()}, nullptr);
+    LevelTables t = buildLevelTables(Waves(), 20.0f, TableSettings{}, nullptr,
+                                     TableCache{std::filesystem::path()}, nullptr);
     benchmark::DoNotOptimize(t.brdf.data().data());
   }
 }
@@ -57,7 +60,8 @@ void BM_BrdfLookup(benchmark::State& state) {
   Rng rng(1);
   float sum = 0;
   for (auto _ : state) {
-    const BrdfTable::Value v = b.lookup(1.5f * rng.uniform(), 1.5f * rng.uniform(), 3.1f * rng.uniform());
+    const BrdfTable::Value v =
+        b.lookup(1.5f * rng.uniform(), 1.5f * rng.uniform(), 3.1f * rng.uniform());
     sum += v.diffuse + v.specular;
   }
   benchmark::DoNotOptimize(sum);
@@ -69,7 +73,8 @@ void BM_RedistributionLookup(benchmark::State& state) {
   Rng rng(2);
   float sum = 0;
   for (auto _ : state) {
-    const NormalAngles n = r.toVisible(1.5f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
+    const NormalAngles n =
+        r.toVisible(1.5f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
     sum += n.thetaN + n.phi;
   }
   benchmark::DoNotOptimize(sum);
@@ -82,7 +87,8 @@ const LevelTables& azimuthTables() {
   static const LevelTables t = [] {
     TableSettings s;
     s.histogram.resolution.phiV = 16;
-    return buildLevelTables(Waves(), 20.0f, s, nullptr, TableCache{std::filesystem::path()}, nullptr);
+    return buildLevelTables(Waves(), 20.0f, s, nullptr, TableCache{std::filesystem::path()},
+                            nullptr);
   }();
   return t;
 }
@@ -92,8 +98,8 @@ void BM_BrdfLookupViewAzimuth(benchmark::State& state) {
   Rng rng(1);
   float sum = 0;
   for (auto _ : state) {
-    const BrdfTable::Value v =
-        b.lookup(1.5f * rng.uniform(), 6.2f * rng.uniform(), 1.5f * rng.uniform(), 6.2f * rng.uniform() - 3.1f);
+    const BrdfTable::Value v = b.lookup(1.5f * rng.uniform(), 6.2f * rng.uniform(),
+                                        1.5f * rng.uniform(), 6.2f * rng.uniform() - 3.1f);
     sum += v.diffuse + v.specular;
   }
   benchmark::DoNotOptimize(sum);
@@ -105,8 +111,8 @@ void BM_RedistributionLookupViewAzimuth(benchmark::State& state) {
   Rng rng(2);
   float sum = 0;
   for (auto _ : state) {
-    const NormalAngles n =
-        r.toVisible(1.5f * rng.uniform(), 6.2f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
+    const NormalAngles n = r.toVisible(1.5f * rng.uniform(), 6.2f * rng.uniform(),
+                                       {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
     sum += n.thetaN + n.phi;
   }
   benchmark::DoNotOptimize(sum);

@@ -24,7 +24,8 @@ Image toImage(const HeightTable& t) {
 }  // namespace
 
 void runBands(const BandsCommandOptions& o) {
-  if (o.levels < 1 || o.levels > 16) throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
+  if (o.levels < 1 || o.levels > 16)
+    throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
   createOutputFolder(o.outDir, "-o");
   for (int k = 1; k <= o.levels; ++k)
     checkOutputFile(o.outDir / (o.height.stem().string() + "_band" + std::to_string(k) + ".exr"),
@@ -37,10 +38,12 @@ void runBands(const BandsCommandOptions& o) {
   std::vector<double> sum(table.texels().size(), 0.0);
   for (size_t k = 0; k < bands.size(); ++k) {
     const HeightBand& b = bands[k];
-    const std::filesystem::path file = o.outDir / (o.height.stem().string() + "_band" + std::to_string(k + 1) + ".exr");
+    const std::filesystem::path file =
+        o.outDir / (o.height.stem().string() + "_band" + std::to_string(k + 1) + ".exr");
     writeExr(file, toImage(b.table));
     const auto [lo, hi] = std::minmax_element(b.table.texels().begin(), b.table.texels().end());
-    std::printf("%zu,%s,%g,%g,%g,%g,%g\n", k + 1, file.string().c_str(), b.freq, b.lowCut, b.highCut, *lo, *hi);
+    std::printf("%zu,%s,%g,%g,%g,%g,%g\n", k + 1, file.string().c_str(), b.freq, b.lowCut,
+                b.highCut, *lo, *hi);
     for (size_t t = 0; t < sum.size(); ++t) sum[t] += b.table.texels()[t];
   }
   double worst = 0.0, range = 0.0;
@@ -48,12 +51,20 @@ void runBands(const BandsCommandOptions& o) {
     worst = std::max(worst, std::abs(sum[t] - table.texels()[t]));
     range = std::max(range, static_cast<double>(std::abs(table.texels()[t])));
   }
-  std::fprintf(stderr, "meso: %zu bands of %s (%dx%d); their sum reproduces it within %.3g (largest |height| %.3g)\n",
-               bands.size(), o.height.string().c_str(), table.width(), table.heightTexels(), worst, range);
-  std::fprintf(stderr, "meso: in a scene, one level per band (coarsest first), amplitude in world units per unit of height:\n");
+  std::fprintf(stderr,
+               "meso: %zu bands of %s (%dx%d); their sum reproduces it within %.3g (largest "
+               "|height| %.3g)\n",
+               bands.size(), o.height.string().c_str(), table.width(), table.heightTexels(), worst,
+               range);
+  std::fprintf(stderr,
+               "meso: in a scene, one level per band (coarsest first), amplitude in world units "
+               "per unit of height:\n");
   for (size_t k = 0; k < bands.size(); ++k)
-    std::fprintf(stderr, "  [[materials.relief]]\n  height = \"%s\"\n  amplitude = 0.01\n  scale = 1.0\n",
-                 (o.outDir / (o.height.stem().string() + "_band" + std::to_string(k + 1) + ".exr")).string().c_str());
+    std::fprintf(stderr,
+                 "  [[materials.relief]]\n  height = \"%s\"\n  amplitude = 0.01\n  scale = 1.0\n",
+                 (o.outDir / (o.height.stem().string() + "_band" + std::to_string(k + 1) + ".exr"))
+                     .string()
+                     .c_str());
 }
 
 }  // namespace meso::app

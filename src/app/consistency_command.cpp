@@ -44,7 +44,9 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
   so.referenceDicing = o.referenceDicing;
   so.referenceSpp = o.referenceSpp;
   so.cancel = &interruptRequested();
-  so.onRender = [](const std::string& what) { std::fprintf(stderr, "meso: consistency: rendering %s\n", what.c_str()); };
+  so.onRender = [](const std::string& what) {
+    std::fprintf(stderr, "meso: consistency: rendering %s\n", what.c_str());
+  };
   SceneConsistencyReport report;
   try {
     report = sceneConsistency(scene, so);
@@ -52,27 +54,37 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
     throw RenderInterrupted();
   }
   std::fputs(formatSceneConsistency(report, o.format == "markdown").c_str(), stdout);
-  std::fprintf(stderr, "meso: worst: %s in %s, %.2f%% from the reference; reference (dicing %g px) moves %.2f%% when diced at %g px\n",
-               report.worstRenderer.c_str(), report.worstRegion.c_str(), 100.0 * report.worst, o.referenceDicing,
-               100.0 * report.referenceChange, 2.0 * o.referenceDicing);
+  std::fprintf(stderr,
+               "meso: worst: %s in %s, %.2f%% from the reference; reference (dicing %g px) moves "
+               "%.2f%% when diced at %g px\n",
+               report.worstRenderer.c_str(), report.worstRegion.c_str(), 100.0 * report.worst,
+               o.referenceDicing, 100.0 * report.referenceChange, 2.0 * o.referenceDicing);
   if (report.referenceChange > 0.01)
-    std::fprintf(stderr, "meso: warning: the reference is not converged (%.2f%% change over one halving of dicing); "
-                         "lower --reference-dicing\n", 100.0 * report.referenceChange);
+    std::fprintf(
+        stderr,
+        "meso: warning: the reference is not converged (%.2f%% change over one halving of dicing); "
+        "lower --reference-dicing\n",
+        100.0 * report.referenceChange);
 }
 
 void runConsistency(const ConsistencyCommandOptions& o) {
   if (!o.scene.empty()) return runSceneConsistency(o);
   for (float t : o.thetaV)
-    if (!(t >= 0.0f && t <= 90.0f)) throw Error("--theta-v: expected angles in [0, 90] degrees, got " + std::to_string(t));
+    if (!(t >= 0.0f && t <= 90.0f))
+      throw Error("--theta-v: expected angles in [0, 90] degrees, got " + std::to_string(t));
   const ReliefLevelDecl decl = reliefFrom(o);
   const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
   TableSettings settings;
-  settings.variant = o.variant == "separable" ? RedistributionVariant::Separable : RedistributionVariant::Conditional;
+  settings.variant = o.variant == "separable" ? RedistributionVariant::Separable
+                                              : RedistributionVariant::Conditional;
   settings.shadows = o.shadows;
   if (o.shadowRays > 0) settings.shadowing.raysPerSlice = o.shadowRays;
-  const TableCache cache(o.noCache ? std::filesystem::path() : (o.cacheDir.empty() ? TableCache::defaultFolder() : o.cacheDir));
+  const TableCache cache(o.noCache
+                             ? std::filesystem::path()
+                             : (o.cacheDir.empty() ? TableCache::defaultFolder() : o.cacheDir));
   std::vector<std::string> warnings;
-  const LevelTables tables = buildLevelTables(*relief, o.phong, settings, nullptr, cache, &warnings);
+  const LevelTables tables =
+      buildLevelTables(*relief, o.phong, settings, nullptr, cache, &warnings);
   for (const std::string& w : warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const PeriodicTile tile(*relief, settings.histogram.meshResolution);
   ConsistencySettings s;
@@ -85,7 +97,8 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   s.shadows = o.shadows;
   std::vector<ConsistencyRow> rows;
   for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
-  const std::string table = formatConsistency(rows, o.format == "markdown" ? TableFormat::Markdown : TableFormat::Csv, o.normalize);
+  const std::string table = formatConsistency(
+      rows, o.format == "markdown" ? TableFormat::Markdown : TableFormat::Csv, o.normalize);
   std::fputs(table.c_str(), stdout);
 }
 

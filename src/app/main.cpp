@@ -17,94 +17,175 @@
 namespace {
 
 void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
-  CLI::App* render = cli.add_subcommand("render", "Render a scene to OpenEXR (with layers) and a PNG preview");
+  CLI::App* render =
+      cli.add_subcommand("render", "Render a scene to OpenEXR (with layers) and a PNG preview");
   render->add_option("scene", o.scene, "Scene file (TOML, see docs/scene-format.md)")->required();
-  render->add_option("-o,--output", o.output, "Output .exr (default out/<scene name>.exr); the PNG preview is written beside it");
-  render->add_option("--stats", o.statsFile, "Write timings, memory, counters and settings as JSON to this file");
-  render->add_option("--spp", o.spp, "Samples per pixel (overrides camera.spp)")->check(CLI::Range(1, 65536));
-  render->add_option("--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)")->check(CLI::Range(0, 1024));
+  render->add_option(
+      "-o,--output", o.output,
+      "Output .exr (default out/<scene name>.exr); the PNG preview is written beside it");
+  render->add_option("--stats", o.statsFile,
+                     "Write timings, memory, counters and settings as JSON to this file");
+  render->add_option("--spp", o.spp, "Samples per pixel (overrides camera.spp)")
+      ->check(CLI::Range(1, 65536));
+  render
+      ->add_option("--threads", o.threads,
+                   "Worker threads, 0 = all cores (overrides render.threads)")
+      ->check(CLI::Range(0, 1024));
   render->add_option("--seed", o.seed, "Random seed (overrides render.seed)");
-  render->add_option("--algorithm", o.algorithm, "auto|brdf|bump|redistribution|displacement (overrides render.algorithm)")
+  render
+      ->add_option("--algorithm", o.algorithm,
+                   "auto|brdf|bump|redistribution|displacement (overrides render.algorithm)")
       ->check(CLI::IsMember({"auto", "brdf", "bump", "redistribution", "displacement"}));
-  render->add_option("--tessellation-rate", o.tessellationRate, "Uniform Bfr tessellation rate per base-face edge")->check(CLI::Range(1, 64));
-  render->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
-  render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")->check(CLI::Range(1, 16384));
-  render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
+  render
+      ->add_option("--tessellation-rate", o.tessellationRate,
+                   "Uniform Bfr tessellation rate per base-face edge")
+      ->check(CLI::Range(1, 64));
+  render->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)")
+      ->check(CLI::Range(1, 16384));
+  render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")
+      ->check(CLI::Range(1, 16384));
+  render
+      ->add_option("--dicing-rate", o.dicingRate,
+                   "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
       ->check(CLI::Range(0.01f, 1000.0f));
-  render->add_option("--dicing-metric", o.dicingMetric,
-                     "isotropic (world length over the pixel footprint at its depth) or projected (foreshortened "
-                     "screen length; cheaper, under-resolved at grazing angles) (overrides render.dicing_metric)")
+  render
+      ->add_option("--dicing-metric", o.dicingMetric,
+                   "isotropic (world length over the pixel footprint at its depth) or projected "
+                   "(foreshortened "
+                   "screen length; cheaper, under-resolved at grazing angles) (overrides "
+                   "render.dicing_metric)")
       ->check(CLI::IsMember({"isotropic", "projected"}));
-  render->add_option("--max-micropolygons", o.maxMicropolygons,
-                     "Cap per frame; a frame over it is diced coarser, with a warning (overrides render.max_micropolygons)")
+  render
+      ->add_option("--max-micropolygons", o.maxMicropolygons,
+                   "Cap per frame; a frame over it is diced coarser, with a warning (overrides "
+                   "render.max_micropolygons)")
       ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
-  render->add_option("--normals", o.normals, "Shading normal of --algorithm displacement: bump (the paper's) or facet")
+  render
+      ->add_option("--normals", o.normals,
+                   "Shading normal of --algorithm displacement: bump (the paper's) or facet")
       ->check(CLI::IsMember({"bump", "facet"}));
-  render->add_option("--D", o.transitionD, "Transition D: pixels per shortest wavelength below which a level is not displaced (render.transition.D)")
+  render
+      ->add_option("--D", o.transitionD,
+                   "Transition D: pixels per shortest wavelength below which a level is not "
+                   "displaced (render.transition.D)")
       ->check(CLI::Range(0.0f, 1e6f));
-  render->add_option("--eps", o.transitionEps, "Transition eps of T = (nu - D) / (cos theta_V + eps) (render.transition.eps)")
+  render
+      ->add_option("--eps", o.transitionEps,
+                   "Transition eps of T = (nu - D) / (cos theta_V + eps) (render.transition.eps)")
       ->check(CLI::Range(0.0f, 1e6f));
-  render->add_option("--thresholds", o.thresholds, "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
-      ->delimiter(',')->expected(4);
+  render
+      ->add_option("--thresholds", o.thresholds,
+                   "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
+      ->delimiter(',')
+      ->expected(4);
   render->add_flag("--false-colour,--false-color", o.falseColour,
-                   "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, displacement red, synthesis magenta)");
+                   "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, "
+                   "displacement red, synthesis magenta)");
   render->add_flag("--no-bump-filter", o.noBumpFilter,
-                   "--algorithm bump: point-sample the slopes instead of filtering them over the pixel footprint (Schilling)");
-  render->add_flag("--no-shadows", o.noShadows, "No shadow rays and no relief self-shadowing (overrides render.shadows)");
-  render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]; default all");
-  render->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)");
+                   "--algorithm bump: point-sample the slopes instead of filtering them over the "
+                   "pixel footprint (Schilling)");
+  render->add_flag("--no-shadows", o.noShadows,
+                   "No shadow rays and no relief self-shadowing (overrides render.shadows)");
+  render->add_option("--frames", o.frames,
+                     "Frames A:B (inclusive) of the scene's [path]; default all");
+  render->add_option("--shard", o.shard,
+                     "i/n: render only the frames f with f % n == i (for farms)");
   render->add_flag("--overwrite", o.overwrite, "Re-render frames whose EXR and PNG already exist");
-  render->add_option("--video", o.video, "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
+  render->add_option("--video", o.video,
+                     "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
   render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
   render->callback([&o] { meso::app::runRender(o); });
 }
 
 void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& o) {
   CLI::App* c = cli.add_subcommand("consistency",
-      "Becker & Max's Figure 6 for any relief: area-averaged intensity of a flat periodic patch for "
-      "bump, redistribution, brdf and displacement at each theta_V; given a SCENE, the same for the "
-      "whole scene: each renderer against a full-displacement reference, per object and band of rows");
-  c->add_option("scene", o.scene, "Scene file (TOML): compare renderers on the whole scene instead of the patch")
+                                   "Becker & Max's Figure 6 for any relief: area-averaged "
+                                   "intensity of a flat periodic patch for "
+                                   "bump, redistribution, brdf and displacement at each theta_V; "
+                                   "given a SCENE, the same for the "
+                                   "whole scene: each renderer against a full-displacement "
+                                   "reference, per object and band of rows");
+  c->add_option("scene", o.scene,
+                "Scene file (TOML): compare renderers on the whole scene instead of the patch")
       ->check(CLI::ExistingFile);
-  c->add_option("--bands", o.bands, "SCENE: bands of image rows")->check(CLI::Range(1, 4096))->capture_default_str();
-  c->add_option("--reference-dicing", o.referenceDicing, "SCENE: dicing rate of the displacement reference, pixels")
-      ->check(CLI::Range(0.01f, 100.0f))->capture_default_str();
-  c->add_option("--reference-spp", o.referenceSpp, "SCENE: samples per pixel of the reference (0: the scene's)")
-      ->check(CLI::Range(0, 65536))->capture_default_str();
-  c->add_option("--algorithms", o.algorithms, "SCENE: renderers compared with the reference, comma separated")
-      ->delimiter(',')->check(CLI::IsMember({"bump", "redistribution", "brdf", "displacement", "auto"}))
+  c->add_option("--bands", o.bands, "SCENE: bands of image rows")
+      ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  c->add_option("--height", o.height, "Height image (any format OpenImageIO reads); default: procedural fBm noise")
+  c->add_option("--reference-dicing", o.referenceDicing,
+                "SCENE: dicing rate of the displacement reference, pixels")
+      ->check(CLI::Range(0.01f, 100.0f))
+      ->capture_default_str();
+  c->add_option("--reference-spp", o.referenceSpp,
+                "SCENE: samples per pixel of the reference (0: the scene's)")
+      ->check(CLI::Range(0, 65536))
+      ->capture_default_str();
+  c->add_option("--algorithms", o.algorithms,
+                "SCENE: renderers compared with the reference, comma separated")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"bump", "redistribution", "brdf", "displacement", "auto"}))
+      ->capture_default_str();
+  c->add_option("--height", o.height,
+                "Height image (any format OpenImageIO reads); default: procedural fBm noise")
       ->check(CLI::ExistingFile);
-  c->add_option("--amplitude", o.amplitude, "Relief amplitude in units of one tile (the tile is 1 x 1)")
-      ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
-  c->add_option("--scale", o.scale, "Tiling scale S: the height table repeats S times per tile")->check(CLI::Range(1e-3f, 1e3f))->capture_default_str();
-  c->add_option("--octaves", o.octaves, "Octaves of the procedural noise")->check(CLI::Range(1, 12))->capture_default_str();
+  c->add_option("--amplitude", o.amplitude,
+                "Relief amplitude in units of one tile (the tile is 1 x 1)")
+      ->check(CLI::Range(0.0f, 10.0f))
+      ->capture_default_str();
+  c->add_option("--scale", o.scale, "Tiling scale S: the height table repeats S times per tile")
+      ->check(CLI::Range(1e-3f, 1e3f))
+      ->capture_default_str();
+  c->add_option("--octaves", o.octaves, "Octaves of the procedural noise")
+      ->check(CLI::Range(1, 12))
+      ->capture_default_str();
   c->add_option("--seed", o.seed, "Seed of the procedural noise")->capture_default_str();
-  c->add_option("--theta-v", o.thetaV, "View angles in degrees, comma separated")->delimiter(',')->capture_default_str();
-  c->add_option("--theta-l", o.thetaL, "Light polar angle in degrees")->check(CLI::Range(0.0f, 90.0f))->capture_default_str();
-  c->add_option("--phi", o.phi, "phi_V - phi_L in degrees")->check(CLI::Range(-360.0f, 360.0f))->capture_default_str();
-  c->add_option("--component", o.component, "diffuse|specular|both")->check(CLI::IsMember({"diffuse", "specular", "both"}))->capture_default_str();
-  c->add_option("--phong", o.phong, "Phong exponent of the specular component")->check(CLI::Range(0.0f, 10000.0f))->capture_default_str();
-  c->add_option("--format", o.format, "csv|markdown")->check(CLI::IsMember({"csv", "markdown"}))->capture_default_str();
-  c->add_option("--normalize", o.normalize, "Scale so that bump at the first theta_V equals this (the paper used 128)");
-  c->add_option("--samples", o.samples, "Samples per view azimuth")->check(CLI::Range(16, 1 << 24))->capture_default_str();
-  c->add_option("--azimuths", o.azimuths, "View azimuths averaged")->check(CLI::Range(1, 4096))->capture_default_str();
+  c->add_option("--theta-v", o.thetaV, "View angles in degrees, comma separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  c->add_option("--theta-l", o.thetaL, "Light polar angle in degrees")
+      ->check(CLI::Range(0.0f, 90.0f))
+      ->capture_default_str();
+  c->add_option("--phi", o.phi, "phi_V - phi_L in degrees")
+      ->check(CLI::Range(-360.0f, 360.0f))
+      ->capture_default_str();
+  c->add_option("--component", o.component, "diffuse|specular|both")
+      ->check(CLI::IsMember({"diffuse", "specular", "both"}))
+      ->capture_default_str();
+  c->add_option("--phong", o.phong, "Phong exponent of the specular component")
+      ->check(CLI::Range(0.0f, 10000.0f))
+      ->capture_default_str();
+  c->add_option("--format", o.format, "csv|markdown")
+      ->check(CLI::IsMember({"csv", "markdown"}))
+      ->capture_default_str();
+  c->add_option("--normalize", o.normalize,
+                "Scale so that bump at the first theta_V equals this (the paper used 128)");
+  c->add_option("--samples", o.samples, "Samples per view azimuth")
+      ->check(CLI::Range(16, 1 << 24))
+      ->capture_default_str();
+  c->add_option("--azimuths", o.azimuths, "View azimuths averaged")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
   c->add_option("--variant", o.variant, "Redistribution maps: conditional|separable")
-      ->check(CLI::IsMember({"conditional", "separable"}))->capture_default_str();
-  c->add_option("--cache-dir", o.cacheDir, "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
+      ->check(CLI::IsMember({"conditional", "separable"}))
+      ->capture_default_str();
+  c->add_option(
+      "--cache-dir", o.cacheDir,
+      "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
   c->add_flag("--no-cache", o.noCache, "Build the tables without reading or writing the cache");
   c->add_flag("--shadows", o.shadows,
-              "Relief self-shadowing: shadow rays in displacement, the traced shadowing factor in redistribution and brdf "
+              "Relief self-shadowing: shadow rays in displacement, the traced shadowing factor in "
+              "redistribution and brdf "
               "(SCENE: the scene's render.shadows is used)");
-  c->add_option("--shadow-rays", o.shadowRays, "--shadows: visible hits per view slice of the shadowing table (0: the renderer's)")
+  c->add_option("--shadow-rays", o.shadowRays,
+                "--shadows: visible hits per view slice of the shadowing table (0: the renderer's)")
       ->check(CLI::Range(0, 1 << 22));
   c->callback([&o] { meso::app::runConsistency(o); });
 }
 
 void addTablesCommand(CLI::App& cli, meso::app::TablesCommandOptions& o) {
-  CLI::App* t = cli.add_subcommand("tables",
-      "Build (or load from the cache) the appearance tables of the scene's relief levels; print build time, "
+  CLI::App* t = cli.add_subcommand(
+      "tables",
+      "Build (or load from the cache) the appearance tables of the scene's relief levels; print "
+      "build time, "
       "size and cache hit/miss per level as CSV; plot histograms and BRDF slices as PNG");
   t->add_option("scene", o.scene, "Scene file")->required();
   t->add_option("-o,--out-dir", o.outDir, "Folder for the plots")->capture_default_str();
@@ -113,11 +194,17 @@ void addTablesCommand(CLI::App& cli, meso::app::TablesCommandOptions& o) {
 }
 
 void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
-  CLI::App* b = cli.add_subcommand("bands",
-      "Split one height map into band-limited relief levels whose sum reproduces it (Becker & Max 1993, 4.3); "
+  CLI::App* b = cli.add_subcommand(
+      "bands",
+      "Split one height map into band-limited relief levels whose sum reproduces it (Becker & Max "
+      "1993, 4.3); "
       "writes one EXR per band and prints each band's measured highest frequency");
-  b->add_option("height", o.height, "Height image (any format OpenImageIO reads)")->required()->check(CLI::ExistingFile);
-  b->add_option("-n,--levels", o.levels, "Number of bands")->check(CLI::Range(1, 16))->capture_default_str();
+  b->add_option("height", o.height, "Height image (any format OpenImageIO reads)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  b->add_option("-n,--levels", o.levels, "Number of bands")
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
   b->add_option("-o,--out-dir", o.outDir, "Folder for the band images")->capture_default_str();
   b->add_flag("--clamp", o.clamp, "The map does not tile (it is mirrored before filtering)");
   b->callback([&o] { meso::app::runBands(o); });
@@ -127,51 +214,73 @@ void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
 void addTradeCommand(CLI::App& cli) {
   static meso::app::TradeCommandOptions o;
   CLI::App* t = cli.add_subcommand("trade",
-      "Speed/accuracy trade: time, peak memory, micropolygons and error against a displacement reference refined "
-      "until it converges (or a warning) for the hybrid over D x spp and dicing rate x spp and displacement alone "
-      "over dicing rate x spp; writes DIR/trade.csv, DIR/trade.png (rmse against log time, Pareto front) and "
-      "prints the default hybrid's ratios at equal rmse");
+                                   "Speed/accuracy trade: time, peak memory, micropolygons and "
+                                   "error against a displacement reference refined "
+                                   "until it converges (or a warning) for the hybrid over D x spp "
+                                   "and dicing rate x spp and displacement alone "
+                                   "over dicing rate x spp; writes DIR/trade.csv, DIR/trade.png "
+                                   "(rmse against log time, Pareto front) and "
+                                   "prints the default hybrid's ratios at equal rmse");
   t->add_option("scene", o.scene, "Scene file")->required();
-  t->add_option("-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")->capture_default_str();
-  t->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
+  t->add_option("-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")
+      ->capture_default_str();
+  t->add_option("--frames", o.frames,
+                "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
                 "default all");
-  t->add_option("--reference-spp", o.referenceSpp, "Samples per pixel of the reference's first level; each "
-                "refinement doubles it")->capture_default_str();
+  t->add_option("--reference-spp", o.referenceSpp,
+                "Samples per pixel of the reference's first level; each "
+                "refinement doubles it")
+      ->capture_default_str();
   t->add_option("--reference-dicing-rate", o.referenceDicingRate,
                 "Dicing rate (pixels) of the reference's first level; each refinement halves it")
       ->capture_default_str();
   t->add_option("--reference-tolerance", o.referenceTolerance,
-                "Percent: the reference has converged when a refinement changes its mean intensity by less (and "
+                "Percent: the reference has converged when a refinement changes its mean intensity "
+                "by less (and "
                 "the rmse is within --reference-rmse-tolerance)")
       ->capture_default_str();
   t->add_option("--reference-rmse-tolerance", o.referenceRmseTolerance,
-                "Percent of the mean intensity: largest rmse between successive reference levels that counts as "
+                "Percent of the mean intensity: largest rmse between successive reference levels "
+                "that counts as "
                 "converged (it includes both levels' sampling noise)")
       ->capture_default_str();
-  t->add_option("--reference-max-refinements", o.referenceMaxRefinements,
-                "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
+  t->add_option(
+       "--reference-max-refinements", o.referenceMaxRefinements,
+       "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
       ->capture_default_str();
   t->add_option("--reference-max-micropolygons", o.referenceMaxMicropolygons,
-                "No reference level is started that would need more micropolygons (it would be about 4x the last)")
+                "No reference level is started that would need more micropolygons (it would be "
+                "about 4x the last)")
       ->capture_default_str();
-  t->add_option("--reference-cache", o.referenceCache,
-                "Folder of cached reference renders (default: references/ in the table cache folder)");
-  t->add_flag("--no-reference-cache", o.noReferenceCache, "Render the reference levels even if cached; store none");
-  t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")->delimiter(',')
+  t->add_option(
+      "--reference-cache", o.referenceCache,
+      "Folder of cached reference renders (default: references/ in the table cache folder)");
+  t->add_flag("--no-reference-cache", o.noReferenceCache,
+              "Render the reference levels even if cached; store none");
+  t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")
+      ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")->delimiter(',')
+  t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")
+      ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--dicing-rates", o.dicingRates, "Dicing rates (pixels) of the displacement-only configurations")
-      ->delimiter(',')->capture_default_str();
-  t->add_option("--hybrid-dicing-rates", o.hybridDicingRates,
-                "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
-      ->delimiter(',')->capture_default_str();
+  t->add_option("--dicing-rates", o.dicingRates,
+                "Dicing rates (pixels) of the displacement-only configurations")
+      ->delimiter(',')
+      ->capture_default_str();
+  t->add_option(
+       "--hybrid-dicing-rates", o.hybridDicingRates,
+       "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
+      ->delimiter(',')
+      ->capture_default_str();
   t->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)");
   t->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)");
   t->add_option("--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)");
-  t->add_flag("--temporal", o.temporal, "Also the frame-to-frame change of the default hybrid and the reference in "
-              "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
-  t->add_flag("--temporal-only", o.temporalOnly, "Only the reference and the default hybrid, for --temporal");
+  t->add_flag(
+      "--temporal", o.temporal,
+      "Also the frame-to-frame change of the default hybrid and the reference in "
+      "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
+  t->add_flag("--temporal-only", o.temporalOnly,
+              "Only the reference and the default hybrid, for --temporal");
   t->add_option("--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
   t->add_flag("-q,--quiet", o.quiet, "No progress on stderr");
   t->callback([] { meso::app::runTrade(o); });
@@ -223,7 +332,8 @@ int main(int argc, char** argv) {
     const int status = cli.exit(e);
     return status == 0 ? 0 : 2;
   } catch (const meso::app::RenderInterrupted&) {
-    std::fprintf(stderr, "meso: interrupted; complete frames are kept, nothing partial was written\n");
+    std::fprintf(stderr,
+                 "meso: interrupted; complete frames are kept, nothing partial was written\n");
     return 130;
   } catch (const meso::Error& e) {
     std::fprintf(stderr, "meso: %s\n", e.what());

@@ -39,9 +39,12 @@ namespace {
 
 const char* schemeName(SubdivisionScheme s) {
   switch (s) {
-    case SubdivisionScheme::CatmullClark: return "catmull-clark";
-    case SubdivisionScheme::Loop: return "loop";
-    case SubdivisionScheme::Bilinear: return "bilinear";
+    case SubdivisionScheme::CatmullClark:
+      return "catmull-clark";
+    case SubdivisionScheme::Loop:
+      return "loop";
+    case SubdivisionScheme::Bilinear:
+      return "bilinear";
   }
   return "?";
 }
@@ -62,7 +65,8 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   TransitionSettings& t = scene.render.transition;
   if (o.transitionD) t.D = *o.transitionD;
   if (o.transitionEps) t.eps = *o.transitionEps;
-  if (o.thresholds.size() == 4) t.e1 = o.thresholds[0], t.e2 = o.thresholds[1], t.e3 = o.thresholds[2], t.e4 = o.thresholds[3];
+  if (o.thresholds.size() == 4)
+    t.e1 = o.thresholds[0], t.e2 = o.thresholds[1], t.e3 = o.thresholds[2], t.e4 = o.thresholds[3];
   validateTransitionSettings(t, "--D/--eps/--thresholds");
 }
 
@@ -70,7 +74,8 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
   const CameraSettings& c = scene.camera;
   nlohmann::json objects = nlohmann::json::array();
   for (const Object& o : scene.objects)
-    objects.push_back({{"mesh", o.mesh.string()}, {"scheme", schemeName(o.scheme)},
+    objects.push_back({{"mesh", o.mesh.string()},
+                       {"scheme", schemeName(o.scheme)},
                        {"material", scene.materials[o.material].name}});
   return {{"scene", scene.file.string()},
           {"output", output.string()},
@@ -83,9 +88,13 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"max_micropolygons", scene.render.maxMicropolygons},
           {"normals", scene.render.normals},
           {"shadows", scene.render.shadows},
-          {"transition", {{"D", scene.render.transition.D}, {"eps", scene.render.transition.eps},
-                          {"e1", scene.render.transition.e1}, {"e2", scene.render.transition.e2},
-                          {"e3", scene.render.transition.e3}, {"e4", scene.render.transition.e4}}},
+          {"transition",
+           {{"D", scene.render.transition.D},
+            {"eps", scene.render.transition.eps},
+            {"e1", scene.render.transition.e1},
+            {"e2", scene.render.transition.e2},
+            {"e3", scene.render.transition.e3},
+            {"e4", scene.render.transition.e4}}},
           {"width", c.width},
           {"height", c.height},
           {"spp", c.spp},
@@ -132,7 +141,8 @@ std::filesystem::path pngBeside(std::filesystem::path exr) { return exr.replace_
 std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scene) {
   const bool animated = !scene.path.keys.empty();
   if (!animated && (!o.frames.empty() || !o.shard.empty()))
-    throw Error(scene.file.string() + ": path: --frames and --shard need a [path] with keyframes in the scene");
+    throw Error(scene.file.string() +
+                ": path: --frames and --shard need a [path] with keyframes in the scene");
   const auto [first, last] = parseFrameRange(o.frames, animated ? scene.path.frames : 1);
   const auto [shard, shards] = parseShard(o.shard);
   std::vector<int> frames;
@@ -251,7 +261,8 @@ void runRender(const RenderCommandOptions& o) {
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
   if (output.extension() != ".exr")
-    throw Error(output.string() + ": output must be an .exr file (the PNG preview is written beside it)");
+    throw Error(output.string() +
+                ": output must be an .exr file (the PNG preview is written beside it)");
   // Every output is checked before any work: nothing is rendered for a run that cannot finish.
   checkOutputFile(output, "-o");
   checkOutputFile(pngBeside(output), "-o (its PNG preview)");
@@ -263,10 +274,12 @@ void runRender(const RenderCommandOptions& o) {
   }
   const bool animated = !scene.path.keys.empty();
   const std::vector<int> frames = framesToRender(o, scene);
-  const std::optional<CameraPath> path = animated ? std::optional<CameraPath>(scene.path.keys) : std::nullopt;
+  const std::optional<CameraPath> path =
+      animated ? std::optional<CameraPath>(scene.path.keys) : std::nullopt;
   const double parseSeconds = phase.seconds();
 
-  const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
+  const int threads =
+      scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   createOutputFolder(output.parent_path(), "-o");
   if (!o.statsFile.empty()) createOutputFolder(o.statsFile.parent_path(), "--stats");
@@ -285,7 +298,8 @@ void runRender(const RenderCommandOptions& o) {
   double geometryMibPerMillion = 0.0;  // of the frame with the most micropolygons
   const auto noteGeometry = [&] {
     if (geometry.micropolygons == 0 || geometry.micropolygons < maxMicropolygons) return;
-    geometryMibPerMillion = static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) / (1024.0 * 1024.0) /
+    geometryMibPerMillion = static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) /
+                            (1024.0 * 1024.0) /
                             (static_cast<double>(geometry.micropolygons) * 1e-6);
   };
   noteGeometry();
@@ -315,7 +329,8 @@ void runRender(const RenderCommandOptions& o) {
     }
     phase.reset();
     const int64_t raysBefore = counters.rays.load();
-    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet, o.falseColour, &gInterrupted, !o.noBumpFilter};
+    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet,
+                     o.falseColour,    &gInterrupted,     !o.noBumpFilter};
     Image film;
     try {
       film = renderFrame(ctx, ro, counters);
@@ -333,13 +348,20 @@ void runRender(const RenderCommandOptions& o) {
     renderSeconds += r;
     writeSeconds += w;
     ++rendered;
-    perFrame.push_back({{"frame", f}, {"output", exr.string()}, {"rays", counters.rays.load() - raysBefore},
-                        {"triangles", ctx.numTriangles()}, {"micropolygons", geometry.micropolygons},
+    perFrame.push_back({{"frame", f},
+                        {"output", exr.string()},
+                        {"rays", counters.rays.load() - raysBefore},
+                        {"triangles", ctx.numTriangles()},
+                        {"micropolygons", geometry.micropolygons},
                         {"micropolygons_off_screen", geometry.offScreenMicropolygons},
-                        {"faces_diced", geometry.facesDiced}, {"dicing_coarsened_by", geometry.coarsening},
+                        {"faces_diced", geometry.facesDiced},
+                        {"dicing_coarsened_by", geometry.coarsening},
                         {"geometry_rebuilt", geometry.rebuilt},
-                        {"seconds", {{"tessellate", geometry.tessellateSeconds}, {"bvh", geometry.bvhSeconds},
-                                     {"render", r}, {"write", w}}}});
+                        {"seconds",
+                         {{"tessellate", geometry.tessellateSeconds},
+                          {"bvh", geometry.bvhSeconds},
+                          {"render", r},
+                          {"write", w}}}});
     if (!o.quiet)
       std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", exr.string().c_str(),
                    png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
@@ -349,10 +371,16 @@ void runRender(const RenderCommandOptions& o) {
     }
   }
   if (counters.nonFinite.load() > 0)
-    std::fprintf(stderr, "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in meso: please report "
-                 "the scene)\n", static_cast<long long>(counters.nonFinite.load()));
+    std::fprintf(stderr,
+                 "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in "
+                 "meso: please report "
+                 "the scene)\n",
+                 static_cast<long long>(counters.nonFinite.load()));
   if (!o.quiet && skipped > 0)
-    std::fprintf(stderr, "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n", skipped);
+    std::fprintf(
+        stderr,
+        "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n",
+        skipped);
   const auto assemble = [&] {
     if (!o.video.empty())
       assembleVideo(ffmpeg, o.video, output, scene.path.fps, frames.empty() ? 0 : frames.front());
@@ -362,8 +390,13 @@ void runRender(const RenderCommandOptions& o) {
   if (!o.statsFile.empty()) {
     const double peak = peakRssMib();
     nlohmann::json stats = {
-        {"seconds", {{"parse", parseSeconds + prep.load}, {"tessellate", prep.tessellate}, {"bvh", prep.bvh},
-                     {"render", renderSeconds}, {"write", writeSeconds}, {"total", total.seconds()}}},
+        {"seconds",
+         {{"parse", parseSeconds + prep.load},
+          {"tessellate", prep.tessellate},
+          {"bvh", prep.bvh},
+          {"render", renderSeconds},
+          {"write", writeSeconds},
+          {"total", total.seconds()}}},
         {"peak_rss_mib", peak},
         {"rays", counters.rays.load()},
         {"non_finite_values", counters.nonFinite.load()},
@@ -372,7 +405,9 @@ void runRender(const RenderCommandOptions& o) {
         {"tessellate_seconds", prep.tessellate},
         {"bvh_seconds", prep.bvh},
         {"peak_mib_per_million_micropolygons",
-         maxMicropolygons > 0 ? nlohmann::json(peak / (static_cast<double>(maxMicropolygons) * 1e-6)) : nlohmann::json(nullptr)},
+         maxMicropolygons > 0
+             ? nlohmann::json(peak / (static_cast<double>(maxMicropolygons) * 1e-6))
+             : nlohmann::json(nullptr)},
         {"geometry_mib_per_million_micropolygons",
          maxMicropolygons > 0 ? nlohmann::json(geometryMibPerMillion) : nlohmann::json(nullptr)},
         {"warnings", ctx.warnings},

@@ -13,8 +13,8 @@ namespace meso::app {
 
 struct RenderCommandOptions {
   std::filesystem::path scene;
-  std::filesystem::path output;      // .exr; empty: out/<scene stem>.exr
-  std::filesystem::path statsFile;   // empty: none
+  std::filesystem::path output;     // .exr; empty: out/<scene stem>.exr
+  std::filesystem::path statsFile;  // empty: none
   std::optional<int> spp;
   std::optional<int> threads;
   std::optional<uint64_t> seed;
@@ -29,12 +29,13 @@ struct RenderCommandOptions {
   std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   bool falseColour = false;
   bool noBumpFilter = false;
-  bool noShadows = false;        // render.shadows = false     // --algorithm bump: point-sampled slopes instead of Schilling's pyramids
+  bool noShadows = false;  // render.shadows = false     // --algorithm bump: point-sampled slopes
+                           // instead of Schilling's pyramids
   bool quiet = false;
-  std::string frames;            // "A:B" (inclusive) or "A"; empty: every frame of the path
-  std::string shard;             // "i/n": render frames f with f % n == i
-  bool overwrite = false;        // re-render frames already complete on disk
-  std::filesystem::path video;   // assemble the frames' PNGs with ffmpeg
+  std::string frames;           // "A:B" (inclusive) or "A"; empty: every frame of the path
+  std::string shard;            // "i/n": render frames f with f % n == i
+  bool overwrite = false;       // re-render frames already complete on disk
+  std::filesystem::path video;  // assemble the frames' PNGs with ffmpeg
 };
 
 // Set by SIGINT/SIGTERM: the frame in progress stops, nothing partial is written, status 130.

@@ -24,16 +24,18 @@ void runTables(const TablesCommandOptions& o) {
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times, false);
   for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
-  std::printf("material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,cache,seconds,bytes\n");
+  std::printf(
+      "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,cache,seconds,bytes\n");
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& material = scene.materials[m];
     const MaterialRelief& relief = ctx.reliefs[m];
     for (size_t k = 0; k < relief.metrics.size(); ++k)
       for (size_t i = 0; i < relief.levels.size(); ++i) {
         const LevelTables& t = relief.tables(i, static_cast<int>(k));
-        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%.3f,%zu\n", material.name.c_str(), i + 1, relief.metrics[k].lengthPerU,
-                    material.relief[i].source.c_str(), relief.levels[i].amplitude, relief.levels[i].scale,
-                    relief.levels[i].freqPerU, t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
+        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
+                    relief.metrics[k].lengthPerU, material.relief[i].source.c_str(),
+                    relief.levels[i].amplitude, relief.levels[i].scale, relief.levels[i].freqPerU,
+                    t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
         if (o.noPlots) continue;
         std::string stem = material.name + "_level" + std::to_string(i + 1);
         if (relief.metrics.size() > 1) stem += "_metric" + std::to_string(k + 1);

@@ -1,7 +1,7 @@
-// `meso trade`: Becker & Max 1993's promise, measured. The paper's D (our render.transition.D, its c)
-// trades accuracy for speed; this command renders a full-displacement reference, refines it until it
-// converges, and then every configuration of the hybrid (D x spp, and dicing rate x spp at the
-// scene's D) and of displacement alone (dicing rate x spp), and reports seconds, peak memory,
+// `meso trade`: Becker & Max 1993's promise, measured. The paper's D (our render.transition.D, its
+// c) trades accuracy for speed; this command renders a full-displacement reference, refines it
+// until it converges, and then every configuration of the hybrid (D x spp, and dicing rate x spp at
+// the scene's D) and of displacement alone (dicing rate x spp), and reports seconds, peak memory,
 // geometry memory, micropolygons and image error against the reference.
 //
 // The reference is checked, not assumed: level k is full displacement at referenceDicingRate / 2^k
@@ -142,15 +142,16 @@ void checkValues(const std::vector<T>& values, const char* option, double lo, do
   if (values.empty()) throw Error(std::string(option) + ": needs at least one value");
   for (T v : values)
     if (!std::isfinite(static_cast<double>(v)) || v < lo || v > hi)
-      throw Error(std::string(option) + ": " + formatNumber(static_cast<double>(v)) + " is outside [" +
-                  formatNumber(lo) + ", " + formatNumber(hi) + "]");
+      throw Error(std::string(option) + ": " + formatNumber(static_cast<double>(v)) +
+                  " is outside [" + formatNumber(lo) + ", " + formatNumber(hi) + "]");
 }
 
 void validate(const TradeCommandOptions& o) {
   checkValues(std::vector<int>{o.referenceSpp}, "--reference-spp", 1, 65536);
   checkValues(std::vector<float>{o.referenceDicingRate}, "--reference-dicing-rate", 0.01, 1000);
   checkValues(std::vector<float>{o.referenceTolerance}, "--reference-tolerance", 1e-6, 100);
-  checkValues(std::vector<float>{o.referenceRmseTolerance}, "--reference-rmse-tolerance", 1e-6, 1000);
+  checkValues(std::vector<float>{o.referenceRmseTolerance}, "--reference-rmse-tolerance", 1e-6,
+              1000);
   checkValues(std::vector<int>{o.referenceMaxRefinements}, "--reference-max-refinements", 0, 12);
   checkValues(std::vector<double>{static_cast<double>(o.referenceMaxMicropolygons)},
               "--reference-max-micropolygons", 1000, 1e12);
@@ -167,13 +168,15 @@ void validate(const TradeCommandOptions& o) {
 std::vector<CameraSettings> cameras(const TradeCommandOptions& o, const Scene& scene) {
   if (scene.path.keys.empty()) {
     if (!o.frames.empty())
-      throw Error(scene.file.string() + ": path: --frames needs a [path] with keyframes in the scene");
+      throw Error(scene.file.string() +
+                  ": path: --frames needs a [path] with keyframes in the scene");
     return {scene.camera};
   }
   const CameraPath path(scene.path.keys);
   const auto [first, last] = parseFrameRange(o.frames, scene.path.frames);
   std::vector<CameraSettings> result;
-  for (int f = first; f <= last; ++f) result.push_back(path.frame(f, scene.path.frames, scene.camera));
+  for (int f = first; f <= last; ++f)
+    result.push_back(path.frame(f, scene.path.frames, scene.camera));
   return result;
 }
 
@@ -185,8 +188,13 @@ std::vector<Configuration> configurations(const TradeCommandOptions& o, const Sc
   const float sceneD = scene.render.transition.D, sceneRate = scene.render.dicingRate;
   const int sceneSpp = scene.camera.spp;
   const auto hybrid = [&](float D, float rate, int spp) {
-    return Configuration{"hybrid_D" + formatNumber(D) + "_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
-                         Kind::Hybrid, D, spp, rate, D == sceneD && spp == sceneSpp && rate == sceneRate};
+    return Configuration{
+        "hybrid_D" + formatNumber(D) + "_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
+        Kind::Hybrid,
+        D,
+        spp,
+        rate,
+        D == sceneD && spp == sceneSpp && rate == sceneRate};
   };
   const auto add = [&](const Configuration& c) {
     for (const Configuration& other : list)
@@ -203,14 +211,15 @@ std::vector<Configuration> configurations(const TradeCommandOptions& o, const Sc
   if (!o.temporalOnly)
     for (float rate : o.dicingRates)
       for (int spp : o.sppValues)
-        list.push_back({"displacement_r" + formatNumber(rate) + "_spp" + std::to_string(spp), Kind::Displacement,
-                        0.0f, spp, rate, false});
+        list.push_back({"displacement_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
+                        Kind::Displacement, 0.0f, spp, rate, false});
   return list;
 }
 
 // --- rendering ---
 
-// Returns freed heap to the system and resets VmHWM; false where /proc/self/clear_refs is not writable.
+// Returns freed heap to the system and resets VmHWM; false where /proc/self/clear_refs is not
+// writable.
 bool resetPeakRss() {
   malloc_trim(0);
   std::ofstream clear("/proc/self/clear_refs");
@@ -244,13 +253,16 @@ Scene sceneFor(const Scene& base, const Configuration& c) {
   return scene;
 }
 
-Rendered renderConfiguration(const Scene& base, const Configuration& c, const std::vector<CameraSettings>& cams,
-                             bool keepFilms, bool& warnedRss) {
+Rendered renderConfiguration(const Scene& base, const Configuration& c,
+                             const std::vector<CameraSettings>& cams, bool keepFilms,
+                             bool& warnedRss) {
   const Scene scene = sceneFor(base, c);
   Rendered out;
   if (!resetPeakRss() && !warnedRss) {
-    std::fprintf(stderr, "meso: warning: cannot reset the peak RSS (/proc/self/clear_refs); peak_rss_mib is the "
-                 "process-wide peak so far\n");
+    std::fprintf(
+        stderr,
+        "meso: warning: cannot reset the peak RSS (/proc/self/clear_refs); peak_rss_mib is the "
+        "process-wide peak so far\n");
     warnedRss = true;
   }
   PrepareTimes prep;
@@ -269,8 +281,9 @@ Rendered renderConfiguration(const Scene& base, const Configuration& c, const st
     }
     out.seconds += timer.seconds();
     out.micropolygons = std::max(out.micropolygons, geometry.micropolygons);
-    out.geometryMib = std::max(out.geometryMib, static_cast<double>(geometry.meshBytes + geometry.embreePeakBytes) /
-                                                    (1024.0 * 1024.0));
+    out.geometryMib = std::max(
+        out.geometryMib,
+        static_cast<double>(geometry.meshBytes + geometry.embreePeakBytes) / (1024.0 * 1024.0));
     out.coarsening = std::max(out.coarsening, geometry.coarsening);
     out.beauty.push_back(beautyBuffer(film));
     if (c.kind == Kind::Reference) {
@@ -278,13 +291,15 @@ Rendered renderConfiguration(const Scene& base, const Configuration& c, const st
       if (z < 0) throw Error("trade: the film has no depth.Z channel");
       std::vector<float> depth(static_cast<size_t>(film.width) * film.height);
       for (int y = 0; y < film.height; ++y)
-        for (int x = 0; x < film.width; ++x) depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
+        for (int x = 0; x < film.width; ++x)
+          depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
       out.depth.push_back(std::move(depth));
     }
     if (keepFilms) out.films.push_back(std::move(film));
   }
   out.peakRssMib = peakRssMib();
-  for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());
+  for (const std::string& w : ctx.warnings)
+    std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());
   return out;
 }
 
@@ -298,7 +313,8 @@ double meanOverChannels(const ImageBuf& img) {
   return sum / static_cast<double>(s.avg.size());
 }
 
-void addErrors(Result& r, const std::vector<ImageBuf>& images, const std::vector<ImageBuf>& reference) {
+void addErrors(Result& r, const std::vector<ImageBuf>& images,
+               const std::vector<ImageBuf>& reference) {
   double mae = 0.0, rmse = 0.0, pct = 0.0;
   for (size_t f = 0; f < images.size(); ++f) {
     const OIIO::ImageBufAlgo::CompareResults cr =
@@ -376,7 +392,8 @@ void measureChange(ReferenceLevel& level, const Rendered& previous) {
     double sumA = 0.0, squares = 0.0;
     for (int band = 0; band < kDepthBands; ++band) {
       double bandA = 0.0, bandB = 0.0;
-      for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands; ++k)
+      for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands;
+           ++k)
         for (int c = 0; c < 3; ++c) {
           const double va = a[3 * hits[k] + c], vb = b[3 * hits[k] + c];
           bandA += va, bandB += vb, squares += (va - vb) * (va - vb);
@@ -397,8 +414,9 @@ void measureChange(ReferenceLevel& level, const Rendered& previous) {
   level.rmseChangePct = rmsePct / frames;
 }
 
-ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp, const std::vector<CameraSettings>& cams,
-                              const ReferenceCache& cache, bool& warnedRss, bool quiet) {
+ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
+                              const std::vector<CameraSettings>& cams, const ReferenceCache& cache,
+                              bool& warnedRss, bool quiet) {
   ReferenceLevel level;
   level.dicingRate = rate, level.spp = spp;
   const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
@@ -426,10 +444,11 @@ ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp, const std
 
 // Refines the reference (dicing rate halved, spp doubled) until it converges or the budget ends.
 ReferenceStudy convergeReference(const Scene& base, const TradeCommandOptions& o,
-                                 const std::vector<CameraSettings>& cams, const ReferenceCache& cache,
-                                 bool& warnedRss) {
+                                 const std::vector<CameraSettings>& cams,
+                                 const ReferenceCache& cache, bool& warnedRss) {
   Scene scene = base;
-  scene.render.maxMicropolygons = std::max<int64_t>(scene.render.maxMicropolygons, o.referenceMaxMicropolygons);
+  scene.render.maxMicropolygons =
+      std::max<int64_t>(scene.render.maxMicropolygons, o.referenceMaxMicropolygons);
   ReferenceStudy study;
   study.tolerance = o.referenceTolerance;
   study.rmseTolerance = o.referenceRmseTolerance;
@@ -439,31 +458,38 @@ ReferenceStudy convergeReference(const Scene& base, const TradeCommandOptions& o
     study.levels.push_back(referenceLevel(scene, rate, spp, cams, cache, warnedRss, o.quiet));
     ReferenceLevel& level = study.levels.back();
     if (!o.quiet)
-      std::fprintf(stderr, "meso: trade: reference level %d: %g px, %d spp, %zu micropolygons, %.3g s%s\n", k, rate,
-                   spp, level.render.micropolygons, level.render.seconds, level.fromCache ? " (cached)" : "");
+      std::fprintf(stderr,
+                   "meso: trade: reference level %d: %g px, %d spp, %zu micropolygons, %.3g s%s\n",
+                   k, rate, spp, level.render.micropolygons, level.render.seconds,
+                   level.fromCache ? " (cached)" : "");
     if (level.render.coarsening > 1.0f) {
       study.stop = "the micropolygon cap coarsened level " + std::to_string(k);
-      if (study.levels.size() > 1) study.levels.pop_back();  // the finest level that was diced as asked
+      if (study.levels.size() > 1)
+        study.levels.pop_back();  // the finest level that was diced as asked
       return study;
     }
     if (k > 0) {
       measureChange(level, study.levels[k - 1].render);
-      if (std::abs(level.meanChangePct) < o.referenceTolerance && level.rmseChangePct < o.referenceRmseTolerance) {
+      if (std::abs(level.meanChangePct) < o.referenceTolerance &&
+          level.rmseChangePct < o.referenceRmseTolerance) {
         study.converged = true;
         study.stop = "converged";
         return study;
       }
     }
     if (k >= o.referenceMaxRefinements) {
-      study.stop = "--reference-max-refinements " + std::to_string(o.referenceMaxRefinements) + " reached";
+      study.stop =
+          "--reference-max-refinements " + std::to_string(o.referenceMaxRefinements) + " reached";
       return study;
     }
     // Halving the dicing rate gives up to 4x the micropolygons (fewer where texels cap it).
     const double next = 4.0 * static_cast<double>(level.render.micropolygons);
     if (next > static_cast<double>(o.referenceMaxMicropolygons)) {
       char why[160];
-      std::snprintf(why, sizeof why, "the next level (%g px) would need about %.3g micropolygons, over "
-                    "--reference-max-micropolygons %lld", rate / 2.0f, next, o.referenceMaxMicropolygons);
+      std::snprintf(why, sizeof why,
+                    "the next level (%g px) would need about %.3g micropolygons, over "
+                    "--reference-max-micropolygons %lld",
+                    rate / 2.0f, next, o.referenceMaxMicropolygons);
       study.stop = why;
       return study;
     }
@@ -477,7 +503,8 @@ ReferenceStudy convergeReference(const Scene& base, const TradeCommandOptions& o
 double remainingEstimatePct(const ReferenceStudy& s) {
   const size_t n = s.levels.size();
   if (n < 3) return -1.0;
-  const double last = std::abs(s.levels[n - 1].meanChangePct), before = std::abs(s.levels[n - 2].meanChangePct);
+  const double last = std::abs(s.levels[n - 1].meanChangePct),
+               before = std::abs(s.levels[n - 2].meanChangePct);
   if (!(before > 0.0) || !(last < before)) return -1.0;
   const double q = last / before;
   return last * q / (1.0 - q);
@@ -489,10 +516,11 @@ std::string referenceLevels(const ReferenceStudy& s) {
   char buf[160];
   for (size_t k = 0; k < s.levels.size(); ++k) {
     const ReferenceLevel& l = s.levels[k];
-    if (k == 0) std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
+    if (k == 0)
+      std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
     else
-      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)", l.dicingRate, l.spp,
-                    l.meanChangePct, l.rmseChangePct);
+      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)",
+                    l.dicingRate, l.spp, l.meanChangePct, l.rmseChangePct);
     text += buf;
   }
   return text;
@@ -502,7 +530,8 @@ std::string referenceVerdict(const ReferenceStudy& s) {
   char buf[512];
   if (s.converged) {
     std::snprintf(buf, sizeof buf,
-                  "reference converged (the mean of every depth band changed by less than %g%%, the rmse is below "
+                  "reference converged (the mean of every depth band changed by less than %g%%, "
+                  "the rmse is below "
                   "%g%% of the mean): %s",
                   s.tolerance, s.rmseTolerance, referenceLevels(s).c_str());
     return buf;
@@ -511,16 +540,20 @@ std::string referenceVerdict(const ReferenceStudy& s) {
   const double rest = remainingEstimatePct(s);
   char estimate[160] = "";
   if (rest >= 0.0)
-    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off", rest);
+    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off",
+                  rest);
   if (s.levels.size() < 2)
-    std::snprintf(buf, sizeof buf, "reference NOT converged: only one level (%s), %s; its error is unknown",
+    std::snprintf(buf, sizeof buf,
+                  "reference NOT converged: only one level (%s), %s; its error is unknown",
                   referenceLevels(s).c_str(), s.stop.c_str());
   else
-    std::snprintf(buf, sizeof buf,
-                  "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the last refinement "
-                  "still changed the mean of a depth band by %+.2f%% and the rmse by %.2f%% of the mean%s",
-                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(), last.meanChangePct, last.rmseChangePct,
-                  estimate);
+    std::snprintf(
+        buf, sizeof buf,
+        "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the last "
+        "refinement "
+        "still changed the mean of a depth band by %+.2f%% and the rmse by %.2f%% of the mean%s",
+        s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(),
+        last.meanChangePct, last.rmseChangePct, estimate);
   return buf;
 }
 
@@ -545,12 +578,13 @@ std::string csv(const std::vector<Result>& results, const ReferenceStudy& study)
   s << "# " << referenceVerdict(study) << "\n";
   for (size_t k = 0; k < study.levels.size(); ++k) {
     const ReferenceLevel& l = study.levels[k];
-    std::snprintf(line, sizeof line,
-                  "# reference level %zu: dicing_rate %g, spp %d, micropolygons %zu, seconds %.6g%s, "
-                  "mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
-                  k, l.dicingRate, l.spp, l.render.micropolygons, l.render.seconds, l.fromCache ? " (cached)" : "",
-                  k ? formatNumber(l.meanChangePct).c_str() : "", k ? formatNumber(l.rmseChangePct).c_str() : "",
-                  bandList(l.bandChangePct).c_str());
+    std::snprintf(
+        line, sizeof line,
+        "# reference level %zu: dicing_rate %g, spp %d, micropolygons %zu, seconds %.6g%s, "
+        "mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
+        k, l.dicingRate, l.spp, l.render.micropolygons, l.render.seconds,
+        l.fromCache ? " (cached)" : "", k ? formatNumber(l.meanChangePct).c_str() : "",
+        k ? formatNumber(l.rmseChangePct).c_str() : "", bandList(l.bandChangePct).c_str());
     s << line;
   }
   s << "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
@@ -559,9 +593,10 @@ std::string csv(const std::vector<Result>& results, const ReferenceStudy& study)
     const Configuration& c = r.config;
     // D is left empty where the algorithm does not use it (displacement alone).
     const std::string D = c.kind == Kind::Hybrid ? formatNumber(c.D) : "";
-    std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f\n", c.name.c_str(),
-                  algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, r.seconds, r.peakRssMib, r.micropolygons,
-                  r.meanAbsError, r.rmse, r.intensityErrorPct, r.geometryMib);
+    std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f\n",
+                  c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, r.seconds,
+                  r.peakRssMib, r.micropolygons, r.meanAbsError, r.rmse, r.intensityErrorPct,
+                  r.geometryMib);
     s << line;
   }
   return s.str();
@@ -575,7 +610,7 @@ std::vector<size_t> paretoFront(const std::vector<Result>& results) {
     if (results[i].config.kind != Kind::Reference) order.push_back(i);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return results[a].seconds != results[b].seconds ? results[a].seconds < results[b].seconds
-                                                     : results[a].rmse < results[b].rmse;
+                                                    : results[a].rmse < results[b].rmse;
   });
   std::vector<size_t> front;
   double best = std::numeric_limits<double>::infinity();
@@ -601,13 +636,15 @@ class Canvas {
     if (fs::exists(dejavu)) font_ = dejavu;
   }
   void dot(int x, int y, const Rgb& c) {
-    if (x >= 0 && y >= 0 && x < buf_.spec().width && y < buf_.spec().height) buf_.setpixel(x, y, c.c, 3);
+    if (x >= 0 && y >= 0 && x < buf_.spec().width && y < buf_.spec().height)
+      buf_.setpixel(x, y, c.c, 3);
   }
   void line(double x0, double y0, double x1, double y1, const Rgb& c, int thickness = 1) {
     const int steps = static_cast<int>(std::max(std::abs(x1 - x0), std::abs(y1 - y0))) + 1;
     for (int i = 0; i <= steps; ++i) {
       const double t = static_cast<double>(i) / steps;
-      const int x = static_cast<int>(std::lround(x0 + t * (x1 - x0))), y = static_cast<int>(std::lround(y0 + t * (y1 - y0)));
+      const int x = static_cast<int>(std::lround(x0 + t * (x1 - x0))),
+                y = static_cast<int>(std::lround(y0 + t * (y1 - y0)));
       for (int dy = -(thickness - 1) / 2; dy <= thickness / 2; ++dy)
         for (int dx = -(thickness - 1) / 2; dx <= thickness / 2; ++dx) dot(x + dx, y + dy, c);
     }
@@ -617,16 +654,19 @@ class Canvas {
     for (int dy = -r; dy <= r; ++dy)
       for (int dx = -r; dx <= r; ++dx) {
         const int d2 = dx * dx + dy * dy;
-        const bool in = shape == 0 ? d2 <= r * r
+        const bool in = shape == 0   ? d2 <= r * r
                         : shape == 1 ? true
                         : shape == 2 ? d2 <= r * r && d2 >= (r - 2) * (r - 2)
                                      : std::abs(dx) + std::abs(dy) <= r;
-        if (in) dot(static_cast<int>(std::lround(cx)) + dx, static_cast<int>(std::lround(cy)) + dy, c);
+        if (in)
+          dot(static_cast<int>(std::lround(cx)) + dx, static_cast<int>(std::lround(cy)) + dy, c);
       }
   }
   // Text needs a font; without one the plot keeps its marks and loses its labels.
-  void text(int x, int y, const std::string& s, int size = 14, OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left) {
-    if (!OIIO::ImageBufAlgo::render_text(buf_, x, y, s, size, font_, OIIO::cspan<float>(kBlack.c, 3), align))
+  void text(int x, int y, const std::string& s, int size = 14,
+            OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left) {
+    if (!OIIO::ImageBufAlgo::render_text(buf_, x, y, s, size, font_,
+                                         OIIO::cspan<float>(kBlack.c, 3), align))
       (void)buf_.geterror();
   }
   // Encoded in memory, then written and checked by atomic_file (OpenImageIO's file writer does not
@@ -668,8 +708,8 @@ PlotAxes plotAxes(const std::vector<Result>& results) {
 
 void drawAxes(Canvas& canvas, const PlotAxes& a) {
   // 1, 2, 5 per decade; every digit when the axis spans less than a decade and a half.
-  const std::vector<int> mantissas = a.lx1 - a.lx0 < 1.5 ? std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8, 9}
-                                                         : std::vector<int>{1, 2, 5};
+  const std::vector<int> mantissas =
+      a.lx1 - a.lx0 < 1.5 ? std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8, 9} : std::vector<int>{1, 2, 5};
   double lastLabel = -1e9;
   for (int d = static_cast<int>(std::floor(a.lx0)); d <= static_cast<int>(std::ceil(a.lx1)); ++d)
     for (int m : mantissas) {
@@ -678,19 +718,24 @@ void drawAxes(Canvas& canvas, const PlotAxes& a) {
       canvas.line(a.x(seconds), a.top, a.x(seconds), a.bottom, kGrey);
       if (a.x(seconds) - lastLabel < 48) continue;  // labels must not overlap
       lastLabel = a.x(seconds);
-      canvas.text(static_cast<int>(a.x(seconds)), a.bottom + 20, formatNumber(seconds), 13, OIIO::ImageBufAlgo::TextAlignX::Center);
+      canvas.text(static_cast<int>(a.x(seconds)), a.bottom + 20, formatNumber(seconds), 13,
+                  OIIO::ImageBufAlgo::TextAlignX::Center);
     }
   const double raw = a.y1 / 5.0, decade = std::pow(10.0, std::floor(std::log10(raw)));
-  const double step = raw <= decade ? decade : raw <= 2 * decade ? 2 * decade : raw <= 5 * decade ? 5 * decade : 10 * decade;
+  const double step = raw <= decade       ? decade
+                      : raw <= 2 * decade ? 2 * decade
+                      : raw <= 5 * decade ? 5 * decade
+                                          : 10 * decade;
   for (int i = 0; i * step <= a.y1; ++i) {
     const double v = i * step;
     canvas.line(a.left, a.y(v), a.right, a.y(v), kGrey);
-    canvas.text(a.left - 8, static_cast<int>(a.y(v)) + 5, formatNumber(std::round(v / step) * step), 13,
-                OIIO::ImageBufAlgo::TextAlignX::Right);
+    canvas.text(a.left - 8, static_cast<int>(a.y(v)) + 5, formatNumber(std::round(v / step) * step),
+                13, OIIO::ImageBufAlgo::TextAlignX::Right);
   }
   canvas.line(a.left, a.bottom, a.right, a.bottom, kBlack, 2);
   canvas.line(a.left, a.top, a.left, a.bottom, kBlack, 2);
-  canvas.text((a.left + a.right) / 2, a.bottom + 50, "seconds (geometry + render, log scale)", 15, OIIO::ImageBufAlgo::TextAlignX::Center);
+  canvas.text((a.left + a.right) / 2, a.bottom + 50, "seconds (geometry + render, log scale)", 15,
+              OIIO::ImageBufAlgo::TextAlignX::Center);
   canvas.text(12, a.top - 14, "rmse against the reference", 15);
 }
 
@@ -702,22 +747,28 @@ void drawLegend(Canvas& canvas, const PlotAxes& a) {
   canvas.line(x - 8, y + 66, x + 8, y + 66, kBlack, 2), canvas.text(x + 14, y + 71, "Pareto front");
 }
 
-void writePlot(const fs::path& file, const std::vector<Result>& results, const std::vector<size_t>& front) {
+void writePlot(const fs::path& file, const std::vector<Result>& results,
+               const std::vector<size_t>& front) {
   Canvas canvas(900, 560);
   const PlotAxes a = plotAxes(results);
   drawAxes(canvas, a);
   for (size_t k = 0; k + 1 < front.size(); ++k)
-    canvas.line(a.x(results[front[k]].seconds), a.y(results[front[k]].rmse), a.x(results[front[k + 1]].seconds),
-                a.y(results[front[k + 1]].rmse), kBlack, 2);
+    canvas.line(a.x(results[front[k]].seconds), a.y(results[front[k]].rmse),
+                a.x(results[front[k + 1]].seconds), a.y(results[front[k + 1]].rmse), kBlack, 2);
   for (const Result& r : results) {
     const double x = a.x(r.seconds), y = a.y(r.rmse);
-    if (r.config.kind == Kind::Reference) canvas.marker(x, y, 6, 3, kBlack);
-    else canvas.marker(x, y, 5, r.config.kind == Kind::Hybrid ? 0 : 1, r.config.kind == Kind::Hybrid ? kBlue : kRed);
-    if (r.config.defaultHybrid) canvas.text(static_cast<int>(x) + 8, static_cast<int>(y) - 8, "default", 12);
+    if (r.config.kind == Kind::Reference)
+      canvas.marker(x, y, 6, 3, kBlack);
+    else
+      canvas.marker(x, y, 5, r.config.kind == Kind::Hybrid ? 0 : 1,
+                    r.config.kind == Kind::Hybrid ? kBlue : kRed);
+    if (r.config.defaultHybrid)
+      canvas.text(static_cast<int>(x) + 8, static_cast<int>(y) - 8, "default", 12);
   }
   for (size_t i : front) canvas.marker(a.x(results[i].seconds), a.y(results[i].rmse), 9, 2, kBlack);
   drawLegend(canvas, a);
-  canvas.text(450, 24, "meso trade: error against time", 17, OIIO::ImageBufAlgo::TextAlignX::Center);
+  canvas.text(450, 24, "meso trade: error against time", 17,
+              OIIO::ImageBufAlgo::TextAlignX::Center);
   canvas.write(file);
 }
 
@@ -727,7 +778,9 @@ const Result& defaultHybrid(const std::vector<Result>& results) {
   throw Error("trade: internal: no default hybrid configuration");
 }
 
-double ratio(double a, double b) { return b > 0.0 ? a / b : (a > 0.0 ? std::numeric_limits<double>::infinity() : 1.0); }
+double ratio(double a, double b) {
+  return b > 0.0 ? a / b : (a > 0.0 ? std::numeric_limits<double>::infinity() : 1.0);
+}
 
 // The default hybrid against the cheapest displacement-only configuration at least as accurate
 // (equal rmse or better): ratios hybrid / displacement, so < 1 is the hybrid's saving.
@@ -735,25 +788,34 @@ std::string summary(const std::vector<Result>& results, const ReferenceStudy& st
   const Result& h = defaultHybrid(results);
   const Result* cheapest = nullptr;
   for (const Result& r : results)
-    if (r.config.kind == Kind::Displacement && r.rmse <= h.rmse && (!cheapest || r.seconds < cheapest->seconds))
+    if (r.config.kind == Kind::Displacement && r.rmse <= h.rmse &&
+        (!cheapest || r.seconds < cheapest->seconds))
       cheapest = &r;
   char buf[1024];
-  int n = std::snprintf(buf, sizeof buf, "trade: default hybrid (D %g, %g px, %d spp) %.3g s, rmse %.4g, mean %+.3g%%",
-                        h.config.D, h.config.dicingRate, h.config.spp, h.seconds, h.rmse, h.intensityErrorPct);
+  int n = std::snprintf(
+      buf, sizeof buf,
+      "trade: default hybrid (D %g, %g px, %d spp) %.3g s, rmse %.4g, mean %+.3g%%", h.config.D,
+      h.config.dicingRate, h.config.spp, h.seconds, h.rmse, h.intensityErrorPct);
   if (cheapest)
-    std::snprintf(buf + n, sizeof buf - n,
-                  "; cheapest displacement-only as accurate (dicing %g px, %d spp) %.3g s, rmse %.4g: speedup %.2fx%s; "
-                  "hybrid / displacement at equal rmse: time %.3gx, peak memory %.3gx, geometry memory %.3gx, "
-                  "micropolygons %.3gx, spp %.3gx",
-                  cheapest->config.dicingRate, cheapest->config.spp, cheapest->seconds, cheapest->rmse,
-                  ratio(cheapest->seconds, h.seconds), cheapest->seconds < h.seconds ? " (the hybrid is slower)" : "",
-                  ratio(h.seconds, cheapest->seconds), ratio(h.peakRssMib, cheapest->peakRssMib),
-                  ratio(h.geometryMib, cheapest->geometryMib),
-                  ratio(static_cast<double>(h.micropolygons), static_cast<double>(cheapest->micropolygons)),
-                  ratio(h.config.spp, cheapest->config.spp));
+    std::snprintf(
+        buf + n, sizeof buf - n,
+        "; cheapest displacement-only as accurate (dicing %g px, %d spp) %.3g s, rmse %.4g: "
+        "speedup %.2fx%s; "
+        "hybrid / displacement at equal rmse: time %.3gx, peak memory %.3gx, geometry memory "
+        "%.3gx, "
+        "micropolygons %.3gx, spp %.3gx",
+        cheapest->config.dicingRate, cheapest->config.spp, cheapest->seconds, cheapest->rmse,
+        ratio(cheapest->seconds, h.seconds),
+        cheapest->seconds < h.seconds ? " (the hybrid is slower)" : "",
+        ratio(h.seconds, cheapest->seconds), ratio(h.peakRssMib, cheapest->peakRssMib),
+        ratio(h.geometryMib, cheapest->geometryMib),
+        ratio(static_cast<double>(h.micropolygons), static_cast<double>(cheapest->micropolygons)),
+        ratio(h.config.spp, cheapest->config.spp));
   else
-    std::snprintf(buf + n, sizeof buf - n, "; no displacement-only configuration swept is as accurate");
-  return std::string(buf) + "\n" + (study.converged ? "trade: " : "trade: WARNING: ") + referenceVerdict(study);
+    std::snprintf(buf + n, sizeof buf - n,
+                  "; no displacement-only configuration swept is as accurate");
+  return std::string(buf) + "\n" + (study.converged ? "trade: " : "trade: WARNING: ") +
+         referenceVerdict(study);
 }
 
 // --- temporal stability ---
@@ -772,9 +834,10 @@ double meanAbsChange(const ImageBuf& a, const ImageBuf& b, int x, int y) {
   return (std::abs(pa[0] - pb[0]) + std::abs(pa[1] - pb[1]) + std::abs(pa[2] - pb[2])) / 3.0;
 }
 
-std::vector<Band> temporalBands(const Rendered& hybrid, const Rendered& reference, const TransitionSettings& t,
-                                float halfWidth) {
-  std::vector<Band> bands = {{"e1", t.e1}, {"e2", t.e2}, {"e3", t.e3}, {"e4", t.e4}, {"any", 0.0f}, {"all", 0.0f}};
+std::vector<Band> temporalBands(const Rendered& hybrid, const Rendered& reference,
+                                const TransitionSettings& t, float halfWidth) {
+  std::vector<Band> bands = {{"e1", t.e1}, {"e2", t.e2},  {"e3", t.e3},
+                             {"e4", t.e4}, {"any", 0.0f}, {"all", 0.0f}};
   for (size_t f = 0; f + 1 < hybrid.films.size(); ++f) {
     const Image& film = hybrid.films[f];
     const int tc = film.channelIndex("T.Y"), zc = film.channelIndex("depth.Z");
@@ -788,41 +851,49 @@ std::vector<Band> temporalBands(const Rendered& hybrid, const Rendered& referenc
         bool any = false;
         for (size_t k = 0; k < 4; ++k)
           if (std::abs(T - bands[k].threshold) <= halfWidth) {
-            ++bands[k].pixels, bands[k].hybridChange += dh, bands[k].referenceChange += dr, any = true;
+            ++bands[k].pixels, bands[k].hybridChange += dh, bands[k].referenceChange += dr,
+                any = true;
           }
         if (any) ++bands[4].pixels, bands[4].hybridChange += dh, bands[4].referenceChange += dr;
         ++bands[5].pixels, bands[5].hybridChange += dh, bands[5].referenceChange += dr;
       }
   }
   for (Band& b : bands)
-    if (b.pixels > 0) b.hybridChange /= static_cast<double>(b.pixels), b.referenceChange /= static_cast<double>(b.pixels);
+    if (b.pixels > 0)
+      b.hybridChange /= static_cast<double>(b.pixels),
+          b.referenceChange /= static_cast<double>(b.pixels);
   return bands;
 }
 
 void reportTemporal(const std::vector<Band>& bands, const fs::path& file, float halfWidth) {
   std::ostringstream s;
   s << "band,threshold,half_width,pixels,hybrid_mean_abs_change,reference_mean_abs_change,ratio\n";
-  std::printf("temporal stability: mean |beauty(f+1) - beauty(f)| in bands |T - e| <= %g of the hybrid\n", halfWidth);
-  std::printf("  %-5s %9s %10s %12s %12s %8s\n", "band", "threshold", "pixels", "hybrid", "reference", "ratio");
+  std::printf(
+      "temporal stability: mean |beauty(f+1) - beauty(f)| in bands |T - e| <= %g of the hybrid\n",
+      halfWidth);
+  std::printf("  %-5s %9s %10s %12s %12s %8s\n", "band", "threshold", "pixels", "hybrid",
+              "reference", "ratio");
   char line[256];
   for (const Band& b : bands) {
     const bool threshold = b.name != "any" && b.name != "all";
     const double ratio = b.referenceChange > 0.0 ? b.hybridChange / b.referenceChange : 0.0;
     const std::string th = threshold ? formatNumber(b.threshold) : "";
-    std::snprintf(line, sizeof line, "%s,%s,%g,%zu,%.6g,%.6g,%.4g\n", b.name.c_str(), th.c_str(), halfWidth, b.pixels,
-                  b.hybridChange, b.referenceChange, ratio);
+    std::snprintf(line, sizeof line, "%s,%s,%g,%zu,%.6g,%.6g,%.4g\n", b.name.c_str(), th.c_str(),
+                  halfWidth, b.pixels, b.hybridChange, b.referenceChange, ratio);
     s << line;
-    std::printf("  %-5s %9s %10zu %12.5g %12.5g %8.3g\n", b.name.c_str(), th.c_str(), b.pixels, b.hybridChange,
-                b.referenceChange, ratio);
+    std::printf("  %-5s %9s %10zu %12.5g %12.5g %8.3g\n", b.name.c_str(), th.c_str(), b.pixels,
+                b.hybridChange, b.referenceChange, ratio);
   }
   writeText(file, s.str());
 }
 
 void progress(const TradeCommandOptions& o, const Result& r, size_t index, size_t count) {
   if (o.quiet) return;
-  std::fprintf(stderr, "meso: trade %zu/%zu %-28s %8.3f s %8.1f MiB %10zu mp  rmse %.5g  mae %.5g  mean %+.3g%%\n",
-               index + 1, count, r.config.name.c_str(), r.seconds, r.peakRssMib, r.micropolygons, r.rmse,
-               r.meanAbsError, r.intensityErrorPct);
+  std::fprintf(
+      stderr,
+      "meso: trade %zu/%zu %-28s %8.3f s %8.1f MiB %10zu mp  rmse %.5g  mae %.5g  mean %+.3g%%\n",
+      index + 1, count, r.config.name.c_str(), r.seconds, r.peakRssMib, r.micropolygons, r.rmse,
+      r.meanAbsError, r.intensityErrorPct);
 }
 
 }  // namespace
@@ -836,34 +907,44 @@ void runTrade(const TradeCommandOptions& o) {
   const bool temporal = o.temporal || o.temporalOnly;
   const std::vector<CameraSettings> cams = cameras(o, scene);
   if (temporal && cams.size() < 2)
-    throw Error("--temporal: needs at least two frames: a scene with a [path] and --frames A:B with B > A");
+    throw Error(
+        "--temporal: needs at least two frames: a scene with a [path] and --frames A:B with B > A");
   const std::vector<Configuration> configs = configurations(o, scene);
-  for (const Configuration& c : configs) sceneFor(scene, c);  // checks every D before rendering anything
+  for (const Configuration& c : configs)
+    sceneFor(scene, c);  // checks every D before rendering anything
   createOutputFolder(o.outDir, "-o");
   for (const char* name : {"trade.csv", "trade.png", "temporal.csv"})
     checkOutputFile(o.outDir / name, "-o");
 
-  const int threads = scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
+  const int threads =
+      scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   gTradeInterrupted.store(false);
   std::signal(SIGINT, onTradeInterrupt);
   std::signal(SIGTERM, onTradeInterrupt);
   if (!o.quiet)
-    std::fprintf(stderr, "meso: trade: %zu configurations x %zu frame(s) at %dx%d, %d threads\n", configs.size(),
-                 cams.size(), scene.camera.width, scene.camera.height, threads);
+    std::fprintf(stderr, "meso: trade: %zu configurations x %zu frame(s) at %dx%d, %d threads\n",
+                 configs.size(), cams.size(), scene.camera.width, scene.camera.height, threads);
 
   bool warnedRss = false;
-  const ReferenceCache cache(o.noReferenceCache ? fs::path()
-                             : o.referenceCache.empty() ? ReferenceCache::defaultFolder(scene) : o.referenceCache);
+  const ReferenceCache cache(o.noReferenceCache         ? fs::path()
+                             : o.referenceCache.empty() ? ReferenceCache::defaultFolder(scene)
+                                                        : o.referenceCache);
   const ReferenceStudy study = convergeReference(scene, o, cams, cache, warnedRss);
-  if (!study.converged) std::fprintf(stderr, "meso: WARNING: %s\n", referenceVerdict(study).c_str());
+  if (!study.converged)
+    std::fprintf(stderr, "meso: WARNING: %s\n", referenceVerdict(study).c_str());
   std::vector<Result> results;
   for (size_t k = 0; k < study.levels.size(); ++k) {
     const ReferenceLevel& l = study.levels[k];
     const bool last = k + 1 == study.levels.size();
-    const Configuration c{last ? "reference" : "reference_l" + std::to_string(k), Kind::Reference, 0.0f, l.spp,
-                          l.dicingRate, false};
-    Result result{c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons, l.render.geometryMib};
+    const Configuration c{last ? "reference" : "reference_l" + std::to_string(k),
+                          Kind::Reference,
+                          0.0f,
+                          l.spp,
+                          l.dicingRate,
+                          false};
+    Result result{c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
+                  l.render.geometryMib};
     addErrors(result, l.render.beauty, study.reference().beauty);
     results.push_back(result);
   }
@@ -887,8 +968,10 @@ void runTrade(const TradeCommandOptions& o) {
                  (o.outDir / "trade.png").string().c_str());
   std::printf("%s\n", summary(results, study).c_str());
   if (temporal) {
-    reportTemporal(temporalBands(hybrid, reference, scene.render.transition, o.band), o.outDir / "temporal.csv", o.band);
-    if (!o.quiet) std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());
+    reportTemporal(temporalBands(hybrid, reference, scene.render.transition, o.band),
+                   o.outDir / "temporal.csv", o.band);
+    if (!o.quiet)
+      std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());
   }
 }
 

@@ -1,7 +1,7 @@
-// `meso trade`: the speed/accuracy trade of DESIGN.md section 7. Time, memory and error of the hybrid
-// (algorithm auto over D x spp and dicing rate x spp) and of displacement alone (dicing rate x spp)
-// against a full-displacement reference refined until it converges (or a warning says it did not);
-// optionally the temporal stability of the hybrid near its thresholds.
+// `meso trade`: the speed/accuracy trade of DESIGN.md section 7. Time, memory and error of the
+// hybrid (algorithm auto over D x spp and dicing rate x spp) and of displacement alone (dicing rate
+// x spp) against a full-displacement reference refined until it converges (or a warning says it did
+// not); optionally the temporal stability of the hybrid near its thresholds.
 #pragma once
 
 #include <filesystem>
@@ -21,12 +21,12 @@ struct TradeCommandOptions {
   // intensity), or the budget is spent (then a warning says how far from converged the last step
   // was). The rmse includes both levels' sampling noise, hence its own, looser tolerance.
   int referenceSpp = 64;
-  float referenceDicingRate = 0.5f;            // pixels
-  float referenceTolerance = 0.5f;             // percent of the mean intensity
-  float referenceRmseTolerance = 2.0f;         // percent of the mean intensity
-  int referenceMaxRefinements = 3;             // levels after the first
+  float referenceDicingRate = 0.5f;                   // pixels
+  float referenceTolerance = 0.5f;                    // percent of the mean intensity
+  float referenceRmseTolerance = 2.0f;                // percent of the mean intensity
+  int referenceMaxRefinements = 3;                    // levels after the first
   long long referenceMaxMicropolygons = 100'000'000;  // no level is started that would exceed it
-  std::filesystem::path referenceCache;        // empty: ReferenceCache::defaultFolder(scene)
+  std::filesystem::path referenceCache;               // empty: ReferenceCache::defaultFolder(scene)
   bool noReferenceCache = false;
   std::vector<float> dValues{0.5f, 1.0f, 2.0f, 4.0f};
   std::vector<int> sppValues{1, 4, 16};

@@ -78,7 +78,8 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
 
 }  // namespace
 
-BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data, int phiV) {
+BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res,
+                              std::vector<float> data, int phiV) {
   BrdfTable t;
   t.thetaV_ = std::move(thetaV);
   t.res_ = res;
@@ -104,7 +105,8 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
   });
 }
 
-BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong) {
+BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
+                                      float phong) {
   return integrate(distr, res, [phong](const Vec3& V, const Vec3& L, const Vec3& nMean, float) {
     // The diffuse term is linear in N: the bin's mean normal (unnormalized) makes it exact.
     Value v;
@@ -112,33 +114,39 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
     const float len = glm::length(nMean);
     const Vec3 h = V + L;
     const float hl = glm::length(h);
-    if (len > 0.0f && hl > 1e-12f) v.specular = std::pow(std::max(glm::dot(h / hl, nMean / len), 0.0f), phong);
+    if (len > 0.0f && hl > 1e-12f)
+      v.specular = std::pow(std::max(glm::dot(h / hl, nMean / len), 0.0f), phong);
     return v;
   });
 }
 
 BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
                                     const BrdfTable& finer) {
-  return integrate(distr, res, [&finer](const Vec3& V, const Vec3& L, const Vec3& nMean, float phiV) {
-    const float len = glm::length(nMean);
-    if (len == 0.0f) return Value{};
-    const Vec3 N = nMean / len;
-    // Eq. (1): angles of V and L measured from the bin normal; azimuths in the plane perpendicular
-    // to N, against the relief's axes x and y (seen from the view-aligned frame, they are turned by
-    // -phi_V; with isotropic tables phi_V is 0 and only phi_{V-L} matters).
-    const float c = std::cos(phiV), sn = std::sin(phiV);
-    const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
-    const float tv = std::acos(std::clamp(glm::dot(V, N), -1.0f, 1.0f));
-    const float tl = std::acos(std::clamp(glm::dot(L, N), -1.0f, 1.0f));
-    if (tl >= 0.5f * kPi || tv >= 0.5f * kPi) return Value{};  // lit or seen from behind the facet
-    const float pl = std::atan2(glm::dot(L, glm::cross(N, x)), glm::dot(L, glm::cross(y, N)));
-    const float pv = std::atan2(glm::dot(V, glm::cross(N, x)), glm::dot(V, glm::cross(y, N)));
-    const float pvl = std::fmod(pv - pl + 3.0f * kPi, 2.0f * kPi) - kPi;
-    return finer.numPhiV() > 1 ? finer.lookup(tv, pv, tl, pvl) : finer.lookup(tv, tl, std::abs(pvl));
-  });
+  return integrate(
+      distr, res, [&finer](const Vec3& V, const Vec3& L, const Vec3& nMean, float phiV) {
+        const float len = glm::length(nMean);
+        if (len == 0.0f) return Value{};
+        const Vec3 N = nMean / len;
+        // Eq. (1): angles of V and L measured from the bin normal; azimuths in the plane
+        // perpendicular to N, against the relief's axes x and y (seen from the view-aligned frame,
+        // they are turned by -phi_V; with isotropic tables phi_V is 0 and only phi_{V-L} matters).
+        const float c = std::cos(phiV), sn = std::sin(phiV);
+        const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
+        const float tv = std::acos(std::clamp(glm::dot(V, N), -1.0f, 1.0f));
+        const float tl = std::acos(std::clamp(glm::dot(L, N), -1.0f, 1.0f));
+        if (tl >= 0.5f * kPi || tv >= 0.5f * kPi)
+          return Value{};  // lit or seen from behind the facet
+        const float pl = std::atan2(glm::dot(L, glm::cross(N, x)), glm::dot(L, glm::cross(y, N)));
+        const float pv = std::atan2(glm::dot(V, glm::cross(N, x)), glm::dot(V, glm::cross(y, N)));
+        const float pvl = std::fmod(pv - pl + 3.0f * kPi, 2.0f * kPi) - kPi;
+        return finer.numPhiV() > 1 ? finer.lookup(tv, pv, tl, pvl)
+                                   : finer.lookup(tv, tl, std::abs(pvl));
+      });
 }
 
-float BrdfTable::thetaL(int i) const { return 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res_.thetaL - 1); }
+float BrdfTable::thetaL(int i) const {
+  return 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res_.thetaL - 1);
+}
 float BrdfTable::phi(int j) const {
   return (phiV_ > 1 ? -kPi : 0.0f) + kPi * static_cast<float>(j) / static_cast<float>(res_.phi - 1);
 }
@@ -158,7 +166,8 @@ BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) cons
     const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? b.w : 1.0f - b.w) *
                     ((corner & 4) ? c.w : 1.0f - c.w);
     if (w == 0.0f) continue;
-    const Value e = entry((corner & 1) ? a.i1 : a.i0, (corner & 2) ? b.i1 : b.i0, (corner & 4) ? c.i1 : c.i0);
+    const Value e =
+        entry((corner & 1) ? a.i1 : a.i0, (corner & 2) ? b.i1 : b.i0, (corner & 4) ? c.i1 : c.i0);
     out.diffuse += w * e.diffuse;
     out.specular += w * e.specular;
   }

@@ -1,6 +1,6 @@
 // Becker & Max 1993, section 2.1: the paper rendered a patch with a z-buffer and copied it to its
-// neighbours back to front; here rays wrap around the periodic tile (PeriodicTile), so any number of
-// neighbours occlude, which matters near grazing (at 89 degrees a ray crosses tens of tiles).
+// neighbours back to front; here rays wrap around the periodic tile (PeriodicTile), so any number
+// of neighbours occlude, which matters near grazing (at 89 degrees a ray crosses tens of tiles).
 #include "meso/appearance/histogram_builder.h"
 
 #include "meso/core/rng.h"
@@ -14,19 +14,22 @@
 namespace meso {
 namespace {
 
-void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const HistogramSettings& s, int k,
-                VisibleNormalHistogram& h) {
+void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const HistogramSettings& s,
+                int k, VisibleNormalHistogram& h) {
   const float thetaV = h.thetaV(k);
   const int phiV = h.resolution().phiV;
   for (int a = 0; a < s.azimuths; ++a) {
     const int slice = h.sliceOf(k, a * phiV / s.azimuths);
     Rng rng(s.seed, static_cast<uint64_t>(k) * s.azimuths + a);
     const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
-    const Vec3 towardEye(std::sin(thetaV) * std::cos(phiV), std::sin(thetaV) * std::sin(phiV), std::cos(thetaV));
+    const Vec3 towardEye(std::sin(thetaV) * std::cos(phiV), std::sin(thetaV) * std::sin(phiV),
+                         std::cos(thetaV));
     // The surface's shape maps tile tangents to its frame by [[a, b], [0, 1/a]]: rays go back by
-    // the inverse [[1/a, -b], [0, a]], normals forward by the inverse transpose [[1/a, 0], [-b, a]].
+    // the inverse [[1/a, -b], [0, a]], normals forward by the inverse transpose [[1/a, 0], [-b,
+    // a]].
     const float sa = s.shape.a, sb = s.shape.b;
-    const Vec3 tileEye = glm::normalize(Vec3(towardEye.x / sa - sb * towardEye.y, sa * towardEye.y, towardEye.z));
+    const Vec3 tileEye =
+        glm::normalize(Vec3(towardEye.x / sa - sb * towardEye.y, sa * towardEye.y, towardEye.z));
     const float c = std::cos(-phiV), sn = std::sin(-phiV);
     for (int r = 0; r < s.raysPerView; ++r) {
       // Uniform origins on a plane above the relief are uniform in projected area.
@@ -43,7 +46,8 @@ void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const Hi
 
 }  // namespace
 
-VisibleNormalHistogram buildVisibleNormalHistogram(const PeriodicRelief& relief, const HistogramSettings& s) {
+VisibleNormalHistogram buildVisibleNormalHistogram(const PeriodicRelief& relief,
+                                                   const HistogramSettings& s) {
   const PeriodicTile tile(relief, std::max(s.meshResolution, 1));
   VisibleNormalHistogram h(s.resolution);
   tbb::parallel_for(0, h.resolution().thetaV, [&](int k) { traceSlice(relief, tile, s, k, h); });

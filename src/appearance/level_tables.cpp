@@ -5,15 +5,16 @@
 namespace meso {
 namespace {
 
-uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s, const LevelTables* finer,
-                  const SpecularLobe* lobe) {
+uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s,
+                  const LevelTables* finer, const SpecularLobe* lobe) {
   const HistogramSettings& h = s.histogram;
   Hasher hash;
   hash.value(kTableFormatVersion).value(relief.fingerprint());
   hash.value(h.resolution.thetaV).value(h.resolution.thetaN).value(h.resolution.phi);
   hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
   hash.value(s.brdf.thetaL).value(s.brdf.phi);
-  if (h.resolution.phiV != 1) hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
+  if (h.resolution.phiV != 1)
+    hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
   if (!h.shape.identity()) hash.string("shape").value(h.shape.a).value(h.shape.b);
   // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
   if (finer)
@@ -25,19 +26,26 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
   return hash.digest();
 }
 
-BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s, const LevelTables* finer,
-                  const SpecularLobe* lobe) {
+BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s,
+                  const LevelTables* finer, const SpecularLobe* lobe) {
   if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, finer->brdf);
-  return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe) : BrdfTable::fromDistribution(distr, s.brdf, phong);
+  return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe)
+              : BrdfTable::fromDistribution(distr, s.brdf, phong);
 }
 
 // The self-shadowing factor of a level, from the cache or traced in the periodic tile.
-ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHistogram& layout, float phong,
-                            const TableSettings& s, uint64_t levelKey, const TableCache& cache,
-                            std::vector<std::string>* warnings) {
+ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHistogram& layout,
+                            float phong, const TableSettings& s, uint64_t levelKey,
+                            const TableCache& cache, std::vector<std::string>* warnings) {
   const ShadowingResolution& r = s.shadowing;
   Hasher hash;
-  hash.value(levelKey).string("shadows-v5").value(r.thetaL).value(r.phi).value(r.raysPerSlice).value(r.azimuthsPerSlice).value(r.thetaVRefine);
+  hash.value(levelKey)
+      .string("shadows-v5")
+      .value(r.thetaL)
+      .value(r.phi)
+      .value(r.raysPerSlice)
+      .value(r.azimuthsPerSlice)
+      .value(r.thetaVRefine);
   hash.value(kShadowMaxTiles);
   hash.value(phong);
   const uint64_t key = hash.digest();
@@ -45,11 +53,13 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   std::optional<std::vector<float>> cached = cache.load(key, &warning);
   if (!warning.empty() && warnings) warnings->push_back(warning);
   ShadowingTable table;
-  if (cached && ShadowingTable::fromData(*cached, r, table) && table.numPhiV() == layout.resolution().phiV &&
+  if (cached && ShadowingTable::fromData(*cached, r, table) &&
+      table.numPhiV() == layout.resolution().phiV &&
       table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1)
     return table;
   const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
-  table = ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
+  table =
+      ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
   warning.clear();
   cache.store(key, table.toData(), &warning);
   if (!warning.empty() && warnings) warnings->push_back(warning);
@@ -58,9 +68,10 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
 
 }  // namespace
 
-LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
-                             const LevelTables* finer, const TableCache& cache,
-                             std::vector<std::string>* warnings, const SpecularLobe* lobe) {
+LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
+                             const TableSettings& settings, const LevelTables* finer,
+                             const TableCache& cache, std::vector<std::string>* warnings,
+                             const SpecularLobe* lobe) {
   Timer timer;
   const uint64_t key = tableKey(relief, phong, settings, finer, lobe);
   VisibleNormalHistogram distr(settings.histogram.resolution);
@@ -80,7 +91,8 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
   std::vector<float> thetaV(distr.resolution().thetaV);
   for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
   const int phiV = distr.resolution().phiV;
-  const size_t brdfSize = 2 * thetaV.size() * phiV * settings.brdf.thetaL * BrdfTable::phiNodes(settings.brdf, phiV);
+  const size_t brdfSize =
+      2 * thetaV.size() * phiV * settings.brdf.thetaL * BrdfTable::phiNodes(settings.brdf, phiV);
   BrdfTable brdf = fromCache && brdfData.size() == brdfSize
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, lobe);
@@ -101,9 +113,15 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const Ta
     shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings);
     shadowingSeconds = shadowTimer.seconds();
   }
-  return LevelTables{std::move(distr),     std::move(redistribution), std::move(brdf),
-                     std::move(shadowing), shadowingSeconds,          key,
-                     fromCache,            timer.seconds(),           payload.size() * sizeof(float)};
+  return LevelTables{std::move(distr),
+                     std::move(redistribution),
+                     std::move(brdf),
+                     std::move(shadowing),
+                     shadowingSeconds,
+                     key,
+                     fromCache,
+                     timer.seconds(),
+                     payload.size() * sizeof(float)};
 }
 
 }  // namespace meso

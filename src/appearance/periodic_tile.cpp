@@ -53,7 +53,8 @@ bool PeriodicTile::occluded(Vec3 o, const Vec3& d, int maxTiles) const {
     if (scene_.occluded(Ray{o, d, 0.0f, std::max(tExit, 0.0f) * 1.0001f + 1e-6f})) return true;
     o += tExit * d;
     o[axis] = d[axis] > 0.0f ? 0.0f : 1.0f;
-    if (d.z <= 0.0f && o.z < zMin_ - 1e-3f) return false;  // left through the bottom: the relief is a height field above it
+    if (d.z <= 0.0f && o.z < zMin_ - 1e-3f)
+      return false;  // left through the bottom: the relief is a height field above it
   }
   return true;
 }

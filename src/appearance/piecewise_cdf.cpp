@@ -11,7 +11,8 @@ std::vector<float> cumulativeFromMasses(std::span<const float> masses) {
   for (size_t i = 0; i < n; ++i) c[i + 1] = c[i] + std::max(0.0f, masses[i]);
   std::vector<float> out(n + 1);
   for (size_t i = 0; i <= n; ++i)
-    out[i] = c[n] > 0.0 ? static_cast<float>(c[i] / c[n]) : static_cast<float>(i) / static_cast<float>(n);
+    out[i] = c[n] > 0.0 ? static_cast<float>(c[i] / c[n])
+                        : static_cast<float>(i) / static_cast<float>(n);
   out[n] = 1.0f;
   return out;
 }
@@ -24,7 +25,7 @@ void appendCumulative(std::span<const float> masses, std::vector<float>& out) {
   out.push_back(0.0f);
   for (size_t i = 0; i < n; ++i) {
     c += std::max(0.0f, masses[i]);
-    out.push_back(i + 1 == n ? 1.0f
+    out.push_back(i + 1 == n    ? 1.0f
                   : total > 0.0 ? static_cast<float>(c / total)
                                 : static_cast<float>(i + 1) / static_cast<float>(n));
   }
@@ -35,7 +36,6 @@ namespace {
 inline float mixAt(std::span<const float> a, std::span<const float> b, float w, size_t i) {
   return w == 0.0f ? a[i] : (1.0f - w) * a[i] + w * b[i];
 }
-
 
 // Fraction of bin i below x, and its inverse, for the bin shape.
 float fractionIn(size_t i, float lo, float width, float x, BinShape shape) {
@@ -75,7 +75,10 @@ float cdfInverse(std::span<const float> a, std::span<const float> b, float w, fl
   size_t loI = 0, hiI = n;
   while (hiI - loI > 1) {
     const size_t mid = (loI + hiI) / 2;
-    if (mixAt(a, b, w, mid) < p) loI = mid; else hiI = mid;
+    if (mixAt(a, b, w, mid) < p)
+      loI = mid;
+    else
+      hiI = mid;
   }
   const float c0 = mixAt(a, b, w, loI), c1 = mixAt(a, b, w, loI + 1);
   const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
@@ -105,7 +108,10 @@ float cdfInverse(const CdfMix& mix, float lo, float width, float p, BinShape sha
   size_t loI = 0, hiI = n;
   while (hiI - loI > 1) {
     const size_t mid = (loI + hiI) / 2;
-    if (mix.at(mid) < p) loI = mid; else hiI = mid;
+    if (mix.at(mid) < p)
+      loI = mid;
+    else
+      hiI = mid;
   }
   const float c0 = mix.at(loI), c1 = mix.at(loI + 1);
   const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;

@@ -18,7 +18,8 @@ float thetaW(float thetaV, float disp) {
 }
 
 Redistribution::Redistribution(const VisibleNormalHistogram& distr, RedistributionVariant variant)
-    : layout_(distr.resolution(), distr.thetaVMax(), VisibleNormalHistogram::LayoutOnly{}), variant_(variant) {
+    : layout_(distr.resolution(), distr.thetaVMax(), VisibleNormalHistogram::LayoutOnly{}),
+      variant_(variant) {
   const HistogramResolution& r = distr.resolution();
   thetaCdfsPerSlice_ = variant == RedistributionVariant::Conditional ? 1 + r.phi : 1;
   thetaCdfs_.reserve(static_cast<size_t>(distr.numSlices()) * thetaCdfsPerSlice_ * (r.thetaN + 1));
@@ -41,8 +42,9 @@ Redistribution::Redistribution(const VisibleNormalHistogram& distr, Redistributi
       if (total > 1e-12f)
         appendCumulative(column, thetaCdfs_);
       else
-        thetaCdfs_.insert(thetaCdfs_.end(), thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt),
-                          thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt + r.thetaN + 1));
+        thetaCdfs_.insert(
+            thetaCdfs_.end(), thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt),
+            thetaCdfs_.begin() + static_cast<std::ptrdiff_t>(marginalAt + r.thetaN + 1));
     }
     appendCumulative(phiMarginal, phiCdfs_);
   }
@@ -67,7 +69,8 @@ Redistribution::SliceMix Redistribution::locate(float thetaV, float phiV) const 
   s -= static_cast<float>(r.phiV) * std::floor(s / static_cast<float>(r.phiV));
   const int a0 = std::min(static_cast<int>(s), r.phiV - 1), a1 = (a0 + 1) % r.phiV;
   const float b = std::clamp(s - static_cast<float>(a0), 0.0f, 1.0f);
-  m.slice = {layout_.sliceOf(k0, a0), layout_.sliceOf(k0, a1), layout_.sliceOf(k0 + 1, a0), layout_.sliceOf(k0 + 1, a1)};
+  m.slice = {layout_.sliceOf(k0, a0), layout_.sliceOf(k0, a1), layout_.sliceOf(k0 + 1, a0),
+             layout_.sliceOf(k0 + 1, a1)};
   m.w = {(1.0f - w) * (1.0f - b), (1.0f - w) * b, w * (1.0f - b), w * b};
   m.count = 4;
   return m;
@@ -104,7 +107,8 @@ CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   // conditional elsewhere. The blend moves kPhiBlend / 8 of a bin's mass into each neighbour's
   // conditional (the chi-square tests of the joint still pass), and it must be wide because the phi
   // map is steep where few visible normals face away from the eye: half a bin keeps a 1e-3 degree
-  // step of the input under 0.3 degrees of output (tests/appearance/redistribution_relief_test.cpp).
+  // step of the input under 0.3 degrees of output
+  // (tests/appearance/redistribution_relief_test.cpp).
   constexpr float kPhiBlend = 0.5f;
   const float s = (wrapPi(phi) + kPi) / layout_.phiWidth() - 0.5f;
   const float base = std::floor(s);
@@ -117,7 +121,8 @@ CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   return mix;
 }
 
-NormalAngles Redistribution::mapBetween(const SliceMix& from, const SliceMix& to, NormalAngles n) const {
+NormalAngles Redistribution::mapBetween(const SliceMix& from, const SliceMix& to,
+                                        NormalAngles n) const {
   const float tw = layout_.thetaNWidth(), pw = layout_.phiWidth();
   NormalAngles r;
   const float p = cdfForward(phiCdfAt(from), -kPi, pw, wrapPi(n.phi));
@@ -140,7 +145,5 @@ NormalAngles Redistribution::partial(float thetaV, float phiV, float disp, Norma
   if (disp >= 1.0f) return n;
   return toVisible(thetaV, phiV, toBump(thetaW(thetaV, disp), phiV, n));
 }
-
-
 
 }  // namespace meso

@@ -40,8 +40,10 @@ TableCache::TableCache(std::filesystem::path folder) : folder_(std::move(folder)
 
 std::filesystem::path TableCache::defaultFolder() {
   if (const char* d = std::getenv("MESO_CACHE_DIR"); d && *d) return d;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "meso";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "meso";
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    return std::filesystem::path(x) / "meso";
+  if (const char* h = std::getenv("HOME"); h && *h)
+    return std::filesystem::path(h) / ".cache" / "meso";
   return {};
 }
 
@@ -70,7 +72,8 @@ std::optional<std::vector<float>> TableCache::load(uint64_t key, std::string* wa
   if (h.key != key) return reject("key mismatch");
   if (h.count > (uint64_t{1} << 32)) return reject("implausible size");
   std::vector<float> data(h.count);
-  if (!in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(h.count * sizeof(float))))
+  if (!in.read(reinterpret_cast<char*>(data.data()),
+               static_cast<std::streamsize>(h.count * sizeof(float))))
     return reject("truncated payload");
   if (in.peek() != std::char_traits<char>::eof()) return reject("trailing bytes");
   if (checksumOf(data) != h.checksum) return reject("checksum mismatch (corrupt)");
@@ -91,7 +94,8 @@ void TableCache::store(uint64_t key, std::span<const float> data, std::string* w
     writeAtomically(file, [&](const std::filesystem::path& tmp) {
       std::ofstream out(tmp, std::ios::binary);
       out.write(reinterpret_cast<const char*>(&h), sizeof h);
-      out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size_bytes()));
+      out.write(reinterpret_cast<const char*>(data.data()),
+                static_cast<std::streamsize>(data.size_bytes()));
       if (!out.flush()) throw Error(tmp.string() + ": write failed");
     });
   } catch (const std::exception& e) {

@@ -12,8 +12,11 @@ constexpr int kGap = 3;
 // A perceptually ordered dark-blue -> teal -> yellow ramp (close to viridis).
 Vec3 colourRamp(float t) {
   t = std::clamp(std::isfinite(t) ? t : 0.0f, 0.0f, 1.0f);
-  const Vec3 stops[5] = {{0.267f, 0.005f, 0.329f}, {0.230f, 0.322f, 0.546f}, {0.128f, 0.567f, 0.551f},
-                         {0.369f, 0.789f, 0.383f}, {0.993f, 0.906f, 0.144f}};
+  const Vec3 stops[5] = {{0.267f, 0.005f, 0.329f},
+                         {0.230f, 0.322f, 0.546f},
+                         {0.128f, 0.567f, 0.551f},
+                         {0.369f, 0.789f, 0.383f},
+                         {0.993f, 0.906f, 0.144f}};
   const float s = t * 4.0f;
   const int i = std::min(static_cast<int>(s), 3);
   return glm::mix(stops[i], stops[i + 1], s - static_cast<float>(i));
@@ -27,7 +30,8 @@ void drawPanel(Image& img, int x0, int y0, int cols, int rows, int cell, float s
       const Vec3 colour = colourRamp(scale > 0.0f ? value(c, r) / scale : 0.0f);
       for (int y = 0; y < cell; ++y)
         for (int x = 0; x < cell; ++x)
-          for (int ch = 0; ch < 3; ++ch) img.at(x0 + c * cell + x, y0 + r * cell + y, ch) = colour[ch];
+          for (int ch = 0; ch < 3; ++ch)
+            img.at(x0 + c * cell + x, y0 + r * cell + y, ch) = colour[ch];
     }
 }
 
@@ -51,8 +55,9 @@ Image plotHistogram(const VisibleNormalHistogram& h, int cell) {
     float maxDensity = 0.0f;
     for (int i = 0; i < r.thetaN; ++i)
       for (int j = 0; j < r.phi; ++j) maxDensity = std::max(maxDensity, density(i, j));
-    drawPanel(img, kGap + (k % perRow) * (r.thetaN * cell + kGap), kGap + (k / perRow) * (r.phi * cell + kGap),
-              r.thetaN, r.phi, cell, maxDensity, density);
+    drawPanel(img, kGap + (k % perRow) * (r.thetaN * cell + kGap),
+              kGap + (k / perRow) * (r.phi * cell + kGap), r.thetaN, r.phi, cell, maxDensity,
+              density);
   }
   return img;
 }

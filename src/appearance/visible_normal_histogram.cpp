@@ -58,10 +58,16 @@ Vec3 VisibleNormalHistogram::meanNormal(int k, int i, int j) const {
 float VisibleNormalHistogram::thetaV(int k) const {
   return thetaVMax_ * static_cast<float>(k) / static_cast<float>(res_.thetaV - 1);
 }
-float VisibleNormalHistogram::thetaNWidth() const { return 0.5f * kPi / static_cast<float>(res_.thetaN); }
+float VisibleNormalHistogram::thetaNWidth() const {
+  return 0.5f * kPi / static_cast<float>(res_.thetaN);
+}
 float VisibleNormalHistogram::phiWidth() const { return 2.0f * kPi / static_cast<float>(res_.phi); }
-float VisibleNormalHistogram::thetaNCentre(int i) const { return (static_cast<float>(i) + 0.5f) * thetaNWidth(); }
-float VisibleNormalHistogram::phiCentre(int j) const { return -kPi + (static_cast<float>(j) + 0.5f) * phiWidth(); }
+float VisibleNormalHistogram::thetaNCentre(int i) const {
+  return (static_cast<float>(i) + 0.5f) * thetaNWidth();
+}
+float VisibleNormalHistogram::phiCentre(int j) const {
+  return -kPi + (static_cast<float>(j) + 0.5f) * phiWidth();
+}
 
 int VisibleNormalHistogram::thetaNBin(float thetaN) const {
   const int i = static_cast<int>(std::floor(thetaN / thetaNWidth()));

@@ -154,12 +154,12 @@ int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGri
   const int index = impl_->numMeshes++;
   const size_t numPositions = mesh.positions.size();
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_GRID);
-  auto* vertices = static_cast<Vec3*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3),
-      numPositions + 4 * singles.size()));
-  auto* rtcGrids = static_cast<RTCGrid*>(
-      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid),
-                              grids.size() + singles.size()));
+  auto* vertices = static_cast<Vec3*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, sizeof(Vec3),
+                                                              numPositions + 4 * singles.size()));
+  auto* rtcGrids = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_GRID, 0,
+                                                                 RTC_FORMAT_GRID, sizeof(RTCGrid),
+                                                                 grids.size() + singles.size()));
   if (vertices && rtcGrids) {
     std::memcpy(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
     for (size_t k = 0; k < grids.size(); ++k)
@@ -191,7 +191,8 @@ void gridHit(const TriangleGrid& g, float u, float v, RayHit& hit) {
   const float gu = u * float(g.width - 1), gv = v * float(g.height - 1);
   const int i = std::clamp(static_cast<int>(gu), 0, g.width - 2);
   const int j = std::clamp(static_cast<int>(gv), 0, g.height - 2);
-  const float fu = std::clamp(gu - float(i), 0.0f, 1.0f), fv = std::clamp(gv - float(j), 0.0f, 1.0f);
+  const float fu = std::clamp(gu - float(i), 0.0f, 1.0f),
+              fv = std::clamp(gv - float(j), 0.0f, 1.0f);
   const int first = static_cast<int>(g.firstTriangle) + 2 * (j * (g.width - 1) + i);
   const bool lower = fu + fv <= 1.0f;  // corners (p00, p10, p01), else (p11, p01, p10)
   hit.triangle = lower ? first : first + 1;

@@ -8,7 +8,8 @@ float HeightSource::meanHeight() const {
   double sum = 0.0;
   for (int j = 0; j < kGrid; ++j)
     for (int i = 0; i < kGrid; ++i)
-      sum += height(Vec2((static_cast<float>(i) + 0.5f) / kGrid, (static_cast<float>(j) + 0.5f) / kGrid));
+      sum += height(
+          Vec2((static_cast<float>(i) + 0.5f) / kGrid, (static_cast<float>(j) + 0.5f) / kGrid));
   return static_cast<float>(sum / (kGrid * kGrid));
 }
 

@@ -34,8 +34,8 @@ Vec3 blinnNormal(const PeriodicRelief& relief, Vec2 xy) {
 }
 
 // The BRDF renderer with the level's self-shadowing: each of its terms scaled by its own factor.
-double shadowedBrdf(const Material& material, const Light& light, const ViewFrame& frame, const BrdfTable& brdf,
-                    const ShadowingTable::Value& S) {
+double shadowedBrdf(const Material& material, const Light& light, const ViewFrame& frame,
+                    const BrdfTable& brdf, const ShadowingTable::Value& S) {
   Material diffuse = material, specular = material;
   diffuse.ks = Vec3(0.0f);
   specular.kd = Vec3(0.0f);
@@ -47,7 +47,8 @@ double shadowedBrdf(const Material& material, const Light& light, const ViewFram
 }  // namespace
 
 ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
-                                  const LevelTables& tables, float thetaV, const ConsistencySettings& s) {
+                                  const LevelTables& tables, float thetaV,
+                                  const ConsistencySettings& s) {
   const Material material = materialFor(s);
   std::vector<ConsistencyRow> perAzimuth(s.azimuths);
   tbb::parallel_for(0, s.azimuths, [&](int a) {
@@ -60,11 +61,14 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
     const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
     // The tabulated self-shadowing at this view and light, for redistribution and the BRDF.
     LightShadows S;
-    const ShadowingTable::Value sv = s.shadows ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi) : ShadowingTable::Value{};
+    const ShadowingTable::Value sv = s.shadows
+                                         ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi)
+                                         : ShadowingTable::Value{};
     S.light[0] = {sv.diffuse, sv.specular};
     const LightShadows* redistributionShadows = s.shadows ? &S : nullptr;
     const Vec3 L = -light.direction;
-    const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
+    const int side =
+        std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
     ConsistencyRow& row = perAzimuth[a];
     int hits = 0;
     for (int i = 0; i < side * side; ++i) {
@@ -74,8 +78,10 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
       const Vec3 P(xy, 0.0f);
       const Vec3 n = blinnNormal(relief, xy);
       row.bump += shadeLocal(material, lights, P, n, V).x;
-      row.redistribution += shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n), V,
-                                       redistributionShadows).x;
+      row.redistribution +=
+          shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n),
+                     V, redistributionShadows)
+              .x;
       // The displaced relief, projected-area weighted: uniform origins above it along -V; with
       // shadows a real shadow ray from each hit, lifted off the relief along its normal.
       Vec3 hit;
@@ -83,7 +89,9 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
         const Vec3 nHit = blinnNormal(relief, Vec2(hit));
         LightShadows visible;
         if (s.shadows && tile.occluded(hit + 1e-4f * nHit, L)) visible.light[0] = {0.0f, 0.0f};
-        row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V, s.shadows ? &visible : nullptr).x;
+        row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V,
+                                       s.shadows ? &visible : nullptr)
+                                .x;
         ++hits;
       }
     }
@@ -113,11 +121,15 @@ double worstPairwiseDifference(const ConsistencyRow& r) {
   return worst;
 }
 
-std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format, double normalizeTo) {
-  const double scale = normalizeTo > 0.0 && !rows.empty() && rows.front().bump > 0.0 ? normalizeTo / rows.front().bump : 1.0;
+std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format,
+                              double normalizeTo) {
+  const double scale = normalizeTo > 0.0 && !rows.empty() && rows.front().bump > 0.0
+                           ? normalizeTo / rows.front().bump
+                           : 1.0;
   std::string out = format == TableFormat::Csv
                         ? "theta_v,bump,redistribution,brdf,displacement\n"
-                        : "| theta_V | bump | redistribution | brdf | displacement | worst pair |\n|---|---|---|---|---|---|\n";
+                        : "| theta_V | bump | redistribution | brdf | displacement | worst pair "
+                          "|\n|---|---|---|---|---|---|\n";
   char line[256];
   for (const ConsistencyRow& r : rows) {
     const double deg = r.thetaV * 180.0 / kPi;
@@ -125,9 +137,9 @@ std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableForm
       std::snprintf(line, sizeof line, "%.6g,%.6f,%.6f,%.6f,%.6f\n", deg, r.bump * scale,
                     r.redistribution * scale, r.brdf * scale, r.displacement * scale);
     else
-      std::snprintf(line, sizeof line, "| %.4g | %.4f | %.4f | %.4f | %.4f | %.2f%% |\n", deg, r.bump * scale,
-                    r.redistribution * scale, r.brdf * scale, r.displacement * scale,
-                    100.0 * worstPairwiseDifference(r));
+      std::snprintf(line, sizeof line, "| %.4g | %.4f | %.4f | %.4f | %.4f | %.2f%% |\n", deg,
+                    r.bump * scale, r.redistribution * scale, r.brdf * scale,
+                    r.displacement * scale, 100.0 * worstPairwiseDifference(r));
     out += line;
   }
   return out;

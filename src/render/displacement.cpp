@@ -14,7 +14,8 @@
 
 namespace meso {
 
-static_assert(kMaxMaterialReliefLevels == kMaxReliefLevels, "the scene reader's level limit is the frames' capacity");
+static_assert(kMaxMaterialReliefLevels == kMaxReliefLevels,
+              "the scene reader's level limit is the frames' capacity");
 
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings) {
@@ -52,25 +53,30 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       bound_(displacementBound(relief)),
       lights_(lights.begin(), lights.end()) {}
 
-LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
-                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode,
+LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
+                                  const Vec3& eye, float pixelsPerRadian,
+                                  const TransitionSettings& settings, DisplacementMode mode,
                                   std::span<const Light> lights) {
   LevelTransitions out;
-  const int n = static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
+  const int n =
+      static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
   out.count = n;
   const Vec3 toEye = eye - sp.P;
   const float distance = glm::length(toEye);
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
   const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
   out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
-  bool flat = false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
+  bool flat =
+      false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
   for (int i = 0; i < n; ++i) {
     const ReliefLevel& level = relief.levels[i];
     const SurfaceFrame& f = out.frames[i];
-    out.T[i] = levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian, settings);
+    out.T[i] =
+        levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian, settings);
     for (const Light& light : lights)  // the terminator, like the silhouette (section 4.2)
-      out.T[i] = std::max(out.T[i], levelTransition(level, lengthPerU, glm::dot(f.N, sampleLight(light, sp.P).L),
-                                                    distance, pixelsPerRadian, settings));
+      out.T[i] = std::max(
+          out.T[i], levelTransition(level, lengthPerU, glm::dot(f.N, sampleLight(light, sp.P).L),
+                                    distance, pixelsPerRadian, settings));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {
@@ -85,7 +91,8 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
 }
 
 LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
-  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
+  const LevelTransitions t =
+      levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   LevelDisplacement out;
   out.disp = t.disp;
   out.raised = t.raised;
@@ -93,11 +100,14 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
 }
 
 Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
-  const LevelTransitions t = levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
+  const LevelTransitions t =
+      levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
-  for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
+  for (int i = 0; i < t.raised; ++i)
+    offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
-  return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset : Vec3(0.0f);
+  return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset
+                                                                                       : Vec3(0.0f);
 }
 
 namespace {
@@ -110,8 +120,9 @@ float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
 
 }  // namespace
 
-FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief, DisplacementMode mode,
-                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian) {
+FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
+                      DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
+                      float pixelsPerRadian) {
   const int n = surface.numFaces();
   FaceDicing out;
   out.needsDicing.assign(static_cast<size_t>(n), 0);
@@ -119,7 +130,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
   const ReliefLevel& coarsest = relief.levels.front();
-  const float threshold = transition.D + transition.e3 * transition.eps;  // least nu that T can raise
+  const float threshold =
+      transition.D + transition.e3 * transition.eps;  // least nu that T can raise
   tbb::parallel_for(0, n, [&](int face) {
     Vec3 lo, hi;
     if (!surface.faceBox(face, lo, hi)) return;

@@ -36,7 +36,8 @@ struct PixelSum {
 // Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
 // coordinates, never from the triangle (Chan 2002).
 // footprintScale 0: no footprint (unfiltered bump lookups).
-void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale, PixelSum& sum) {
+void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
+                 PixelSum& sum) {
   RayHit hit;
   if (!ctx.rays->intersect(ray, hit)) {
     sum.colour += ctx.scene->render.background;
@@ -44,11 +45,13 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   }
   const PreparedObject& object = ctx.objects[hit.mesh];
   const int face = object.mesh.triangleFace[hit.triangle];
-  SurfacePoint sp = object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
+  SurfacePoint sp =
+      object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
   Vec3 facet(0.0f);
   const Vec3 limitP = sp.P;
   if (object.displaced) {
-    sp.P = ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
+    sp.P =
+        ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
     if (ctx.facetNormals) {
       const uint32_t* k = &object.mesh.indices[3 * static_cast<size_t>(hit.triangle)];
       const Vec3& p0 = object.mesh.positions[k[0]];
@@ -59,8 +62,8 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   }
   Footprint footprint;
   if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
-    footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy), ctx.camera.generateRay(fx, fy + 1.0f),
-                            footprintScale);
+    footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy),
+                            ctx.camera.generateRay(fx, fy + 1.0f), footprintScale);
   // Macro shadows: occlusion rays from the hit on the very triangles this frame traced.
   LightShadows shadows;
   if (ctx.shadows && !ctx.scene->lights.empty()) {
@@ -76,8 +79,9 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
     o.limitP = object.displaced ? nullptr : &limitP;
     shadows = traceShadows(*ctx.rays, ctx.scene->lights, o);
   }
-  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint,
-                                     &limitP, ctx.shadows ? &shadows : nullptr);
+  const ShadeResult r =
+      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint,
+                   &limitP, ctx.shadows ? &shadows : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;
@@ -95,7 +99,8 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
   Rng rng(options.seed, pixelIndex);
   PixelSum sum;
   // A pixel averages its samples, so each sample filters over 1/sqrt(spp) of the pixel.
-  const float footprintScale = options.filterBump ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
+  const float footprintScale =
+      options.filterBump ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
   for (int i = 0; i < spp; ++i) {
     // Jittered stratum (i % cols, i / cols) of a cols x rows grid over the pixel.
     const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
@@ -109,9 +114,17 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
   Vec3 beauty = sum.colour * inv;
   const Vec3 algorithm = sum.algorithm * inv;
   if (options.falseColour) beauty = falseColour(beauty, algorithm);
-  const float values[kChannels] = {beauty.r, beauty.g, beauty.b, sum.depth * invHits,
-                                   sum.normal.x * invHits, sum.normal.y * invHits, sum.normal.z * invHits,
-                                   algorithm.r, algorithm.g, algorithm.b, sum.T * invHits};
+  const float values[kChannels] = {beauty.r,
+                                   beauty.g,
+                                   beauty.b,
+                                   sum.depth * invHits,
+                                   sum.normal.x * invHits,
+                                   sum.normal.y * invHits,
+                                   sum.normal.z * invHits,
+                                   algorithm.r,
+                                   algorithm.g,
+                                   algorithm.b,
+                                   sum.T * invHits};
   for (int c = 0; c < kChannels; ++c) {
     const bool finite = std::isfinite(values[c]);
     nonFinite += !finite;
@@ -121,28 +134,31 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
 
 }  // namespace
 
-Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters) {
+Image renderFrame(const RenderContext& ctx, const RenderOptions& options,
+                  RenderCounters& counters) {
   const CameraSettings& cam = ctx.camera.settings();
   Image film(cam.width, cam.height,
-             {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "algorithm.R", "algorithm.G",
-              "algorithm.B", "T.Y"});
+             {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "algorithm.R",
+              "algorithm.G", "algorithm.B", "T.Y"});
   const int tilesX = (cam.width + kTileSize - 1) / kTileSize;
   const int tilesY = (cam.height + kTileSize - 1) / kTileSize;
   ProgressBar progress("render", static_cast<int64_t>(tilesX) * tilesY, options.progress);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
-    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
-      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
-        if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
-        int64_t rays = 0, nonFinite = 0;
-        for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
-          for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
-            renderPixel(ctx, options, x, y, film, rays, nonFinite);
-        counters.rays.fetch_add(rays, std::memory_order_relaxed);
-        if (nonFinite) counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
-        progress.advance();
-      }
-    }
-  });
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1),
+      [&](const tbb::blocked_range2d<int>& r) {
+        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
+          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+            if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
+            int64_t rays = 0, nonFinite = 0;
+            for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
+              for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
+                renderPixel(ctx, options, x, y, film, rays, nonFinite);
+            counters.rays.fetch_add(rays, std::memory_order_relaxed);
+            if (nonFinite) counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
+            progress.advance();
+          }
+        }
+      });
   progress.finish();
   if (options.cancel && options.cancel->load()) throw Interrupted();
   return film;

@@ -32,8 +32,10 @@ ViewFrame makeViewFrame(const Vec3& N, const Vec3& V, const Vec3& tangentHint) {
   return f;
 }
 
-Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp, const Vec3& nBump) {
-  if (disp >= 1.0f) return nBump;  // fully displaced: the Blinn normal itself, not a round trip of it
+Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp,
+                        const Vec3& nBump) {
+  if (disp >= 1.0f)
+    return nBump;  // fully displaced: the Blinn normal itself, not a round trip of it
   const NormalAngles in = anglesOf(toFrame(f, nBump));
   const NormalAngles out = r.partial(f.thetaV, disp, in);
   return fromFrame(f, normalOf(out));
@@ -42,7 +44,8 @@ Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp,
 float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv) {
   const Vec2 Vn(glm::dot(V, Pu), glm::dot(V, Pv)), Ln(glm::dot(L, Pu), glm::dot(L, Pv));
   const float a = glm::length(Vn), b = glm::length(Ln);
-  if (!(a > 1e-6f * (glm::length(Pu) + glm::length(Pv))) || !(b > 1e-6f * (glm::length(Pu) + glm::length(Pv))))
+  if (!(a > 1e-6f * (glm::length(Pu) + glm::length(Pv))) ||
+      !(b > 1e-6f * (glm::length(Pu) + glm::length(Pv))))
     return -1.0f;
   const float c = glm::dot(Vn, Ln) / (a * b);
   return std::isfinite(c) ? std::acos(std::clamp(c, -1.0f, 1.0f)) : -1.0f;
@@ -58,7 +61,8 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
     if (l.z <= 0.0f) continue;
     const float thetaL = std::acos(std::min(l.z, 1.0f));
     const float eq2 = Pu && Pv ? azimuthEq2(V, s.L, *Pu, *Pv) : -1.0f;
-    const float phiVL = eq2 >= 0.0f ? eq2 : std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
+    const float phiVL =
+        eq2 >= 0.0f ? eq2 : std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
     const BrdfTable::Value v = brdf.lookup(f.thetaV, thetaL, phiVL);
     I += s.radiance * (material.kd * v.diffuse + material.ks * v.specular);
   }
@@ -70,7 +74,8 @@ namespace {
 // The view-aligned frame of tile coordinates (macro normal +z) for a tile-space direction v.
 ViewFrame tileViewFrame(const Vec3& v) {
   const float len = glm::length(v);
-  return makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), len > 0.0f && std::isfinite(len) ? v / len : Vec3(0, 0, 1),
+  return makeViewFrame(Vec3(0.0f, 0.0f, 1.0f),
+                       len > 0.0f && std::isfinite(len) ? v / len : Vec3(0, 0, 1),
                        Vec3(1.0f, 0.0f, 0.0f));
 }
 
@@ -81,17 +86,19 @@ Vec3 normalizedOr(const Vec3& v, const Vec3& fallback) {
 
 }  // namespace
 
-Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp, const Vec3& nBump) {
+Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp,
+                        const Vec3& nBump) {
   if (disp >= 1.0f) return nBump;
   const Vec3 vt = m.toTile(V);
   const ViewFrame f = tileViewFrame(vt);
   const Vec3 nTile = normalizedOr(m.normalToTile(nBump), Vec3(0, 0, 1));
-  const NormalAngles out = r.partial(f.thetaV, std::atan2(f.T.y, f.T.x), disp, anglesOf(toFrame(f, nTile)));
+  const NormalAngles out =
+      r.partial(f.thetaV, std::atan2(f.T.y, f.T.x), disp, anglesOf(toFrame(f, nTile)));
   return normalizedOr(m.normalToWorld(fromFrame(f, normalOf(out))), m.N);
 }
 
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P, const TileMap& m,
-               const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w) {
+Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
+               const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w) {
   Vec3 I = material.ka;
   const ViewFrame f = tileViewFrame(m.toTile(V));
   const float phiV = std::atan2(f.T.y, f.T.x);  // the view's azimuth about the relief's axes

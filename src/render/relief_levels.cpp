@@ -79,7 +79,8 @@ TableSettings tableSettings(const TableResolution& q) {
   t.histogram.meshResolution = q.meshResolution;
   t.brdf.thetaL = q.brdfThetaL;
   t.brdf.phi = q.brdfPhi;
-  t.variant = q.variant == "separable" ? RedistributionVariant::Separable : RedistributionVariant::Conditional;
+  t.variant = q.variant == "separable" ? RedistributionVariant::Separable
+                                       : RedistributionVariant::Conditional;
   return t;
 }
 
@@ -121,7 +122,8 @@ MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
   while (k + 2 <= last && metrics[k + 1].lengthPerU <= l) ++k;
   p.k0 = k;
   p.k1 = k + 1;
-  p.w = std::log(l / metrics[k].lengthPerU) / std::log(metrics[k + 1].lengthPerU / metrics[k].lengthPerU);
+  p.w = std::log(l / metrics[k].lengthPerU) /
+        std::log(metrics[k + 1].lengthPerU / metrics[k].lengthPerU);
   p.w = std::clamp(p.w, 0.0f, 1.0f);
   p.nearest = p.w < 0.5f ? p.k0 : p.k1;
   return p;
@@ -144,7 +146,8 @@ std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, 
     q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
     if (std::abs(std::log2(m.shape.a)) < 1e-3f) q.a = 1.0f;
     if (std::abs(m.shape.b) < 1e-3f) q.b = 0.0f;
-    auto it = std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.shape == q; });
+    auto it =
+        std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.shape == q; });
     if (it == ranges.end()) it = ranges.insert(ranges.end(), Range{q});
     it->lo = std::min(it->lo, m.lengthPerU);
     it->hi = std::max(it->hi, m.lengthPerU);
@@ -159,7 +162,8 @@ std::vector<float> metricClasses(float lo, float hi, float stepOctaves) {
   if (!(lo > 0.0f) || !std::isfinite(lo) || !std::isfinite(hi) || hi < lo) return {1.0f};
   if (hi / lo < 1.001f) return {std::sqrt(lo * hi)};
   const double octaves = std::log2(static_cast<double>(hi) / lo);
-  const int steps = std::max(1, static_cast<int>(std::ceil(octaves / std::max(stepOctaves, 1e-3f) - 1e-6)));
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(octaves / std::max(stepOctaves, 1e-3f) - 1e-6)));
   std::vector<float> out;
   for (int k = 0; k <= steps; ++k)
     out.push_back(static_cast<float>(lo * std::exp2(octaves * k / steps)));
@@ -170,10 +174,10 @@ namespace {
 
 // The tables of every level for one metric class, finest first in the build (each coarser BRDF
 // integrates the finer one), stored coarsest first.
-MetricTables buildMetricTables(const MaterialRelief& r, const Material& material, const MetricClass& metric,
-                               const TableCache& cache, std::vector<std::string>* warnings,
-                               const TableSettings& shapeless, const SpecularLobe* lobe, int* built, int* loaded,
-                               double* seconds) {
+MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
+                               const MetricClass& metric, const TableCache& cache,
+                               std::vector<std::string>* warnings, const TableSettings& shapeless,
+                               const SpecularLobe* lobe, int* built, int* loaded, double* seconds) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -181,8 +185,9 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   std::vector<LevelTables> reversed;
   for (size_t k = 0; k < n; ++k) {
     const TileRelief tile(r.levels[n - 1 - k], lengthPerU);
-    reversed.push_back(buildLevelTables(tile, material.phong, settings, k == 0 ? nullptr : &reversed.back(),
-                                        cache, warnings, k == 0 ? lobe : nullptr));
+    reversed.push_back(buildLevelTables(tile, material.phong, settings,
+                                        k == 0 ? nullptr : &reversed.back(), cache, warnings,
+                                        k == 0 ? lobe : nullptr));
     const LevelTables& t = reversed.back();
     (t.fromCache ? *loaded : *built) += 1;
     *seconds += t.seconds;
@@ -197,7 +202,8 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
 }  // namespace
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings, const TableSettings& settings,
+                                   std::vector<std::string>* warnings,
+                                   const TableSettings& settings,
                                    std::vector<MetricClass> classes) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
@@ -205,26 +211,36 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
   if (material.ndf.present) {
     const ReliefLevel* finest = n > 0 ? &r.levels.back() : nullptr;
     float angle = 0.0f;
-    std::unique_ptr<Ndf> ndf = makeNdf(material.ndf, finest ? finest->source.get() : nullptr,
-                                       finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f, &angle);
+    std::unique_ptr<Ndf> ndf =
+        makeNdf(material.ndf, finest ? finest->source.get() : nullptr,
+                finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f, &angle);
     // Octave 0 continues just below the finest level's shortest wavelength (16 cells per unit of u
     // on a material without relief), unless the scene says otherwise.
-    const float base = material.ndf.scale > 0.0f ? material.ndf.scale : (finest ? 2.0f * finest->freqPerU : 16.0f);
-    r.synthesis = buildSynthesisLevel(material.ndf, std::move(ndf), base, angle, finest ? finest->source.get() : nullptr,
-                                      finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f);
+    const float base =
+        material.ndf.scale > 0.0f ? material.ndf.scale : (finest ? 2.0f * finest->freqPerU : 16.0f);
+    r.synthesis = buildSynthesisLevel(
+        material.ndf, std::move(ndf), base, angle, finest ? finest->source.get() : nullptr,
+        finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f);
   }
   const SpecularLobe lobe = r.synthesis ? r.synthesis->lobe() : SpecularLobe{};
-  std::erase_if(classes, [](const MetricClass& m) { return !(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU); });
+  std::erase_if(classes, [](const MetricClass& m) {
+    return !(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU);
+  });
   if (classes.empty()) classes.push_back({});
-  const auto key = [](const MetricClass& m) { return std::tuple(m.shape.a, m.shape.b, m.lengthPerU); };
-  std::sort(classes.begin(), classes.end(), [&](const MetricClass& x, const MetricClass& y) { return key(x) < key(y); });
-  classes.erase(std::unique(classes.begin(), classes.end(),
-                            [&](const MetricClass& x, const MetricClass& y) { return key(x) == key(y); }),
-                classes.end());
+  const auto key = [](const MetricClass& m) {
+    return std::tuple(m.shape.a, m.shape.b, m.lengthPerU);
+  };
+  std::sort(classes.begin(), classes.end(),
+            [&](const MetricClass& x, const MetricClass& y) { return key(x) < key(y); });
+  classes.erase(
+      std::unique(classes.begin(), classes.end(),
+                  [&](const MetricClass& x, const MetricClass& y) { return key(x) == key(y); }),
+      classes.end());
   if (n == 0) return r;
   for (const MetricClass& m : classes)
-    r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings, r.synthesis ? &lobe : nullptr,
-                                          &r.tablesBuilt, &r.tablesFromCache, &r.tablesSeconds));
+    r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings,
+                                          r.synthesis ? &lobe : nullptr, &r.tablesBuilt,
+                                          &r.tablesFromCache, &r.tablesSeconds));
   return r;
 }
 

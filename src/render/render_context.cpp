@@ -49,8 +49,15 @@ bool RenderContext::viewDependent() const {
 }
 
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame) {
-  RenderContext ctx{&scene, Camera(scene.camera), {}, nullptr, {}, {}, parseAlgorithm(scene.render.algorithm),
-                    scene.render.normals == "facet", scene.render.shadows};
+  RenderContext ctx{&scene,
+                    Camera(scene.camera),
+                    {},
+                    nullptr,
+                    {},
+                    {},
+                    parseAlgorithm(scene.render.algorithm),
+                    scene.render.normals == "facet",
+                    scene.render.shadows};
   ctx.reliefs.resize(scene.materials.size());
   for (const Object& object : scene.objects) {
     Timer load;
@@ -73,11 +80,13 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, false});
   }
   Timer tables;
-  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir);
+  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder()
+                                                       : scene.render.cacheDir);
   TableSettings settings = tableSettings(scene.render.tables);
   // Self-shadowing tables only where a far-field renderer draws relief: bump ignores relief
   // shadows, displacement traces them.
-  settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
+  settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump &&
+                     ctx.algorithm != Algorithm::Displacement;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
     bool used = false;
@@ -97,7 +106,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   return ctx;
 }
 
-FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settings, PrepareTimes& times) {
+FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settings,
+                                PrepareTimes& times) {
   ctx.camera = Camera(settings);
   FrameGeometryStats stats;
   if (ctx.rays && !ctx.viewDependent()) {
@@ -105,10 +115,11 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     return stats;
   }
   const RenderSettings& rs = ctx.scene->render;
-  const DisplacementMode mode =
-      ctx.algorithm == Algorithm::Displacement ? DisplacementMode::Full : DisplacementMode::ByTransition;
-  const ScreenMetric screen = ScreenMetric::lookAt(settings.position, settings.lookAt, settings.up, settings.fovY,
-                                                   settings.width, settings.height);
+  const DisplacementMode mode = ctx.algorithm == Algorithm::Displacement
+                                    ? DisplacementMode::Full
+                                    : DisplacementMode::ByTransition;
+  const ScreenMetric screen = ScreenMetric::lookAt(settings.position, settings.lookAt, settings.up,
+                                                   settings.fovY, settings.width, settings.height);
   DicingSettings dicing;
   dicing.dicingRate = rs.dicingRate;
   dicing.metric = parseDicingMetric(rs.dicingMetric);
@@ -122,27 +133,32 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
     if (!object.displaced) {
-      if (object.mesh.numTriangles() == 0) object.mesh = tessellateUniform(object.surface, rs.tessellationRate);
+      if (object.mesh.numTriangles() == 0)
+        object.mesh = tessellateUniform(object.surface, rs.tessellationRate);
       continue;
     }
     object.mesh = {};
     const MaterialRelief& relief = ctx.reliefs[object.material];
-    const ReliefDisplacement displacement(relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian(),
-                                          ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
+    const ReliefDisplacement displacement(
+        relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian(),
+        ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
     dicing.maxMicropolygons = std::max<size_t>(budget, 1);
-    AdaptiveTessellation t = tessellateAdaptive(
-        object.surface, screen, dicing,
-        faceDicing(object.surface, relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian()),
-        &displacement);
-    if (!t.warning.empty()) ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
+    AdaptiveTessellation t =
+        tessellateAdaptive(object.surface, screen, dicing,
+                           faceDicing(object.surface, relief, mode, rs.transition,
+                                      settings.position, ctx.camera.pixelsPerRadian()),
+                           &displacement);
+    if (!t.warning.empty())
+      ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
     stats.micropolygons += t.stats.micropolygons;
     stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
     stats.facesDiced += t.stats.facesDiced;
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;
     const TessellatedMesh& m = t.mesh;
-    stats.meshBytes += m.positions.capacity() * sizeof(Vec3) + m.indices.capacity() * sizeof(uint32_t) +
-                       m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
+    stats.meshBytes +=
+        m.positions.capacity() * sizeof(Vec3) + m.indices.capacity() * sizeof(uint32_t) +
+        m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
     object.mesh = std::move(t.mesh);
     grids[k] = std::move(t.grids);
   }

@@ -37,8 +37,10 @@ Rendered renderWith(const Scene& base, const std::string& algorithm, float dicin
     for (int y = 0; y < r.image.height; ++y)
       for (int x = 0; x < r.image.width; ++x) {
         RayHit hit;
-        const Ray ray = ctx.camera.generateRay(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
-        if (ctx.rays && ctx.rays->intersect(ray, hit)) r.object[static_cast<size_t>(y) * r.image.width + x] = hit.mesh;
+        const Ray ray =
+            ctx.camera.generateRay(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+        if (ctx.rays && ctx.rays->intersect(ray, hit))
+          r.object[static_cast<size_t>(y) * r.image.width + x] = hit.mesh;
       }
   }
   return r;
@@ -57,11 +59,14 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
     if (o.onRender) o.onRender(what);
   };
   char dicing[64];
-  std::snprintf(dicing, sizeof dicing, "%g px and %g px", o.referenceDicing, 2.0f * o.referenceDicing);
+  std::snprintf(dicing, sizeof dicing, "%g px and %g px", o.referenceDicing,
+                2.0f * o.referenceDicing);
   announce(std::string("reference: displacement at ") + dicing);
-  images.push_back(renderWith(scene, "displacement", o.referenceDicing, o.referenceSpp, o.cancel, true));
+  images.push_back(
+      renderWith(scene, "displacement", o.referenceDicing, o.referenceSpp, o.cancel, true));
   report.renderers.push_back("reference");
-  images.push_back(renderWith(scene, "displacement", 2.0f * o.referenceDicing, o.referenceSpp, o.cancel, false));
+  images.push_back(
+      renderWith(scene, "displacement", 2.0f * o.referenceDicing, o.referenceSpp, o.cancel, false));
   report.renderers.push_back("coarse reference");
   for (const std::string& a : o.algorithms) {
     announce(a);
@@ -74,7 +79,8 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   const size_t numObjects = scene.objects.size();
   report.regions.resize(numObjects + static_cast<size_t>(bands));
   for (size_t k = 0; k < numObjects; ++k)
-    report.regions[k].name = "object " + std::to_string(k) + " (" + scene.objects[k].mesh.filename().string() + ")";
+    report.regions[k].name =
+        "object " + std::to_string(k) + " (" + scene.objects[k].mesh.filename().string() + ")";
   for (int b = 0; b < bands; ++b)
     report.regions[numObjects + b].name = "rows " + std::to_string(b * ref.height / bands) + "-" +
                                           std::to_string((b + 1) * ref.height / bands - 1);
@@ -83,7 +89,8 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
     for (int x = 0; x < ref.width; ++x) {
       const int obj = object[static_cast<size_t>(y) * ref.width + x];
       if (obj < 0) continue;
-      ConsistencyRegion* regions[2] = {&report.regions[obj], &report.regions[numObjects + y * bands / ref.height]};
+      ConsistencyRegion* regions[2] = {&report.regions[obj],
+                                       &report.regions[numObjects + y * bands / ref.height]};
       for (ConsistencyRegion* r : regions) {
         r->pixels += 1;
         for (size_t i = 0; i < images.size(); ++i) r->mean[i] += luminance(images[i].image, x, y);
@@ -116,7 +123,8 @@ std::string formatSceneConsistency(const SceneConsistencyReport& report, bool ma
   const std::string sep = markdown ? " | " : ",";
   out += markdown ? "| region | pixels" : "region,pixels";
   for (const std::string& r : report.renderers) out += sep + r;
-  for (size_t i = 1; i < report.renderers.size(); ++i) out += sep + report.renderers[i] + " vs reference";
+  for (size_t i = 1; i < report.renderers.size(); ++i)
+    out += sep + report.renderers[i] + " vs reference";
   out += markdown ? " |\n" : "\n";
   if (markdown) {
     out += "|---|---";
@@ -125,7 +133,8 @@ std::string formatSceneConsistency(const SceneConsistencyReport& report, bool ma
   }
   for (const ConsistencyRegion& r : report.regions) {
     if (r.pixels == 0) continue;
-    out += (markdown ? "| " : "") + (markdown ? r.name : "\"" + r.name + "\"") + sep + std::to_string(r.pixels);
+    out += (markdown ? "| " : "") + (markdown ? r.name : "\"" + r.name + "\"") + sep +
+           std::to_string(r.pixels);
     for (double m : r.mean) out += sep + cell(m, "%.5f");
     for (size_t i = 1; i < r.mean.size(); ++i)
       out += sep + cell(r.mean[0] > 0.0 ? 100.0 * (r.mean[i] / r.mean[0] - 1.0) : 0.0, "%+.2f%%");

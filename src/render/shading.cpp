@@ -28,8 +28,9 @@ namespace {
 // ka + sum over lights of radiance (kd (L.N) + ks highlight(H)), H the unit half vector; lights
 // below the shading horizon add nothing, and L = -V (no half vector) has no highlight.
 template <class Highlight>
-Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Vec3& P, const Vec3& N,
-               const Vec3& V, const LightShadows* shadows, const Highlight& highlight) {
+Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Vec3& P,
+               const Vec3& N, const Vec3& V, const LightShadows* shadows,
+               const Highlight& highlight) {
   Vec3 I = material.ka;
   for (size_t i = 0; i < lights.size(); ++i) {
     // Without shadows the arithmetic is exactly the unshadowed model's (bit-identical images).
@@ -43,7 +44,8 @@ Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Ve
       const Vec3 h = s.L + V;
       const float len = glm::length(h);
       if (len > 1e-12f)
-        reflect += shadows ? material.ks * (highlight(h / len) * shadow.specular) : material.ks * highlight(h / len);
+        reflect += shadows ? material.ks * (highlight(h / len) * shadow.specular)
+                           : material.ks * highlight(h / len);
     }
     I += reflect * s.radiance;
   }
@@ -54,8 +56,9 @@ Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Ve
 
 Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
                 const Vec3& N, const Vec3& V, const LightShadows* shadows) {
-  return shadeWith(material, lights, P, N, V, shadows,
-                   [&](const Vec3& H) { return std::pow(std::max(glm::dot(H, N), 0.0f), material.phong); });
+  return shadeWith(material, lights, P, N, V, shadows, [&](const Vec3& H) {
+    return std::pow(std::max(glm::dot(H, N), 0.0f), material.phong);
+  });
 }
 
 Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,

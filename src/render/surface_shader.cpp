@@ -29,8 +29,8 @@ struct LevelContext {
   float distance;
   bool raised;  // the object's geometry carries the displacement of levels whose T exceeds e3
   const Footprint* footprint;
-  const LevelTransitions* transitions;  // T, weights and disp per level (auto mode only)
-  MetricPosition metric;                // where the surface's metric falls between table classes
+  const LevelTransitions* transitions;    // T, weights and disp per level (auto mode only)
+  MetricPosition metric;                  // where the surface's metric falls between table classes
   const LightShadows* shadows = nullptr;  // macro visibility per light; null: no shadows at all
 };
 
@@ -49,18 +49,21 @@ TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
 
 // Level i's self-shadowing factor per light on frame f (docs/shadows.md).
 LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f) {
-  return reliefShadowing(c.ctx.scene->lights, c.sp.P, brdfTileMap(c, f), c.V, c.relief.tables(i, c.metric.k0).shadowing,
+  return reliefShadowing(c.ctx.scene->lights, c.sp.P, brdfTileMap(c, f), c.V,
+                         c.relief.tables(i, c.metric.k0).shadowing,
                          c.relief.tables(i, c.metric.k1).shadowing, c.metric.w);
 }
 
 // The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
 // With shadows, each light is scaled by `shadows` times the self-shadowing of this level and of
 // every finer one (the BRDF stands for all of them), looked up at this frame's angles.
-Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped, const LightShadows* shadows) {
+Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped,
+               const LightShadows* shadows) {
   const TileMap m = brdfTileMap(c, shaped);
   const BrdfTable& t0 = c.relief.tables(i, c.metric.k0).brdf;
   const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
-  if (!shadows) return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w);
+  if (!shadows)
+    return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w);
   LightShadows s = *shadows;
   for (size_t k = i; k < c.relief.levels.size(); ++k) s *= levelShadowing(c, k, shaped);
   return shadeBrdfShadowed(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w, s);
@@ -69,7 +72,8 @@ Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped, const 
 // The level's redistributed normal on frame f. Each class's map is exact in distribution; near the
 // middle between two classes their normals are mixed so that the map stays continuous over a
 // surface whose metric varies.
-Vec3 levelRedistribution(const LevelContext& c, size_t i, const LevelFrame& f, float disp, const Vec3& nBump) {
+Vec3 levelRedistribution(const LevelContext& c, size_t i, const LevelFrame& f, float disp,
+                         const Vec3& nBump) {
   const auto at = [&](int k) {
     const LevelFrame g = unshaped(f, c.relief.metrics[k].shape);
     const TileMap m = makeTileMap(g.Pu, g.Pv, g.N, c.relief.metrics[k].lengthPerU);
@@ -95,7 +99,8 @@ Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
 // Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
 // local model. `own` is the algorithm colour of the level above, mixed towards synthesis by how
 // much synthesized detail shows.
-ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& own, const LightShadows* shadows) {
+ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& own,
+                        const LightShadows* shadows) {
   ShadeResult r;
   if (!c.relief.synthesis) {
     r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, shadows);
@@ -107,8 +112,9 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
   const float cosV = std::max(glm::dot(f.N, c.V), 0.1f);
   const float pixelsPerUnit =
       c.distance > 0.0f ? c.ctx.camera.pixelsPerRadian() * lengthPerU * cosV / c.distance : 1e30f;
-  const SynthesisShade s = shadeSynthesisLevel(*c.relief.synthesis, c.material, c.ctx.scene->lights, c.sp.P, f.Pu,
-                                               f.N, c.V, c.sp.uv, pixelsPerUnit, shadows);
+  const SynthesisShade s =
+      shadeSynthesisLevel(*c.relief.synthesis, c.material, c.ctx.scene->lights, c.sp.P, f.Pu, f.N,
+                          c.V, c.sp.uv, pixelsPerUnit, shadows);
   r.colour = s.colour;
   r.normal = s.normal;
   r.synthesis = s.weight;
@@ -119,11 +125,11 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
 // Shades levels i.. on frame f (auto mode), DESIGN.md section 3. Below e2 the paper blends the
 // intensities of the BRDF and of redistribution (which hands over to the next level); above e3 the
 // level's geometry was raised by disp = ramp(T; e3, e4) when the frame was tessellated, and its
-// normal goes through theta_W (n' = R_thetaV(R_thetaW^-1(n)), exactly the Blinn normal at disp = 1);
-// the next level then shades that surface with the renderer its own T picks.
-// With shadows, `shadows` is the light that reaches level i (macro visibility times the coarser
-// levels' self-shadowing); level i adds its own factor where it is not displaced (mixed towards 1
-// by disp: raised geometry casts real shadows).
+// normal goes through theta_W (n' = R_thetaV(R_thetaW^-1(n)), exactly the Blinn normal at disp =
+// 1); the next level then shades that surface with the renderer its own T picks. With shadows,
+// `shadows` is the light that reaches level i (macro visibility times the coarser levels'
+// self-shadowing); level i adds its own factor where it is not displaced (mixed towards 1 by disp:
+// raised geometry casts real shadows).
 ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows) {
   if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
   ShadeResult r;
@@ -152,11 +158,15 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
     }
     const ShadeResult finer = shadeAuto(c, i + 1, next, shadows ? &below : nullptr);
     r.colour += (1.0f - w.brdf) * finer.colour;
-    const Vec3 own = glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
-    r.algorithm += (1.0f - w.brdf) * (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
+    const Vec3 own =
+        glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
+    r.algorithm +=
+        (1.0f - w.brdf) *
+        (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
     r.synthesis = (1.0f - w.brdf) * finer.synthesis;
     r.normal = finer.normal;
-    for (size_t k = i + 1; k < c.relief.levels.size() && k < kMaxReliefLevels; ++k) r.disp[k] = finer.disp[k];
+    for (size_t k = i + 1; k < c.relief.levels.size() && k < kMaxReliefLevels; ++k)
+      r.disp[k] = finer.disp[k];
     if (!finest && w.brdf == 0.0f) r.T = finer.T;
   }
   return r;
@@ -174,7 +184,8 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
     frames[i] = f;
     Vec2 B = level.derivatives(c.sp.uv);
     if (level.pyramid) {
-      const Vec2 size(static_cast<float>(level.pyramid->width()), static_cast<float>(level.pyramid->height()));
+      const Vec2 size(static_cast<float>(level.pyramid->width()),
+                      static_cast<float>(level.pyramid->height()));
       const SlopeSample s = level.pyramid
                                 ->lookup(level.scale * c.sp.uv, level.scale * fp.dUVdx * size,
                                          level.scale * fp.dUVdy * size)
@@ -189,22 +200,28 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
   }
   Vec3 e1 = f.Pu - glm::dot(f.Pu, f.N) * f.N;
   const float len = glm::length(e1);
-  e1 = len > 1e-12f && std::isfinite(len) ? e1 / len : glm::normalize(glm::cross(f.N, std::abs(f.N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
+  e1 =
+      len > 1e-12f && std::isfinite(len)
+          ? e1 / len
+          : glm::normalize(glm::cross(f.N, std::abs(f.N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
   const Vec3 e2 = glm::cross(f.N, e1);
   // Below the finest level: synthesized detail continues the relief (its own lobe replaces the
   // roughness that filtering removed); without it, Schilling's widened highlight.
   if (c.relief.synthesis) return shadeBottom(c, f, algorithm_colour::kBump, c.shadows);
   SlopeCovariance roughness;
-  for (size_t i = 0; i < n; ++i) roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
+  for (size_t i = 0; i < n; ++i)
+    roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
   ShadeResult r;
-  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness, c.shadows);
+  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness,
+                            c.shadows);
   r.algorithm = algorithm_colour::kBump;
   r.normal = f.N;
   return r;
 }
 
 ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f) {
-  if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid) return shadeFilteredBump(c, f);
+  if (algorithm == Algorithm::Bump && c.footprint && c.footprint->valid)
+    return shadeFilteredBump(c, f);
   ShadeResult r;
   if (algorithm == Algorithm::Brdf) {
     r.colour = levelBrdf(c, 0, f, c.shadows);
@@ -218,8 +235,10 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
   for (size_t i = 0; i < c.relief.levels.size(); ++i) {
     const LevelFrame before = f;
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
-    if (algorithm == Algorithm::Redistribution && c.shadows) shadows *= levelShadowing(c, i, before);
-    f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump) : nBump;
+    if (algorithm == Algorithm::Redistribution && c.shadows)
+      shadows *= levelShadowing(c, i, before);
+    f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump)
+                                                 : nBump;
   }
   return shadeBottom(c, f,
                      algorithm == Algorithm::Redistribution ? algorithm_colour::kRedistribution
@@ -248,16 +267,19 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
   }
   fp.dUVdx = d[0];
   fp.dUVdy = d[1];
-  fp.valid = std::isfinite(d[0].x) && std::isfinite(d[0].y) && std::isfinite(d[1].x) && std::isfinite(d[1].y);
+  fp.valid = std::isfinite(d[0].x) && std::isfinite(d[0].y) && std::isfinite(d[1].x) &&
+             std::isfinite(d[1].y);
   return fp;
 }
 
-ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP,
+ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
+                         const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal,
+                         const Footprint* footprint, const Vec3* limitP,
                          const LightShadows* shadows) {
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
-  // Shade the side that faces the eye (open meshes such as a ground plane are seen from either side).
+  // Shade the side that faces the eye (open meshes such as a ground plane are seen from either
+  // side).
   const bool back = glm::dot(sp.N, V) < 0.0f;
   LevelFrame frame{sp.Pu, sp.Pv, back ? -sp.N : sp.N};
   if (relief.levels.empty() && !relief.synthesis) {
@@ -276,8 +298,17 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
     return r;
   }
   if (relief.levels.empty()) {  // an NDF alone
-    const LevelContext c{ctx, material, relief, sp, V, glm::length(sp.P - ctx.camera.position()), object.displaced,
-                         footprint, nullptr, {}, shadows};
+    const LevelContext c{ctx,
+                         material,
+                         relief,
+                         sp,
+                         V,
+                         glm::length(sp.P - ctx.camera.position()),
+                         object.displaced,
+                         footprint,
+                         nullptr,
+                         {},
+                         shadows};
     return shadeBottom(c, frame, algorithm_colour::kSmooth, shadows);
   }
   // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
@@ -285,14 +316,23 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   const SurfacePoint limit{limitP ? *limitP : sp.P, sp.Pu, sp.Pv, sp.N, sp.uv};
   LevelTransitions transitions;
   if (ctx.algorithm == Algorithm::Auto)
-    transitions = levelTransitions(relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
-                                   ctx.scene->render.transition, DisplacementMode::ByTransition,
-                                   ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
-  const LevelContext c{ctx,      material,     relief,
-                       sp,       V,            glm::length(sp.P - ctx.camera.position()),
-                       object.displaced, footprint, &transitions,
-                       relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows};
-  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows) : shadeFixed(c, ctx.algorithm, frame);
+    transitions = levelTransitions(
+        relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
+        ctx.scene->render.transition, DisplacementMode::ByTransition,
+        ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
+  const LevelContext c{ctx,
+                       material,
+                       relief,
+                       sp,
+                       V,
+                       glm::length(sp.P - ctx.camera.position()),
+                       object.displaced,
+                       footprint,
+                       &transitions,
+                       relief.metricAt(metricOf(sp.Pu, sp.Pv)),
+                       shadows};
+  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows)
+                                          : shadeFixed(c, ctx.algorithm, frame);
 }
 
 }  // namespace meso

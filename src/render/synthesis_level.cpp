@@ -32,7 +32,8 @@ float smoothstep01(float x) {
 std::unique_ptr<Ndf> tabulatedFromImage(const NdfDecl& decl) {
   try {
     const Image img = readImage(decl.image);
-    if (img.width < 2 || img.height < 2) throw Error(decl.image.string() + ": an NDF image needs at least 2 x 2 pixels");
+    if (img.width < 2 || img.height < 2)
+      throw Error(decl.image.string() + ": an NDF image needs at least 2 x 2 pixels");
     // One channel, or the luminance of RGB(A); image row 0 (the top) is m.y = +1.
     std::vector<float> values(static_cast<size_t>(img.width) * img.height);
     for (int y = 0; y < img.height; ++y)
@@ -85,8 +86,11 @@ std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, fl
   if (decl.type == "beckmann") return std::make_unique<BeckmannNdf>(decl.alpha.x, decl.alpha.y);
   if (decl.type == "blinn-phong") return std::make_unique<BlinnPhongNdf>(decl.exponent);
   if (decl.type == "tabulated") return tabulatedFromImage(decl);
-  if (!finest) throw Error(decl.loc, "materials.ndf.type", "\"relief\" needs a relief level to estimate the NDF from");
-  // Kautz et al. section 7: the NDF of the finest level's own slopes (Beckmann in its principal frame).
+  if (!finest)
+    throw Error(decl.loc, "materials.ndf.type",
+                "\"relief\" needs a relief level to estimate the NDF from");
+  // Kautz et al. section 7: the NDF of the finest level's own slopes (Beckmann in its principal
+  // frame).
   NdfEstimateOptions options;
   options.slopeScale = finestAmplitude * finestScale;
   NdfEstimate e = estimateNdf(*finest, options);
@@ -125,7 +129,8 @@ std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::un
   level->sinAngle = std::sin(radians(decl.angle) + principalAngle);
   level->lambert = decl.lambert;
   if (decl.type == "relief" && finest) {
-    level->index = std::make_unique<IndexTexture>(*finest, level->sampler->table(), 256, finestAmplitude * finestScale);
+    level->index = std::make_unique<IndexTexture>(*finest, level->sampler->table(), 256,
+                                                  finestAmplitude * finestScale);
     level->indexScale = finestScale;
   }
   level->seconds = timer.seconds();
@@ -155,7 +160,8 @@ SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& 
   const float len = glm::length(t);
   t = len > 1e-20f && std::isfinite(len) ? t / len : Vec3(0.0f);
   const Vec3 T = level.cosAngle * t + level.sinAngle * glm::cross(N, t);
-  const ScaledSlopeNdf lobe(*level.ndf, std::sqrt(std::max(1.0f - kStructureShare * out.weight * out.weight, 1e-4f)));
+  const ScaledSlopeNdf lobe(
+      *level.ndf, std::sqrt(std::max(1.0f - kStructureShare * out.weight * out.weight, 1e-4f)));
   out.normal = ndfFrameToWorld(N, T, m);
   out.colour = material.ka;
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -163,7 +169,8 @@ SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& 
     if (shadows && shadow.diffuse <= 0.0f && shadow.specular <= 0.0f) continue;
     const LightSample s = sampleLight(lights[i], P);
     const SynthesizedShading f = shadeSynthesized(lobe, N, T, V, s.L, m);
-    const float diffuse = level.lambert ? f.diffuse : std::max(glm::dot(s.L, N), 0.0f) * (glm::dot(V, N) > 0.0f);
+    const float diffuse =
+        level.lambert ? f.diffuse : std::max(glm::dot(s.L, N), 0.0f) * (glm::dot(V, N) > 0.0f);
     // Multiplying by exactly 1 keeps the unshadowed bits.
     out.colour += s.radiance * (material.kd * (diffuse * shadow.diffuse) +
                                 material.ks * ((f.specular / level.peak) * shadow.specular));

@@ -57,15 +57,19 @@ void checkHeader(std::string_view bytes, const std::filesystem::path& file,
       uint64_t count = 0;
       // Every element needs at least one byte, even in binary: counts beyond the file are corrupt.
       if (words >> w >> name >> count && w == "element" && count > size)
-        fail(file, "PLY header declares " + std::to_string(count) + " " + name + " elements, more than the file can hold");
+        fail(file, "PLY header declares " + std::to_string(count) + " " + name +
+                       " elements, more than the file can hold");
     }
   } else if (ext == ".off") {
     std::istringstream words(head);
     std::string magic;
     uint64_t nv = 0, nf = 0;
-    if (!(words >> magic) || magic.find("OFF") == std::string::npos) fail(file, "not an OFF file (no \"OFF\" magic)");
-    if (!(words >> nv >> nf)) fail(file, "truncated or malformed OFF header (expected vertex and face counts)");
-    if (nv * 6 + nf * 8 > size * 2 + 64) fail(file, "OFF header declares more vertices or faces than the file holds (truncated?)");
+    if (!(words >> magic) || magic.find("OFF") == std::string::npos)
+      fail(file, "not an OFF file (no \"OFF\" magic)");
+    if (!(words >> nv >> nf))
+      fail(file, "truncated or malformed OFF header (expected vertex and face counts)");
+    if (nv * 6 + nf * 8 > size * 2 + 64)
+      fail(file, "OFF header declares more vertices or faces than the file holds (truncated?)");
   }
 }
 
@@ -73,7 +77,8 @@ void checkHeader(std::string_view bytes, const std::filesystem::path& file,
 
 ControlMesh loadControlMesh(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (ext != ".obj" && ext != ".ply" && ext != ".off")
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
   return parseControlMesh(readInputFile(file, "mesh", kMaxMeshBytes), file);

@@ -22,31 +22,40 @@ namespace {
 
 std::string describe(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return std::to_string(n.as_integer()->get());
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return std::to_string(n.as_integer()->get());
     case toml::node_type::floating_point: {
       std::ostringstream s;
       s << n.as_floating_point()->get();
       return s.str();
     }
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    default: return "a date or time";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date or time";
   }
 }
 
-// Reads the keys of one TOML table, checking types and ranges, and rejects keys it was not asked for.
+// Reads the keys of one TOML table, checking types and ranges, and rejects keys it was not asked
+// for.
 class TableReader {
  public:
   TableReader(const toml::table& table, std::string prefix, const std::string& file)
       : table_(table), prefix_(std::move(prefix)), file_(file) {}
 
-  [[noreturn]] void fail(const toml::node& n, const std::string& key, const std::string& what) const {
+  [[noreturn]] void fail(const toml::node& n, const std::string& key,
+                         const std::string& what) const {
     throw Error(loc(n), prefix_ + key, what);
   }
   FileLoc loc(const toml::node& n) const {
-    return {file_, static_cast<int>(n.source().begin.line), static_cast<int>(n.source().begin.column)};
+    return {file_, static_cast<int>(n.source().begin.line),
+            static_cast<int>(n.source().begin.column)};
   }
   std::string dotted(const std::string& key) const { return prefix_ + key; }
 
@@ -61,15 +70,16 @@ class TableReader {
     return n ? checkedNumber(*n, key, lo, hi, openLo, openHi) : fallback;
   }
 
-  double checkedNumber(const toml::node& n, const std::string& key, double lo, double hi, bool openLo,
-                       bool openHi) const {
+  double checkedNumber(const toml::node& n, const std::string& key, double lo, double hi,
+                       bool openLo, bool openHi) const {
     if (!n.is_number()) fail(n, key, "expected a number, got " + describe(n));
-    const double v = n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
+    const double v =
+        n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
     if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + describe(n));
     if ((openLo ? v <= lo : v < lo) || (openHi ? v >= hi : v > hi)) {
       std::ostringstream s;
-      s << "expected a number in " << (openLo ? "(" : "[") << lo << ", " << hi << (openHi ? ")" : "]")
-        << ", got " << describe(n);
+      s << "expected a number in " << (openLo ? "(" : "[") << lo << ", " << hi
+        << (openHi ? ")" : "]") << ", got " << describe(n);
       fail(n, key, s.str());
     }
     return v;
@@ -81,8 +91,9 @@ class TableReader {
     if (!n->is_integer()) fail(*n, key, "expected an integer, got " + describe(*n));
     const int64_t v = n->as_integer()->get();
     if (v < lo || v > hi)
-      fail(*n, key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                        std::to_string(v));
+      fail(*n, key,
+           "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+               std::to_string(v));
     return v;
   }
 
@@ -100,7 +111,8 @@ class TableReader {
     return n->as_string()->get();
   }
 
-  std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) {
+  std::string choice(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& allowed) {
     const std::optional<std::string> v = string(key);
     if (!v) return fallback;
     for (const std::string& a : allowed)
@@ -111,11 +123,13 @@ class TableReader {
   }
 
   // An array of exactly `size` numbers, each within [lo, hi].
-  std::vector<double> numbers(const toml::node& n, const std::string& key, size_t size, double lo, double hi) const {
+  std::vector<double> numbers(const toml::node& n, const std::string& key, size_t size, double lo,
+                              double hi) const {
     const toml::array* a = n.as_array();
     if (!a || a->size() != size)
-      fail(n, key, "expected an array of " + std::to_string(size) + " numbers, got " +
-                       (a ? "an array of " + std::to_string(a->size()) : describe(n)));
+      fail(n, key,
+           "expected an array of " + std::to_string(size) + " numbers, got " +
+               (a ? "an array of " + std::to_string(a->size()) : describe(n)));
     std::vector<double> out;
     for (const toml::node& e : *a) out.push_back(checkedNumber(e, key, lo, hi, false, false));
     return out;
@@ -132,8 +146,10 @@ class TableReader {
   Vec3 colour(const std::string& key, Vec3 fallback, double hi = 1e6) {
     const toml::node* n = get(key);
     if (!n) return fallback;
-    if (n->is_number()) return Vec3(static_cast<float>(checkedNumber(*n, key, 0.0, hi, false, false)));
-    if (!n->is_array()) fail(*n, key, "expected a number or an array [r, g, b] of numbers >= 0, got " + describe(*n));
+    if (n->is_number())
+      return Vec3(static_cast<float>(checkedNumber(*n, key, 0.0, hi, false, false)));
+    if (!n->is_array())
+      fail(*n, key, "expected a number or an array [r, g, b] of numbers >= 0, got " + describe(*n));
     const std::vector<double> v = numbers(*n, key, 3, 0.0, hi);
     return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
   }
@@ -151,7 +167,8 @@ class TableReader {
     std::vector<const toml::table*> out;
     if (!n) return out;
     const toml::array* a = n->as_array();
-    if (!a) fail(*n, key, "expected an array of tables ([[" + dotted(key) + "]]), got " + describe(*n));
+    if (!a)
+      fail(*n, key, "expected an array of tables ([[" + dotted(key) + "]]), got " + describe(*n));
     for (const toml::node& e : *a) {
       if (!e.is_table()) fail(e, key, "expected a table, got " + describe(e));
       out.push_back(e.as_table());
@@ -166,8 +183,10 @@ class TableReader {
       if (allowed_.count(key)) continue;
       std::string list;
       for (const std::string& a : allowed_) list += (list.empty() ? "" : ", ") + a;
-      const FileLoc at{file_, static_cast<int>(k.source().begin.line), static_cast<int>(k.source().begin.column)};
-      throw Error(at.line > 0 ? at : loc(v), prefix_ + key, "unknown key (allowed here: " + list + ")");
+      const FileLoc at{file_, static_cast<int>(k.source().begin.line),
+                       static_cast<int>(k.source().begin.column)};
+      throw Error(at.line > 0 ? at : loc(v), prefix_ + key,
+                  "unknown key (allowed here: " + list + ")");
     }
   }
 
@@ -181,11 +200,13 @@ class TableReader {
   std::set<std::string> allowed_;
 };
 
-std::filesystem::path readablePath(TableReader& r, const std::string& key, const std::filesystem::path& base) {
+std::filesystem::path readablePath(TableReader& r, const std::string& key,
+                                   const std::filesystem::path& base) {
   const std::optional<std::string> s = r.string(key);
   const toml::node& n = *r.get(key);
   if (s->empty()) r.fail(n, key, "expected a file name, got an empty string");
-  const std::filesystem::path p = std::filesystem::path(*s).is_absolute() ? std::filesystem::path(*s) : base / *s;
+  const std::filesystem::path p =
+      std::filesystem::path(*s).is_absolute() ? std::filesystem::path(*s) : base / *s;
   std::error_code ec;
   if (!std::filesystem::exists(p, ec)) r.fail(n, key, "file not found: " + p.string());
   if (!std::filesystem::is_regular_file(p, ec)) r.fail(n, key, "not a regular file: " + p.string());
@@ -200,7 +221,8 @@ void readCamera(TableReader& r, CameraSettings& c) {
   c.fovY = static_cast<float>(r.number("fov", c.fovY, 0.0, 180.0, true, true));
   if (const toml::node* n = r.get("resolution")) {
     const std::vector<double> v = r.numbers(*n, "resolution", 2, 1, 16384);
-    if (v[0] != std::floor(v[0]) || v[1] != std::floor(v[1])) r.fail(*n, "resolution", "expected two integers [width, height]");
+    if (v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]))
+      r.fail(*n, "resolution", "expected two integers [width, height]");
     c.width = static_cast<int>(v[0]);
     c.height = static_cast<int>(v[1]);
   }
@@ -209,12 +231,15 @@ void readCamera(TableReader& r, CameraSettings& c) {
   const toml::node* anchor = r.get("look_at") ? r.get("look_at") : r.get("position");
   if (glm::length(view) < 1e-12f) {
     if (anchor) r.fail(*anchor, "look_at", "expected a point different from camera.position");
-    throw Error(FileLoc{r.file()}, "camera.look_at", "expected a point different from camera.position");
+    throw Error(FileLoc{r.file()}, "camera.look_at",
+                "expected a point different from camera.position");
   }
   if (glm::length(glm::cross(glm::normalize(view), c.up)) < 1e-6f) {
     const toml::node* up = r.get("up");
-    if (up) r.fail(*up, "up", "expected a direction not parallel to the view direction (and not zero)");
-    throw Error(FileLoc{r.file()}, "camera.up", "the default up (0, 1, 0) is parallel to the view direction: set camera.up");
+    if (up)
+      r.fail(*up, "up", "expected a direction not parallel to the view direction (and not zero)");
+    throw Error(FileLoc{r.file()}, "camera.up",
+                "the default up (0, 1, 0) is parallel to the view direction: set camera.up");
   }
   r.finish();
 }
@@ -225,7 +250,8 @@ Light readLight(TableReader& r) {
   l.type = type == "point" ? LightType::Point : LightType::Directional;
   if (l.type == LightType::Directional) {
     l.direction = r.vec3("direction", l.direction);
-    if (glm::length(l.direction) < 1e-12f) r.fail(*r.get("direction"), "direction", "expected a non-zero direction");
+    if (glm::length(l.direction) < 1e-12f)
+      r.fail(*r.get("direction"), "direction", "expected a non-zero direction");
     l.direction = glm::normalize(l.direction);
   } else {
     l.position = r.vec3("position", l.position);
@@ -236,12 +262,15 @@ Light readLight(TableReader& r) {
   return l;
 }
 
-ReliefLevelDecl readRelief(TableReader& r, const toml::table& t, const std::filesystem::path& base) {
+ReliefLevelDecl readRelief(TableReader& r, const toml::table& t,
+                           const std::filesystem::path& base) {
   ReliefLevelDecl d;
-  d.loc = {r.file(), static_cast<int>(t.source().begin.line), static_cast<int>(t.source().begin.column)};
+  d.loc = {r.file(), static_cast<int>(t.source().begin.line),
+           static_cast<int>(t.source().begin.column)};
   const bool hasHeight = t.contains("height"), hasNoise = t.contains("noise");
   if (hasHeight == hasNoise)
-    throw Error(d.loc, r.prefix() + "height", "expected exactly one of `height` (an image file) or `noise` (a table)");
+    throw Error(d.loc, r.prefix() + "height",
+                "expected exactly one of `height` (an image file) or `noise` (a table)");
   if (hasHeight) {
     d.source = "image";
     d.height = readablePath(r, "height", base);
@@ -267,7 +296,8 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t, const std::file
 NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::path& base) {
   NdfDecl d;
   d.present = true;
-  d.loc = {r.file(), static_cast<int>(t.source().begin.line), static_cast<int>(t.source().begin.column)};
+  d.loc = {r.file(), static_cast<int>(t.source().begin.line),
+           static_cast<int>(t.source().begin.column)};
   d.type = r.choice("type", d.type, {"beckmann", "blinn-phong", "tabulated", "relief"});
   if (const toml::node* a = r.get("alpha")) {
     if (a->is_array()) {
@@ -280,7 +310,9 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
   d.angle = static_cast<float>(r.number("angle", d.angle, -360.0, 360.0));
   d.exponent = static_cast<float>(r.number("exponent", d.exponent, 0.0, 1e6, true));
   if (d.type == "tabulated") {
-    if (!r.get("image")) throw Error(d.loc, r.prefix() + "image", "a tabulated NDF needs `image` (an NDF over n.x, n.y)");
+    if (!r.get("image"))
+      throw Error(d.loc, r.prefix() + "image",
+                  "a tabulated NDF needs `image` (an NDF over n.x, n.y)");
     d.image = readablePath(r, "image", base);
   }
   d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e9));
@@ -296,7 +328,8 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
 Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   Material m;
   const std::optional<std::string> name = r.string("name");
-  if (!name || name->empty()) throw Error(FileLoc{r.file()}, r.prefix() + "name", "every material needs a non-empty name");
+  if (!name || name->empty())
+    throw Error(FileLoc{r.file()}, r.prefix() + "name", "every material needs a non-empty name");
   m.name = *name;
   m.loc = r.loc(*r.get("name"));
   m.ka = r.colour("ka", m.ka);
@@ -306,7 +339,8 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   const std::vector<const toml::table*> levels = r.tableArray("relief");
   if (levels.size() > static_cast<size_t>(kMaxMaterialReliefLevels))
     throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
-                "at most " + std::to_string(kMaxMaterialReliefLevels) + " relief levels per material (got " + std::to_string(levels.size()) + ")");
+                "at most " + std::to_string(kMaxMaterialReliefLevels) +
+                    " relief levels per material (got " + std::to_string(levels.size()) + ")");
   for (const toml::table* t : levels) {
     TableReader rr(*t, r.prefix() + "relief.", r.file());
     m.relief.push_back(readRelief(rr, *t, base));
@@ -315,7 +349,8 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
     TableReader nr(*t, r.prefix() + "ndf.", r.file());
     m.ndf = readNdf(nr, *t, base);
     if (m.ndf.type == "relief" && m.relief.empty())
-      throw Error(m.ndf.loc, r.prefix() + "ndf.type", "\"relief\" estimates the NDF from the material's finest relief level, "
+      throw Error(m.ndf.loc, r.prefix() + "ndf.type",
+                  "\"relief\" estimates the NDF from the material's finest relief level, "
                   "but the material has no [[materials.relief]]");
   }
   r.finish();
@@ -333,7 +368,8 @@ Mat4 readTransform(TableReader& r) {
       const std::vector<double> v = r.numbers(*n, "scale", 3, -1e12, 1e12);
       s = Vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
     }
-    if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f) r.fail(*n, "scale", "expected non-zero scale factors");
+    if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f)
+      r.fail(*n, "scale", "expected non-zero scale factors");
   }
   Mat4 m = glm::translate(Mat4(1.0f), t);
   m = glm::rotate(m, radians(rot.z), Vec3(0, 0, 1));
@@ -342,21 +378,29 @@ Mat4 readTransform(TableReader& r) {
   return glm::scale(m, s);
 }
 
-Object readObject(TableReader& r, const std::vector<Material>& materials, const std::filesystem::path& base) {
+Object readObject(TableReader& r, const std::vector<Material>& materials,
+                  const std::filesystem::path& base) {
   Object o;
   const toml::node* mesh = r.get("mesh");
-  if (!mesh) throw Error(FileLoc{r.file()}, r.prefix() + "mesh", "every object needs a mesh file (OBJ, PLY or OFF)");
+  if (!mesh)
+    throw Error(FileLoc{r.file()}, r.prefix() + "mesh",
+                "every object needs a mesh file (OBJ, PLY or OFF)");
   o.loc = r.loc(*mesh);
   o.mesh = readablePath(r, "mesh", base);
-  const std::string scheme = r.choice("scheme", "catmull-clark", {"catmull-clark", "loop", "bilinear"});
-  o.scheme = scheme == "loop" ? SubdivisionScheme::Loop
-             : scheme == "bilinear" ? SubdivisionScheme::Bilinear : SubdivisionScheme::CatmullClark;
+  const std::string scheme =
+      r.choice("scheme", "catmull-clark", {"catmull-clark", "loop", "bilinear"});
+  o.scheme = scheme == "loop"       ? SubdivisionScheme::Loop
+             : scheme == "bilinear" ? SubdivisionScheme::Bilinear
+                                    : SubdivisionScheme::CatmullClark;
   if (const std::optional<std::string> name = r.string("material")) {
-    auto it = std::find_if(materials.begin(), materials.end(), [&](const Material& m) { return m.name == *name; });
-    if (it == materials.end()) r.fail(*r.get("material"), "material", "no material named \"" + *name + "\"");
+    auto it = std::find_if(materials.begin(), materials.end(),
+                           [&](const Material& m) { return m.name == *name; });
+    if (it == materials.end())
+      r.fail(*r.get("material"), "material", "no material named \"" + *name + "\"");
     o.material = static_cast<int>(it - materials.begin());
   } else if (materials.size() > 1) {
-    throw Error(o.loc, r.prefix() + "material", "expected a material name: the scene has more than one material");
+    throw Error(o.loc, r.prefix() + "material",
+                "expected a material name: the scene has more than one material");
   }
   o.transform = readTransform(r);
   r.finish();
@@ -364,7 +408,8 @@ Object readObject(TableReader& r, const std::vector<Material>& materials, const 
 }
 
 void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& base) {
-  s.algorithm = r.choice("algorithm", s.algorithm, {"auto", "brdf", "bump", "redistribution", "displacement"});
+  s.algorithm = r.choice("algorithm", s.algorithm,
+                         {"auto", "brdf", "bump", "redistribution", "displacement"});
   s.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 1, 64));
@@ -420,13 +465,16 @@ void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
     key.up = k.vec3("up", camera.up);
     key.fovY = static_cast<float>(k.number("fov", camera.fovY, 0.0, 180.0, true, true));
     if (glm::length(key.lookAt - key.position) < 1e-12f)
-      throw Error(FileLoc{r.file(), static_cast<int>(t->source().begin.line), 1}, "path.keys.look_at",
-                  "expected a point different from the keyframe's position");
+      throw Error(FileLoc{r.file(), static_cast<int>(t->source().begin.line), 1},
+                  "path.keys.look_at", "expected a point different from the keyframe's position");
     k.finish();
     p.keys.push_back(key);
   }
-  if (p.keys.empty()) throw Error(FileLoc{r.file()}, "path.keys", "a [path] needs at least one [[path.keys]] keyframe");
-  if (frames && fps) r.fail(*fps, "fps", "give either path.frames or path.fps with path.duration, not both");
+  if (p.keys.empty())
+    throw Error(FileLoc{r.file()}, "path.keys",
+                "a [path] needs at least one [[path.keys]] keyframe");
+  if (frames && fps)
+    r.fail(*fps, "fps", "give either path.frames or path.fps with path.duration, not both");
   if (fps) {
     const double rate = r.number("fps", 24, 0.0, 1000.0, true);
     p.fps = rate;
@@ -455,7 +503,8 @@ void readTop(const toml::table& top, Scene& scene) {
     TableReader mr(*t, "materials.", file);
     Material m = readMaterial(mr, base);
     for (const Material& other : scene.materials)
-      if (other.name == m.name) throw Error(m.loc, "materials.name", "duplicate material name \"" + m.name + "\"");
+      if (other.name == m.name)
+        throw Error(m.loc, "materials.name", "duplicate material name \"" + m.name + "\"");
     scene.materials.push_back(std::move(m));
   }
   if (scene.materials.empty()) {
@@ -467,7 +516,8 @@ void readTop(const toml::table& top, Scene& scene) {
     TableReader orr(*t, "objects.", file);
     scene.objects.push_back(readObject(orr, scene.materials, base));
   }
-  if (scene.objects.empty()) throw Error(FileLoc{file}, "objects", "expected at least one [[objects]] entry with a mesh");
+  if (scene.objects.empty())
+    throw Error(FileLoc{file}, "objects", "expected at least one [[objects]] entry with a mesh");
   if (const toml::table* t = r.subtable("render")) {
     TableReader rr(*t, "render.", file);
     readRender(rr, scene.render, base);

@@ -28,14 +28,19 @@ class CliTest : public meso::testing::TempDirTest {
     write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
   }
   // A valid scene; `top` goes before every table, `camera` into [camera], `extra` at the end.
-  std::string scene(const std::string& extra, const std::string& top = "", const std::string& camera = "") {
-    return top + "[camera]\nposition = [0, 0, 3]\n" + (camera.empty() ? "resolution = [32, 18]\nspp = 1\n" : camera) +
-           "[[lights]]\ndirection = [0, 0, -1]\n[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n" + extra;
+  std::string scene(const std::string& extra, const std::string& top = "",
+                    const std::string& camera = "") {
+    return top + "[camera]\nposition = [0, 0, 3]\n" +
+           (camera.empty() ? "resolution = [32, 18]\nspp = 1\n" : camera) +
+           "[[lights]]\ndirection = [0, 0, -1]\n[[objects]]\nmesh = \"quad.obj\"\nscheme = "
+           "\"bilinear\"\n" +
+           extra;
   }
   bool outputFolderEmpty() const { return fs::is_empty(dir_ / "out"); }
   RunResult render(const std::string& sceneText, const std::string& extraArgs = "") {
     write("scene.toml", sceneText);
-    return run("render " + (dir_ / "scene.toml").string() + " -o " + (dir_ / "out/img.exr").string() + " -q " + extraArgs);
+    return run("render " + (dir_ / "scene.toml").string() + " -o " +
+               (dir_ / "out/img.exr").string() + " -q " + extraArgs);
   }
 };
 
@@ -47,8 +52,9 @@ TEST_F(CliTest, ValidSceneWritesExrPngAndStats) {
   std::ifstream in(dir_ / "out/stats.json");
   std::stringstream s;
   s << in.rdbuf();
-  for (const char* key : {"\"seconds\"", "\"parse\"", "\"tessellate\"", "\"bvh\"", "\"render\"", "\"write\"", "\"total\"",
-                          "\"peak_rss_mib\"", "\"rays\"", "\"triangles\"", "\"settings\""})
+  for (const char* key :
+       {"\"seconds\"", "\"parse\"", "\"tessellate\"", "\"bvh\"", "\"render\"", "\"write\"",
+        "\"total\"", "\"peak_rss_mib\"", "\"rays\"", "\"triangles\"", "\"settings\""})
     EXPECT_NE(s.str().find(key), std::string::npos) << key;
   EXPECT_NE(s.str().find("\"rays\": 576"), std::string::npos) << s.str();  // 32 x 18 x 1
 }
@@ -57,13 +63,16 @@ TEST_F(CliTest, ValidSceneWritesExrPngAndStats) {
 // warning, facet normals, and the transition overrides with their checks.
 TEST_F(CliTest, DisplacementOptionsAndStats) {
   const std::string relief =
-      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n  amplitude = 0.01\n"
+      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n  amplitude "
+      "= 0.01\n"
       "  scale = 4.0\n";
   const std::string sceneText = scene("material = \"m\"\n", "", "resolution = [64, 36]\nspp = 1\n");
   // The material table must come before [[objects]] uses it: put it first.
   write("scene.toml", relief + sceneText);
-  const std::string base = "render " + (dir_ / "scene.toml").string() + " -o " + (dir_ / "out/img.exr").string() + " -q ";
-  RunResult r = run(base + "--algorithm displacement --dicing-rate 2 --stats " + (dir_ / "out/stats.json").string());
+  const std::string base = "render " + (dir_ / "scene.toml").string() + " -o " +
+                           (dir_ / "out/img.exr").string() + " -q ";
+  RunResult r = run(base + "--algorithm displacement --dicing-rate 2 --stats " +
+                    (dir_ / "out/stats.json").string());
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(dir_ / "out/stats.json");
   std::stringstream s;
@@ -87,7 +96,8 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
   fs::create_directories(dir_ / "out");
   r = run(base + "--thresholds=1,-1,0.3,2");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("thresholds must satisfy e1 < e2 < 0 < e3 < e4"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("thresholds must satisfy e1 < e2 < 0 < e3 < e4"), std::string::npos)
+      << r.output;
   r = run(base + "--normals shiny");
   EXPECT_EQ(r.status, 2) << r.output;
   r = run(base + "--dicing-metric screen");
@@ -98,10 +108,10 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
 
 struct BadInput {
   const char* name;
-  std::string sceneExtra;  // appended to a valid scene
-  std::string expected;    // substring of the message; {S} stands for the scene file's path
-  std::string top = "";    // before every table of the scene
-  std::string camera = ""; // replaces the keys of [camera]
+  std::string sceneExtra;   // appended to a valid scene
+  std::string expected;     // substring of the message; {S} stands for the scene file's path
+  std::string top = "";     // before every table of the scene
+  std::string camera = "";  // replaces the keys of [camera]
 };
 
 TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
@@ -114,36 +124,56 @@ TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
       {"wrong type", "material = 4\n", "{S}:10:12: objects.material: expected a string, got 4"},
       {"nan", "[render]\nD = nan\n", "{S}:11:5: render.D: expected a finite number"},
       {"inf", "[render]\neps = -inf\n", "{S}:11:7: render.eps: expected a finite number"},
-      {"out of range", "[render]\nthreads = 5000\n", "{S}:11:11: render.threads: expected an integer in [0, 1024], got 5000"},
-      {"bad enum", "[render]\nalgorithm = \"fast\"\n", "{S}:11:13: render.algorithm: expected one of auto"},
+      {"out of range", "[render]\nthreads = 5000\n",
+       "{S}:11:11: render.threads: expected an integer in [0, 1024], got 5000"},
+      {"bad enum", "[render]\nalgorithm = \"fast\"\n",
+       "{S}:11:13: render.algorithm: expected one of auto"},
       {"malformed toml", "[render\n", "{S}:10:"},
-      {"thresholds order", "[render]\nthresholds = [1, -0.3, 0.3, 1]\n", "{S}:11:14: render.thresholds:"},
-      {"missing mesh", "[[objects]]\nmesh = \"absent.obj\"\n", "{S}:11:8: objects.mesh: file not found:"},
-      {"mesh is a folder", "[[objects]]\nmesh = \"out\"\n", "{S}:11:8: objects.mesh: not a regular file"},
+      {"thresholds order", "[render]\nthresholds = [1, -0.3, 0.3, 1]\n",
+       "{S}:11:14: render.thresholds:"},
+      {"missing mesh", "[[objects]]\nmesh = \"absent.obj\"\n",
+       "{S}:11:8: objects.mesh: file not found:"},
+      {"mesh is a folder", "[[objects]]\nmesh = \"out\"\n",
+       "{S}:11:8: objects.mesh: not a regular file"},
       {"empty mesh", "[[objects]]\nmesh = \"empty.obj\"\n", "empty.obj: empty mesh file"},
-      {"mesh without faces", "[[objects]]\nmesh = \"nofaces.obj\"\n", "nofaces.obj: mesh has no faces"},
-      {"garbage mesh", "[[objects]]\nmesh = \"garbage.obj\"\n", "garbage.obj:1:1: unexpected bytes \"??\" (not an OBJ statement"},
-      {"unknown mesh format", "[[objects]]\nmesh = \"mesh.stl\"\n", "mesh.stl: unknown mesh format \".stl\""},
-      {"absurd resolution", "", "camera.resolution: expected a number in [1, 16384]", "", "resolution = [100000, 10]\n"},
+      {"mesh without faces", "[[objects]]\nmesh = \"nofaces.obj\"\n",
+       "nofaces.obj: mesh has no faces"},
+      {"garbage mesh", "[[objects]]\nmesh = \"garbage.obj\"\n",
+       "garbage.obj:1:1: unexpected bytes \"??\" (not an OBJ statement"},
+      {"unknown mesh format", "[[objects]]\nmesh = \"mesh.stl\"\n",
+       "mesh.stl: unknown mesh format \".stl\""},
+      {"absurd resolution", "", "camera.resolution: expected a number in [1, 16384]", "",
+       "resolution = [100000, 10]\n"},
       {"absurd spp", "", "camera.spp: expected an integer in [1, 65536]", "", "spp = 10000000\n"},
-      {"fractional resolution", "", "camera.resolution: expected two integers", "", "resolution = [32.5, 18]\n"},
+      {"fractional resolution", "", "camera.resolution: expected two integers", "",
+       "resolution = [32.5, 18]\n"},
       {"zero fov", "", "camera.fov: expected a number in (0, 180), got 0", "", "fov = 0\n"},
-      {"negative intensity", "[[lights]]\nintensity = -1\n", "lights.intensity: expected a number in [0, 1e+12], got -1"},
-      {"unknown light type", "[[lights]]\ntype = \"spot\"\n", "lights.type: expected one of directional | point"},
-      {"zero light direction", "[[lights]]\ndirection = [0, 0, 0]\n", "lights.direction: expected a non-zero direction"},
-      {"duplicate material", "[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n", "materials.name: duplicate material name"},
+      {"negative intensity", "[[lights]]\nintensity = -1\n",
+       "lights.intensity: expected a number in [0, 1e+12], got -1"},
+      {"unknown light type", "[[lights]]\ntype = \"spot\"\n",
+       "lights.type: expected one of directional | point"},
+      {"zero light direction", "[[lights]]\ndirection = [0, 0, 0]\n",
+       "lights.direction: expected a non-zero direction"},
+      {"duplicate material", "[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n",
+       "materials.name: duplicate material name"},
       {"unknown material", "material = \"gold\"\n", "objects.material: no material named \"gold\""},
-      {"missing height image", "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n",
+      {"missing height image",
+       "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n",
        "materials.relief.height: file not found"},
-      {"relief with both sources", "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"quad.obj\"\nnoise = {}\n",
+      {"relief with both sources",
+       "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"quad.obj\"\nnoise = {}\n",
        "materials.relief.height: expected exactly one of"},
-      {"bad scale", "[[objects]]\nmesh = \"quad.obj\"\nscale = [1, 0, 1]\n", "objects.scale: expected non-zero scale factors"},
-      {"bad dicing rate", "[render]\ndicing_rate = 0\n", "render.dicing_rate: expected a number in [0.01, 1000], got 0"},
-      {"bad dicing metric", "[render]\ndicing_metric = \"screen\"\n", "render.dicing_metric: expected one of isotropic | projected"},
+      {"bad scale", "[[objects]]\nmesh = \"quad.obj\"\nscale = [1, 0, 1]\n",
+       "objects.scale: expected non-zero scale factors"},
+      {"bad dicing rate", "[render]\ndicing_rate = 0\n",
+       "render.dicing_rate: expected a number in [0.01, 1000], got 0"},
+      {"bad dicing metric", "[render]\ndicing_metric = \"screen\"\n",
+       "render.dicing_metric: expected one of isotropic | projected"},
       {"path without keys", "[path]\nframes = 3\n", "path.keys: a [path] needs at least one"},
       {"path times out of order", "[path]\n[[path.keys]]\ntime = 1\n[[path.keys]]\ntime = 0\n",
        "path.keys.time: expected keyframe times to strictly increase"},
-      {"string where table", "", "{S}:1:10: render: expected a table, got a string", "render = \"fast\"\n"},
+      {"string where table", "", "{S}:1:10: render: expected a table, got a string",
+       "render = \"fast\"\n"},
   };
   const std::string scenePath = (dir_ / "scene.toml").string();
   for (const BadInput& c : cases) {
@@ -151,13 +181,16 @@ TEST_F(CliTest, BadScenesExitWithStatusTwoAndNoOutput) {
     if (expected.rfind("{S}", 0) == 0) expected = scenePath + expected.substr(3);
     const RunResult r = render(scene(c.sceneExtra, c.top, c.camera));
     EXPECT_EQ(r.status, 2) << c.name << ": " << r.output;
-    EXPECT_NE(r.output.find(expected), std::string::npos) << c.name << ": expected \"" << expected << "\" in\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos)
+        << c.name << ": expected \"" << expected << "\" in\n"
+        << r.output;
     EXPECT_TRUE(outputFolderEmpty()) << c.name;
   }
 }
 
 TEST_F(CliTest, MissingSceneFileAndBadOptions) {
-  RunResult r = run("render " + (dir_ / "none.toml").string() + " -o " + (dir_ / "out/x.exr").string());
+  RunResult r =
+      run("render " + (dir_ / "none.toml").string() + " -o " + (dir_ / "out/x.exr").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("none.toml: scene: file not found"), std::string::npos) << r.output;
   write("scene.toml", scene(""));

@@ -72,20 +72,27 @@ size_t count(const std::string& text, const std::string& what) {
 
 class TradeTest : public meso::testing::TempDirTest {
  protected:
-  std::string scene(const char* name) const { return std::string(MESO_SOURCE_DIR) + "/scenes/" + name; }
+  std::string scene(const char* name) const {
+    return std::string(MESO_SOURCE_DIR) + "/scenes/" + name;
+  }
   std::string out() const { return (dir_ / "trade").string(); }
   std::string cache() const { return (dir_ / "references").string(); }
   // Small sweeps: a one-level reference + 2 x 2 hybrid over D (D 2, 1 px, 4 spp is the scene's own)
   // + 1 x 2 more hybrid over dicing (2 px) + 2 x 2 displacement.
   std::string tiny() const {
-    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --reference-max-refinements 0 "
-           "--d-values 1,2 --spp-values 1,4 --dicing-rates 4,2 --hybrid-dicing-rates 2,1 --reference-cache " +
+    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 "
+           "--reference-max-refinements 0 "
+           "--d-values 1,2 --spp-values 1,4 --dicing-rates 4,2 --hybrid-dicing-rates 2,1 "
+           "--reference-cache " +
            cache() + " -o " + out();
   }
-  // The reference alone is what these tests look at: one cheap hybrid and displacement configuration.
+  // The reference alone is what these tests look at: one cheap hybrid and displacement
+  // configuration.
   std::string referenceOnly() const {
-    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --d-values 2 --spp-values 4 "
-           "--dicing-rates 4 --hybrid-dicing-rates 1 --reference-cache " + cache() + " -o " + out() + " ";
+    return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 --d-values 2 "
+           "--spp-values 4 "
+           "--dicing-rates 4 --hybrid-dicing-rates 1 --reference-cache " +
+           cache() + " -o " + out() + " ";
   }
 };
 
@@ -94,9 +101,10 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   ASSERT_EQ(r.status, 0) << r.output;
   const std::vector<std::string> rows = dataLines(dir_ / "trade/trade.csv");
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(rows[0],
-            "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-            "mean_intensity_error_pct,geometry_mib");
+  EXPECT_EQ(
+      rows[0],
+      "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
+      "mean_intensity_error_pct,geometry_mib");
   ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 4u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
@@ -121,29 +129,35 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(byName["hybrid_D2_r1_spp4"][1], "auto");
   ASSERT_TRUE(byName.count("hybrid_D2_r2_spp1"));  // the hybrid's dicing rate is swept too
   EXPECT_EQ(byName["hybrid_D2_r2_spp1"][4], "2");
-  EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][8]), 0.0);  // one sample per pixel is not converged
+  EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][8]),
+            0.0);  // one sample per pixel is not converged
   EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png"));
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
-  EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("speedup"), std::string::npos) << r.output;  // displacement_r2_spp4 is as accurate
+  EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("speedup"), std::string::npos)
+      << r.output;  // displacement_r2_spp4 is as accurate
   const std::string x = "[0-9.e+-]+x";
-  EXPECT_TRUE(std::regex_search(r.output, std::regex("hybrid / displacement at equal rmse: time " + x + ", peak memory " +
-                                                     x + ", geometry memory " + x + ", micropolygons " + x +
-                                                     ", spp " + x)))
+  EXPECT_TRUE(std::regex_search(
+      r.output, std::regex("hybrid / displacement at equal rmse: time " + x + ", peak memory " + x +
+                           ", geometry memory " + x + ", micropolygons " + x + ", spp " + x)))
       << r.output;
   // One reference level cannot say how converged it is: the warning says so.
-  EXPECT_NE(r.output.find("reference NOT converged: only one level"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reference NOT converged: only one level"), std::string::npos)
+      << r.output;
 }
 
 // Tolerances the tiny default scene meets after one refinement (2 px 4 spp -> 1 px 8 spp).
 TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
-  const RunResult r =
-      run("trade " + scene("default.toml") + " " + referenceOnly() + "--reference-tolerance 1 --reference-rmse-tolerance 10");
+  const RunResult r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+                          "--reference-tolerance 1 --reference-rmse-tolerance 10");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find("WARNING"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("trade: reference converged (the mean of every depth band changed by less than 1%, the "
-                          "rmse is below 10% of the mean): 2 px 4 spp -> 1 px 8 spp (worst band "),
-            std::string::npos)
+  EXPECT_NE(
+      r.output.find(
+          "trade: reference converged (the mean of every depth band changed by less than 1%, the "
+          "rmse is below 10% of the mean): 2 px 4 spp -> 1 px 8 spp (worst band "),
+      std::string::npos)
       << r.output;
   const std::vector<std::string> comments = commentLines(dir_ / "trade/trade.csv");
   ASSERT_EQ(comments.size(), 3u) << r.output;  // verdict, level 0, level 1
@@ -164,7 +178,8 @@ TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
   EXPECT_NEAR(worst, meanChange, 1e-4 + 1e-4 * std::abs(meanChange));
   EXPECT_GT(std::abs(worst), 0.0);
   std::map<std::string, std::vector<std::string>> byName;
-  for (const std::string& row : dataLines(dir_ / "trade/trade.csv")) byName[split(row, ',')[0]] = split(row, ',');
+  for (const std::string& row : dataLines(dir_ / "trade/trade.csv"))
+    byName[split(row, ',')[0]] = split(row, ',');
   ASSERT_TRUE(byName.count("reference_l0") && byName.count("reference"));
   EXPECT_EQ(byName["reference"][3], "8");
   EXPECT_EQ(byName["reference"][4], "1");
@@ -175,7 +190,8 @@ TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
 // exit status 0, the sweep still written. A micropolygon budget below the next level stops earlier.
 TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
   RunResult r = run("trade " + scene("default.toml") + " " + referenceOnly() +
-                    "--reference-max-refinements 1 --reference-tolerance 0.0001 --reference-rmse-tolerance 0.0001");
+                    "--reference-max-refinements 1 --reference-tolerance 0.0001 "
+                    "--reference-rmse-tolerance 0.0001");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("meso: WARNING: reference NOT converged"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--reference-max-refinements 1 reached"), std::string::npos) << r.output;
@@ -187,21 +203,27 @@ TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
   ASSERT_EQ(comments.size(), 3u);
   EXPECT_NE(comments[0].find("# reference NOT converged"), std::string::npos) << comments[0];
   EXPECT_NEAR(reported, numberAfter(comments[2], "mean_change_pct"), 0.006);
-  EXPECT_GT(std::abs(numberAfter(comments[2], "mean_change_pct")) + numberAfter(comments[2], "rmse_change_pct"),
+  EXPECT_GT(std::abs(numberAfter(comments[2], "mean_change_pct")) +
+                numberAfter(comments[2], "rmse_change_pct"),
             0.0001);
-  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(), 1u + 2u + 1u + 1u);  // header, levels, hybrid, displacement
+  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(),
+            1u + 2u + 1u + 1u);  // header, levels, hybrid, displacement
 
   // Level 0 has 4204 micropolygons here; the next would need about 4x.
-  r = run("trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-micropolygons 10000");
+  r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+          "--reference-max-micropolygons 10000");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("over --reference-max-micropolygons 10000"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("WARNING: reference NOT converged: only one level"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("over --reference-max-micropolygons 10000"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("WARNING: reference NOT converged: only one level"), std::string::npos)
+      << r.output;
 }
 
 // The second run takes every reference level from the cache and gets the same CSV rows for them; a
 // corrupt cache file is reported, re-rendered and replaced.
 TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
-  const std::string args = "trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
+  const std::string args =
+      "trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
   const RunResult first = run(args);
   ASSERT_EQ(first.status, 0) << first.output;
   EXPECT_EQ(count(first.output, "from cache"), 0u) << first.output;
@@ -233,19 +255,24 @@ TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
 TEST_F(TradeTest, TemporalBandsOnAPath) {
   const RunResult r = run("trade " + scene("flythrough.toml") +
                           " --width 64 --height 36 --frames 0:2 --temporal-only --reference-spp 4 "
-                          "--reference-max-refinements 1 --reference-cache " + cache() + " -o " + out());
+                          "--reference-max-refinements 1 --reference-cache " +
+                          cache() + " -o " + out());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::vector<std::string> rows = lines(dir_ / "trade/temporal.csv");
   ASSERT_EQ(rows.size(), 7u) << r.output;
-  EXPECT_EQ(rows[0], "band,threshold,half_width,pixels,hybrid_mean_abs_change,reference_mean_abs_change,ratio");
+  EXPECT_EQ(
+      rows[0],
+      "band,threshold,half_width,pixels,hybrid_mean_abs_change,reference_mean_abs_change,ratio");
   const std::vector<std::string> all = split(rows[6], ',');
   ASSERT_EQ(all[0], "all");
   EXPECT_GT(std::stod(all[3]), 0.0);  // pixels that hit a surface, over two frame pairs
-  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(), 4u);  // header, 2 reference levels, default hybrid
+  EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(),
+            4u);  // header, 2 reference levels, default hybrid
 }
 
 TEST_F(TradeTest, BadValuesExitTwoNamingTheOption) {
-  const std::string base = "trade " + scene("default.toml") + " --width 48 --height 27 -o " + out() + " ";
+  const std::string base =
+      "trade " + scene("default.toml") + " --width 48 --height 27 -o " + out() + " ";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--d-values -1", "--d-values"},
       {"--spp-values 4,0", "--spp-values"},

@@ -21,7 +21,8 @@ std::vector<float> randomMasses(Rng& rng, int n) {
 TEST(PiecewiseCdf, AppendCumulativeMatchesCumulativeFromMasses) {
   Rng rng(3);
   for (int trial = 0; trial < 50; ++trial) {
-    const std::vector<float> m = trial == 0 ? std::vector<float>(7, 0.0f) : randomMasses(rng, 1 + trial % 40);
+    const std::vector<float> m =
+        trial == 0 ? std::vector<float>(7, 0.0f) : randomMasses(rng, 1 + trial % 40);
     std::vector<float> out{42.0f};
     appendCumulative(m, out);
     const std::vector<float> ref = cumulativeFromMasses(m);
@@ -52,7 +53,8 @@ TEST(PiecewiseCdf, MixtureRoundTripAndMonotone) {
         EXPECT_GE(p, previous);
         previous = p;
         if (p > 1e-4f && p < 1.0f - 1e-4f) {
-          const float back = cdfForward(mix, lo, width, cdfInverse(mix, lo, width, p, shape), shape);
+          const float back =
+              cdfForward(mix, lo, width, cdfInverse(mix, lo, width, p, shape), shape);
           EXPECT_NEAR(back, p, 2e-5f) << trial << " " << s;
         }
       }
@@ -60,7 +62,8 @@ TEST(PiecewiseCdf, MixtureRoundTripAndMonotone) {
     CdfMix one;
     one.add(tables[0], 1.0f);
     for (float x : {0.1f, 0.7f, 1.3f})
-      EXPECT_EQ(cdfForward(one, lo, width, x, shape), cdfForward(tables[0], tables[0], 0.0f, lo, width, x, shape));
+      EXPECT_EQ(cdfForward(one, lo, width, x, shape),
+                cdfForward(tables[0], tables[0], 0.0f, lo, width, x, shape));
   }
 }
 

@@ -18,12 +18,15 @@ namespace {
 
 struct Bumps : PeriodicRelief {
   float height(float x, float y) const override {
-    return 0.06f * (std::sin(2 * kPi * x) * std::sin(2 * kPi * y) + 0.4f * std::cos(2 * kPi * (x + 2 * y)));
+    return 0.06f *
+           (std::sin(2 * kPi * x) * std::sin(2 * kPi * y) + 0.4f * std::cos(2 * kPi * (x + 2 * y)));
   }
   Vec2 gradient(float x, float y) const override {
     const float c = 0.06f * 2 * kPi;
-    return {c * (std::cos(2 * kPi * x) * std::sin(2 * kPi * y) - 0.4f * std::sin(2 * kPi * (x + 2 * y))),
-            c * (std::sin(2 * kPi * x) * std::cos(2 * kPi * y) - 0.8f * std::sin(2 * kPi * (x + 2 * y)))};
+    return {c * (std::cos(2 * kPi * x) * std::sin(2 * kPi * y) -
+                 0.4f * std::sin(2 * kPi * (x + 2 * y))),
+            c * (std::sin(2 * kPi * x) * std::cos(2 * kPi * y) -
+                 0.8f * std::sin(2 * kPi * (x + 2 * y)))};
   }
   uint64_t fingerprint() const override { return 11; }
 };
@@ -51,22 +54,24 @@ TEST(RedistributionOnRelief, MappedBlinnNormalsFollowTheVisibleDistribution) {
       for (int n = 0; n < kSamples; ++n) {
         const Vec2 g = relief.gradient(rng.uniform(), rng.uniform());
         const NormalAngles a = anglesOf(glm::normalize(Vec3(-g.x, -g.y, 1.0f)));
-        const NormalAngles m = t.redistribution.toVisible(h.thetaV(k), {a.thetaN, a.phi - 2 * kPi * rng.uniform()});
+        const NormalAngles m =
+            t.redistribution.toVisible(h.thetaV(k), {a.thetaN, a.phi - 2 * kPi * rng.uniform()});
         observed[h.thetaNBin(m.thetaN)] += 1.0;
       }
       for (int i = 0; i < 96; ++i)
         for (int j = 0; j < 32; ++j) expected[i] += h.mass(k, i, j) * kSamples;
       const testing::ChiSquareResult r = testing::chiSquareTest(observed, expected);
-      EXPECT_GT(r.pValue, alpha) << "variant " << static_cast<int>(variant) << " slice " << k << " chi2 " << r.chi2;
+      EXPECT_GT(r.pValue, alpha) << "variant " << static_cast<int>(variant) << " slice " << k
+                                 << " chi2 " << r.chi2;
       if (r.pValue <= alpha) testing::dumpTable(observed, expected);
     }
   }
 }
 
 // R_theta is continuous: an input normal moved by 1e-3 degrees moves the output by far less than
-// 0.5 degrees, for both variants, at view angles up to 85 degrees. Half of the steps cross a phi-bin
-// edge of the input, where the conditional maps of the paper's bins used to jump (by 4.7 / 12.3 /
-// 31.4 degrees at theta_V = 30 / 60 / 80 on this relief).
+// 0.5 degrees, for both variants, at view angles up to 85 degrees. Half of the steps cross a
+// phi-bin edge of the input, where the conditional maps of the paper's bins used to jump (by 4.7
+// / 12.3 / 31.4 degrees at theta_V = 30 / 60 / 80 on this relief).
 TEST(RedistributionOnRelief, MapsAreContinuous) {
   const Bumps relief;
   TableSettings settings;
@@ -89,7 +94,8 @@ TEST(RedistributionOnRelief, MapsAreContinuous) {
       // A step of 1e-3 degrees: rotate towards a random tangent direction (across phi for the
       // edge-crossing half).
       const Vec3 across = glm::normalize(Vec3(-std::sin(a.phi), std::cos(a.phi), 0.0f));
-      const Vec3 random = glm::normalize(glm::cross(na, Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f)));
+      const Vec3 random = glm::normalize(
+          glm::cross(na, Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f)));
       const Vec3 dir = n % 2 ? glm::normalize(across - glm::dot(across, na) * na) : random;
       const float step = radians(1e-3f);
       const NormalAngles b = anglesOf(glm::normalize(std::cos(step) * na + std::sin(step) * dir));
@@ -99,7 +105,8 @@ TEST(RedistributionOnRelief, MapsAreContinuous) {
       worst = std::max(worst, d);
     }
     EXPECT_LT(degrees(worst), 0.5f) << "variant " << static_cast<int>(variant);
-    std::printf("variant %d: largest output step %.4f degrees\n", static_cast<int>(variant), degrees(worst));
+    std::printf("variant %d: largest output step %.4f degrees\n", static_cast<int>(variant),
+                degrees(worst));
   }
 }
 

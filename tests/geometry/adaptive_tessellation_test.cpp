@@ -21,8 +21,8 @@
 namespace meso {
 namespace {
 
-// The cube [-1, 1]^3 with n x n quads on each side, counter-clockwise seen from outside: many faces,
-// so near and far faces sit side by side.
+// The cube [-1, 1]^3 with n x n quads on each side, counter-clockwise seen from outside: many
+// faces, so near and far faces sit side by side.
 ControlMesh refinedCube(int n) {
   ControlMesh mesh;
   std::map<std::tuple<int, int, int>, int> index;
@@ -44,8 +44,9 @@ ControlMesh refinedCube(int n) {
             c[k][a] = corners[k][0];
             c[k][b] = corners[k][1];
           }
-          test::addFace(mesh, {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
-                               vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
+          test::addFace(mesh,
+                        {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
+                         vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
         }
     }
   return mesh;
@@ -63,8 +64,8 @@ struct WaveDisplacement : VertexDisplacement {
   float bound() const override { return amplitude; }
 };
 
-// Height field h(x, y) = A sin(a x) sin(b y) over the plane z = 0 (normal +z), whose exact normal is
-// normalize(-h_x, -h_y, 1).
+// Height field h(x, y) = A sin(a x) sin(b y) over the plane z = 0 (normal +z), whose exact normal
+// is normalize(-h_x, -h_y, 1).
 struct HeightField : VertexDisplacement {
   float A = 0.15f, a = 2.0f, b = 3.0f;
   Vec3 offset(int, Vec2, const SurfacePoint& sp) const override {
@@ -138,7 +139,8 @@ void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, in
   Rng rng(1234);
   int escapes[2] = {0, 0};
   for (int i = 0; i < numRays; ++i) {
-    const Vec3 origin = 0.2f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+    const Vec3 origin =
+        0.2f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
     const Ray ray{origin, randomDirection(rng)};
     RayHit hit;
     escapes[0] += !triangles.intersect(ray, hit);
@@ -204,10 +206,10 @@ TEST(AdaptiveTessellation, IsotropicMetricResolvesGrazingViews) {
       Vec3(12.0f, -0.5f, 0.6f), Vec3(12.0f, 24.0f, 0.35f), Vec3(0, 0, 1), 40.0f, 160, 90);
   const GrazingDicing iso = diceGrazing(surface, screen, DicingMetric::Isotropic);
   const GrazingDicing proj = diceGrazing(surface, screen, DicingMetric::Projected);
-  std::printf("  isotropic: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n"
-              "  projected: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n",
-              iso.micropolygons, iso.legP99, iso.worstLeg, proj.micropolygons, proj.legP99,
-              proj.worstLeg);
+  std::printf(
+      "  isotropic: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n"
+      "  projected: %zu micropolygons, legs in view p99 %.3f, max %.3f footprints\n",
+      iso.micropolygons, iso.legP99, iso.worstLeg, proj.micropolygons, proj.legP99, proj.worstLeg);
   ASSERT_EQ(iso.rates.size(), proj.rates.size());
   long isoSum = 0, projSum = 0;
   for (size_t e = 0; e < iso.rates.size(); ++e) {
@@ -246,9 +248,8 @@ float meanFacetAngle(const TessellatedMesh& mesh, const HeightField& field) {
 TEST(AdaptiveTessellation, FacetNormalsConvergeToTheDisplacedSurfaceNormal) {
   const LimitSurface surface(test::grid(4), SubdivisionScheme::CatmullClark);
   const HeightField field;
-  const ScreenMetric screen =
-      ScreenMetric::lookAt(Vec3(2.0f, 2.0f, 4.0f), Vec3(2.0f, 2.0f, 0.0f), Vec3(0, 1, 0), 60.0f,
-                           160, 90);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(2.0f, 2.0f, 4.0f), Vec3(2.0f, 2.0f, 0.0f),
+                                                   Vec3(0, 1, 0), 60.0f, 160, 90);
   float previous = kPi;
   for (float dicingRate : {4.0f, 1.0f, 0.25f}) {
     DicingSettings settings;
@@ -283,8 +284,7 @@ TEST(AdaptiveTessellation, DisplacementStaysWithinItsBound) {
 
 size_t micropolygons(const LimitSurface& surface, float distance, const FaceDicing& faces) {
   const Vec3 eye = distance * glm::normalize(Vec3(0.4f, 0.5f, 1.0f));
-  const ScreenMetric screen =
-      ScreenMetric::lookAt(eye, Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  const ScreenMetric screen = ScreenMetric::lookAt(eye, Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
   return tessellateAdaptive(surface, screen, {}, faces, nullptr).stats.micropolygons;
 }
 
@@ -356,9 +356,8 @@ TEST(AdaptiveTessellation, SameBitsForOneAndTwoThreads) {
 TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
   const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
   // Looking away: every face is culled, so every edge gets rate 1.
-  const ScreenMetric screen =
-      ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 5.0f), Vec3(0.0f, 0.0f, 10.0f), Vec3(0, 1, 0), 40.0f,
-                           640, 360);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 5.0f), Vec3(0.0f, 0.0f, 10.0f),
+                                                   Vec3(0, 1, 0), 40.0f, 640, 360);
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, nullptr);
   EXPECT_EQ(t.stats.facesCulled, surface.numFaces());
   EXPECT_EQ(t.stats.offScreenMicropolygons, t.stats.micropolygons);

@@ -16,7 +16,11 @@ namespace {
 
 // A sum of random periodic sinusoids (integer frequencies 1..3 so it tiles).
 struct RandomWaves : PeriodicRelief {
-  struct Wave { float a; int fx, fy; float phase; };
+  struct Wave {
+    float a;
+    int fx, fy;
+    float phase;
+  };
   std::vector<Wave> waves;
   uint64_t seed;
   RandomWaves(uint64_t s, float amplitude) : seed(s) {
@@ -72,8 +76,8 @@ void expectConsistent(const PeriodicRelief& relief, const char* name) {
       ASSERT_TRUE(std::isfinite(values[i]));
       for (int j = i + 1; j < 3; ++j)
         EXPECT_LT(std::abs(values[i] - values[j]) / values[j], 0.015)
-            << name << " at " << deg << " deg: redistribution " << r.redistribution << " brdf " << r.brdf
-            << " displacement " << r.displacement;
+            << name << " at " << deg << " deg: redistribution " << r.redistribution << " brdf "
+            << r.brdf << " displacement " << r.displacement;
     }
     if (deg >= 60.0f) {
       EXPECT_GT(std::abs(r.bump - r.displacement) / r.displacement, 0.05)
@@ -85,7 +89,8 @@ void expectConsistent(const PeriodicRelief& relief, const char* name) {
 // With relief self-shadowing (DESIGN.md section 6): displacement with a real shadow ray at every
 // visible hit, redistribution and the BRDF with the traced shadowing factor, agree pairwise; and
 // the shadows are not negligible (without them the displaced relief is clearly brighter).
-void expectConsistentShadows(const PeriodicRelief& relief, const char* name, float thetaLDeg, float phiDeg) {
+void expectConsistentShadows(const PeriodicRelief& relief, const char* name, float thetaLDeg,
+                             float phiDeg) {
   TableSettings settings;
   settings.shadows = true;
   const TableCache noCache{std::filesystem::path()};
@@ -106,14 +111,16 @@ void expectConsistentShadows(const PeriodicRelief& relief, const char* name, flo
     for (int i = 0; i < 3; ++i)
       for (int j = i + 1; j < 3; ++j)
         EXPECT_LT(std::abs(values[i] - values[j]) / values[j], 0.015)
-            << name << " at theta_V " << deg << ": redistribution " << r.redistribution << " brdf " << r.brdf
-            << " displacement " << r.displacement;
+            << name << " at theta_V " << deg << ": redistribution " << r.redistribution << " brdf "
+            << r.brdf << " displacement " << r.displacement;
     EXPECT_GT(unshadowed.displacement / r.displacement, 1.04) << name << " at theta_V " << deg;
     EXPECT_GT(unshadowed.brdf / r.brdf, 1.04) << name << " at theta_V " << deg;
   }
 }
 
-TEST(Consistency, EggCrateAgreesWithShadows) { expectConsistentShadows(EggCrate(0.25f), "egg crate", 70.0f, 90.0f); }
+TEST(Consistency, EggCrateAgreesWithShadows) {
+  expectConsistentShadows(EggCrate(0.25f), "egg crate", 70.0f, 90.0f);
+}
 
 TEST(Consistency, RandomWavesAgree) { expectConsistent(RandomWaves(5, 0.03f), "random waves"); }
 TEST(Consistency, EggCrateAgrees) { expectConsistent(EggCrate(0.25f), "egg crate"); }

@@ -15,7 +15,6 @@
 #include <cmath>
 #include <filesystem>
 
-
 namespace meso {
 namespace {
 
@@ -68,7 +67,8 @@ double worstBeautyDifference(const Image& a, const Image& b) {
   double worst = 0.0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
-      for (int c = 0; c < 3; ++c) worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
   return worst;
 }
 
@@ -77,14 +77,17 @@ double worstBeautyDifference(const Image& a, const Image& b) {
 TEST(Displacement, EveryVertexStaysWithinTheBound) {
   ControlMesh mesh = loadControlMesh(kTorus);
   const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
-  const MaterialRelief relief = levelsOnly({noiseLevel(0.03f, 2.0f, 3), noiseLevel(0.01f, 9.0f, 2)});
+  const MaterialRelief relief =
+      levelsOnly({noiseLevel(0.03f, 2.0f, 3), noiseLevel(0.01f, 9.0f, 2)});
   const Vec3 eye(0.0f, 1.5f, 4.0f);
   const ScreenMetric screen = ScreenMetric::lookAt(eye, Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 160, 90);
-  const ReliefDisplacement displacement(relief, DisplacementMode::Full, TransitionSettings{}, eye, 200.0f);
+  const ReliefDisplacement displacement(relief, DisplacementMode::Full, TransitionSettings{}, eye,
+                                        200.0f);
   DicingSettings dicing;
   dicing.dicingRate = 2.0f;
   const AdaptiveTessellation t = tessellateAdaptive(
-      surface, screen, dicing, faceDicing(surface, relief, DisplacementMode::Full, {}, eye, 200.0f), &displacement);
+      surface, screen, dicing, faceDicing(surface, relief, DisplacementMode::Full, {}, eye, 200.0f),
+      &displacement);
   const float bound = displacement.bound();
   ASSERT_TRUE(std::isfinite(bound));
   float largest = 0.0f;
@@ -94,7 +97,8 @@ TEST(Displacement, EveryVertexStaysWithinTheBound) {
     ASSERT_LE(d, bound * 1.0001f + 1e-6f);
     largest = std::max(largest, d);
   }
-  std::printf("  bound %.5f, largest offset %.5f over %zu micropolygons\n", bound, largest, t.stats.micropolygons);
+  std::printf("  bound %.5f, largest offset %.5f over %zu micropolygons\n", bound, largest,
+              t.stats.micropolygons);
   EXPECT_GT(largest, 0.25f * bound);
 }
 
@@ -110,7 +114,8 @@ TEST(Displacement, MicropolygonsFollowTheScreenAndTheTransition) {
   Scene far = near;
   far.camera.position.z = 4.0f;
   const size_t a = render(near).geometry.micropolygons, b = render(far).geometry.micropolygons;
-  std::printf("  distance 2: %zu micropolygons, distance 4: %zu (ratio %.3f)\n", a, b, double(b) / a);
+  std::printf("  distance 2: %zu micropolygons, distance 4: %zu (ratio %.3f)\n", a, b,
+              double(b) / a);
   EXPECT_GT(static_cast<double>(b) / a, 0.2);
   EXPECT_LT(static_cast<double>(b) / a, 0.32);
 
@@ -137,7 +142,8 @@ TEST(Displacement, PartialDisplacementHasExactLimits) {
     const float thetaV = 0.05f + 1.4f * rng.uniform();
     const Vec3 V(std::sin(thetaV), 0.0f, std::cos(thetaV));
     const ViewFrame f = makeViewFrame(N, V, Vec3(1, 0, 0));
-    const Vec3 nBump = glm::normalize(Vec3(0.4f * (rng.uniform() - 0.5f), 0.4f * (rng.uniform() - 0.5f), 1.0f));
+    const Vec3 nBump =
+        glm::normalize(Vec3(0.4f * (rng.uniform() - 0.5f), 0.4f * (rng.uniform() - 0.5f), 1.0f));
     const Vec3 atZero = redistributeNormal(r, f, 0.0f, nBump);
     EXPECT_EQ(redistributeNormal(r, f, 1.0f, nBump), nBump);
     EXPECT_LT(glm::length(redistributeNormal(r, f, 1e-4f, nBump) - atZero), 2e-3f);
@@ -166,7 +172,8 @@ TEST(Displacement, AutoImagesMatchTheirLimits) {
   EXPECT_EQ(c.geometry.micropolygons, d.geometry.micropolygons);
   EXPECT_LT(worstBeautyDifference(c.image, d.image), 1e-5);
   // And the two limits really differ from each other (the test is not vacuous).
-  EXPECT_GT(worstBeautyDifference(a.image, c.image), 4e-4);  // 40 times the tolerance above; measured 0.0010 (gcc), 0.00099 (clang)
+  EXPECT_GT(worstBeautyDifference(a.image, c.image),
+            4e-4);  // 40 times the tolerance above; measured 0.0010 (gcc), 0.00099 (clang)
 }
 
 // Facet normals of the displaced micropolygons approach the Blinn normal of the relief (the
@@ -191,26 +198,28 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
     size_t count = 0;
     for (size_t t = 0; t < o.mesh.numTriangles(); t += 7) {
       const uint32_t* k = &o.mesh.indices[3 * t];
-      const Vec3 facet = glm::normalize(glm::cross(o.mesh.positions[k[1]] - o.mesh.positions[k[0]],
-                                                   o.mesh.positions[k[2]] - o.mesh.positions[k[0]]));
-      const SurfacePoint sp = o.surface.evaluate(o.mesh.triangleFace[t], o.mesh.patchCoords(t, 1.0f / 3, 1.0f / 3));
+      const Vec3 facet =
+          glm::normalize(glm::cross(o.mesh.positions[k[1]] - o.mesh.positions[k[0]],
+                                    o.mesh.positions[k[2]] - o.mesh.positions[k[0]]));
+      const SurfacePoint sp =
+          o.surface.evaluate(o.mesh.triangleFace[t], o.mesh.patchCoords(t, 1.0f / 3, 1.0f / 3));
       const Vec2 B = level.derivatives(sp.uv);
       const Vec3 blinn = blinnNormal(sp.Pu, sp.Pv, sp.N, B.x, B.y);
       sum += std::acos(std::clamp(glm::dot(facet, blinn), -1.0f, 1.0f));
       ++count;
     }
     const double mean = degrees(static_cast<float>(sum / count));
-    std::printf("  dicing rate %.2f px: %zu micropolygons, mean angle facet vs Blinn %.3f degrees\n", rate,
-                o.mesh.numTriangles(), mean);
+    std::printf(
+        "  dicing rate %.2f px: %zu micropolygons, mean angle facet vs Blinn %.3f degrees\n", rate,
+        o.mesh.numTriangles(), mean);
     EXPECT_LT(mean, 0.7 * previous);
     previous = mean;
   }
 }
 
-
-// Becker & Max section 4.2: the shadow terminator is treated like the silhouette. Near relief (nu > D)
-// at a light's terminator gets the silhouette's T; an overhead light changes nothing, and far relief
-// (nu < D) keeps the view's own T whatever the lights.
+// Becker & Max section 4.2: the shadow terminator is treated like the silhouette. Near relief (nu >
+// D) at a light's terminator gets the silhouette's T; an overhead light changes nothing, and far
+// relief (nu < D) keeps the view's own T whatever the lights.
 TEST(Displacement, TheShadowTerminatorRaisesTLikeTheSilhouette) {
   MaterialRelief relief;
   relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.01f, 4.0f, 2)));
@@ -221,10 +230,14 @@ TEST(Displacement, TheShadowTerminatorRaisesTLikeTheSilhouette) {
   const TransitionSettings ts;
   for (float distance : {0.5f, 200.0f}) {
     const Vec3 eye(0.0f, 0.0f, distance);
-    const float T = levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition).T[0];
+    const float T =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition).T[0];
     const Light lit[] = {overhead}, terminator[] = {overhead, grazing};
-    EXPECT_EQ(levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, lit).T[0], T);
-    const float Tt = levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, terminator).T[0];
+    EXPECT_EQ(
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, lit).T[0], T);
+    const float Tt =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, terminator)
+            .T[0];
     const float cosL = 0.01f / std::sqrt(1.0001f);
     const float silhouette = levelTransition(relief.levels[0], 1.0f, cosL, distance, 500.0f, ts);
     if (T > 0.0f) {

@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 
 fs::path writeQuadObj(const std::string& name, float half) {
   // One file per process: ctest runs tests in parallel processes.
-  const fs::path file =
-      meso::testing::ProcessTemporaries::add(fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name));
+  const fs::path file = meso::testing::ProcessTemporaries::add(
+      fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name));
   std::ofstream out(file);
   out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\n"
       << "v " << half << " " << half << " 0\nv " << -half << " " << half << " 0\nf 1 2 3 4\n";
@@ -93,9 +93,11 @@ TEST(Shading, BlinnPhongHighlightAtMirrorConfiguration) {
   const Vec3 N(0.0f, 0.0f, 1.0f);
   const Light lights[] = {light};
   // Mirror direction: H = N, so (H.N)^n = 1.
-  EXPECT_NEAR(shadeLocal(m, lights, Vec3(0.0f), N, glm::normalize(Vec3(-1.0f, 0.0f, 1.0f))).x, 1.0f, 1e-6f);
+  EXPECT_NEAR(shadeLocal(m, lights, Vec3(0.0f), N, glm::normalize(Vec3(-1.0f, 0.0f, 1.0f))).x, 1.0f,
+              1e-6f);
   // V = N: H is halfway between L and N, at 22.5 degrees: cos(22.5)^50.
-  EXPECT_NEAR(shadeLocal(m, lights, Vec3(0.0f), N, N).x, std::pow(std::cos(kPi / 8.0f), 50.0f), 1e-5f);
+  EXPECT_NEAR(shadeLocal(m, lights, Vec3(0.0f), N, N).x, std::pow(std::cos(kPi / 8.0f), 50.0f),
+              1e-5f);
 }
 
 TEST(Shading, PointLightFallsOffWithInverseSquare) {
@@ -144,10 +146,12 @@ TEST(Integrator, OneAndTwoThreadsGiveBitIdenticalImages) {
   const Image two = renderWithThreads(scene, 2, 11);
   ASSERT_TRUE(one.allFinite());
   ASSERT_EQ(one.pixels.size(), two.pixels.size());
-  EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(float)));
+  EXPECT_EQ(0,
+            std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(float)));
   // The seed matters (the jitter moves silhouette samples), so the comparison above is not vacuous.
   const Image other = renderWithThreads(scene, 2, 12);
-  EXPECT_NE(0, std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(float)));
+  EXPECT_NE(0,
+            std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(float)));
 }
 
 }  // namespace

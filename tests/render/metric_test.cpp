@@ -21,7 +21,8 @@ namespace {
 // A 40 x 40 plane in z = 0 whose four corners carry the given uv.
 std::filesystem::path writeQuad(const std::string& tag, const Vec2 uv[4]) {
   const std::filesystem::path file = testing::ProcessTemporaries::add(
-      std::filesystem::temp_directory_path() / ("meso_metric_" + tag + "_" + std::to_string(::getpid()) + ".obj"));
+      std::filesystem::temp_directory_path() /
+      ("meso_metric_" + tag + "_" + std::to_string(::getpid()) + ".obj"));
   std::ofstream out(file);
   out << "v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\n";
   for (int k = 0; k < 4; ++k) out << "vt " << uv[k].x << " " << uv[k].y << "\n";
@@ -31,21 +32,23 @@ std::filesystem::path writeQuad(const std::string& tag, const Vec2 uv[4]) {
 
 // The same world relief (2 periods per world unit, amplitude `amplitude`) whatever the uv: the
 // tiling scale follows the uv's length per world unit.
-Scene metricScene(const std::string& algorithm, const std::string& tag, const Vec2 uv[4], float scale,
-                  float amplitude) {
+Scene metricScene(const std::string& algorithm, const std::string& tag, const Vec2 uv[4],
+                  float scale, float amplitude) {
   Material m;
   m.kd = Vec3(0.7f);
   m.ks = Vec3(0.2f);
   m.phong = 20.0f;
   m.relief = {testing::noiseLevel(amplitude, scale, 3)};
-  Scene s = testing::planeScene(writeQuad(tag, uv), algorithm, m, Vec3(0.4f, 0.5f, -0.7f), "metric");
+  Scene s =
+      testing::planeScene(writeQuad(tag, uv), algorithm, m, Vec3(0.4f, 0.5f, -0.7f), "metric");
   s.camera.position = {0.0f, -19.0f, 2.5f};
   s.camera.lookAt = {0.0f, 0.0f, 0.0f};
   s.camera.width = 64;
   s.camera.height = 36;
   s.camera.fovY = 40.0f;
   s.camera.spp = 1;
-  s.render.tables.raysPerView = 512;  // small tables: the comparison is between metrics, same tables
+  s.render.tables.raysPerView =
+      512;  // small tables: the comparison is between metrics, same tables
   s.render.tables.azimuths = 16;
   return s;
 }
@@ -79,12 +82,14 @@ TEST(Metric, ScaledUvGivesTheSameImages) {
     std::vector<std::vector<double>> means;
     for (float length : {40.0f, 40.0f / 12.0f, 1.0f}) {
       const Vec2 uv[4] = {{0, 0}, {length, 0}, {length, length}, {0, length}};
-      means.push_back(bandMeans(metricScene(algorithm, "scaled", uv, 2.0f * 40.0f / length, 0.03f), 3));
+      means.push_back(
+          bandMeans(metricScene(algorithm, "scaled", uv, 2.0f * 40.0f / length, 0.03f), 3));
     }
     ASSERT_GE(means[0].size(), 2u);
     for (size_t k = 1; k < means.size(); ++k)
       for (size_t b = 0; b < means[0].size(); ++b)
-        EXPECT_NEAR(means[k][b] / means[0][b], 1.0, 0.003) << algorithm << " uv scale " << k << " band " << b;
+        EXPECT_NEAR(means[k][b] / means[0][b], 1.0, 0.003)
+            << algorithm << " uv scale " << k << " band " << b;
   }
 }
 
@@ -96,7 +101,8 @@ TEST(Metric, TablesFollowTheLengthPerU) {
   Scene a = metricScene("brdf", "unit", unit, 2.0f, 0.03f);
   Scene b = metricScene("brdf", "one", one, 80.0f, 0.03f);
   PrepareTimes times;
-  const RenderContext ca = prepareRenderContext(a, times, false), cb = prepareRenderContext(b, times, false);
+  const RenderContext ca = prepareRenderContext(a, times, false),
+                      cb = prepareRenderContext(b, times, false);
   ASSERT_EQ(ca.reliefs[0].metrics.size(), 1u);
   ASSERT_EQ(cb.reliefs[0].metrics.size(), 1u);
   EXPECT_NEAR(ca.reliefs[0].metrics[0].lengthPerU, 1.0f, 1e-4f);
@@ -107,7 +113,8 @@ TEST(Metric, TablesFollowTheLengthPerU) {
   double diff = 0.0;
   for (int k = 0; k < ha.resolution().thetaV; ++k)
     for (int i = 0; i < ha.resolution().thetaN; ++i)
-      for (int j = 0; j < ha.resolution().phi; ++j) diff += std::abs(ha.mass(k, i, j) - hb.mass(k, i, j));
+      for (int j = 0; j < ha.resolution().phi; ++j)
+        diff += std::abs(ha.mass(k, i, j) - hb.mass(k, i, j));
   EXPECT_LT(diff, 1e-3) << "summed over 16 slices of mass 1";
 }
 
@@ -122,7 +129,8 @@ TEST(Metric, AnisotropicAndShearedUvStayFinite) {
     for (const Vec2* uv : {aniso, shear}) {
       const std::vector<double> m = bandMeans(metricScene(algorithm, "aniso", uv, 2.0f, 0.03f), 3);
       ASSERT_GE(m.size(), 2u);
-      for (double v : m) EXPECT_TRUE(std::isfinite(v) && v > 0.1 && v < 2.0) << algorithm << " " << v;
+      for (double v : m)
+        EXPECT_TRUE(std::isfinite(v) && v > 0.1 && v < 2.0) << algorithm << " " << v;
     }
   }
 }
@@ -142,7 +150,8 @@ TEST(Metric, TileMapInvertsAndMapsNormals) {
     const Vec3 n = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, 1.0f));
     const Vec3 tangent = glm::cross(n, Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
     const Vec3 mt = tangent.x * m.a + tangent.y * m.b + tangent.z * m.N;
-    EXPECT_LT(std::abs(glm::dot(m.normalToWorld(n), mt)), 1e-4f * glm::length(mt) * glm::length(m.normalToWorld(n)));
+    EXPECT_LT(std::abs(glm::dot(m.normalToWorld(n), mt)),
+              1e-4f * glm::length(mt) * glm::length(m.normalToWorld(n)));
   }
 }
 
@@ -161,17 +170,19 @@ TEST(Metric, GeometryAndShadingAgreeOnDispPerLevel) {
   const RenderContext ctx = prepareRenderContext(s, times);
   const PreparedObject& object = ctx.objects[0];
   ASSERT_TRUE(object.displaced);
-  // With shadows (the default) the lights' terminators count in T, for the tessellator as for the shader.
+  // With shadows (the default) the lights' terminators count in T, for the tessellator as for the
+  // shader.
   ASSERT_TRUE(ctx.shadows);
-  const ReliefDisplacement geometry(ctx.reliefs[0], DisplacementMode::ByTransition, s.render.transition,
-                                    ctx.camera.position(), ctx.camera.pixelsPerRadian(), s.lights);
+  const ReliefDisplacement geometry(ctx.reliefs[0], DisplacementMode::ByTransition,
+                                    s.render.transition, ctx.camera.position(),
+                                    ctx.camera.pixelsPerRadian(), s.lights);
   Rng rng(12);
   int partial = 0;
   for (int k = 0; k < 10000; ++k) {
     const SurfacePoint sp = object.surface.evaluate(0, Vec2(rng.uniform(), rng.uniform()));
     const LevelDisplacement d = geometry.levels(sp);
-    const ShadeResult r = shadeSurface(ctx, object, sp, glm::normalize(ctx.camera.position() - sp.P), nullptr,
-                                       nullptr, &sp.P);
+    const ShadeResult r = shadeSurface(
+        ctx, object, sp, glm::normalize(ctx.camera.position() - sp.P), nullptr, nullptr, &sp.P);
     for (int i = 0; i < 2; ++i) {
       EXPECT_NEAR(r.disp[i], d.disp[i], 1e-6f) << "level " << i;
       partial += d.disp[i] > 0.0f && d.disp[i] < 1.0f;
@@ -187,7 +198,8 @@ TEST(Metric, DefaultMidlevelIsTheMean) {
   double sum = 0.0;
   constexpr int kGrid = 256;
   for (int j = 0; j < kGrid; ++j)
-    for (int i = 0; i < kGrid; ++i) sum += level.height(Vec2((i + 0.5f) / kGrid, (j + 0.5f) / kGrid) / 3.0f);
+    for (int i = 0; i < kGrid; ++i)
+      sum += level.height(Vec2((i + 0.5f) / kGrid, (j + 0.5f) / kGrid) / 3.0f);
   EXPECT_NEAR(sum / (kGrid * kGrid), 0.0, 1e-3 * 0.1);
   EXPECT_NE(level.midlevel, 0.0f);
   ReliefLevelDecl explicitMid = testing::noiseLevel(0.1f, 3.0f, 3);

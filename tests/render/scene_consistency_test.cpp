@@ -46,7 +46,8 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
   EXPECT_GT(r.regions[0].pixels, 48 * 27 / 3);
   for (const ConsistencyRegion& region : r.regions) {
     if (region.pixels == 0) continue;
-    EXPECT_EQ(region.mean[2], region.mean[0]) << region.name;  // displacement at the reference's dicing
+    EXPECT_EQ(region.mean[2], region.mean[0])
+        << region.name;  // displacement at the reference's dicing
     EXPECT_GT(region.mean[0], 0.0);
     for (double m : region.mean) EXPECT_TRUE(std::isfinite(m));
   }
@@ -54,7 +55,9 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
   EXPECT_LT(r.referenceChange, 0.05);
   EXPECT_EQ(r.worstRenderer, "bump");  // displacement is exact, so bump is the worst
   const std::string csv = formatSceneConsistency(r, false), md = formatSceneConsistency(r, true);
-  EXPECT_NE(csv.find("region,pixels,reference,coarse reference,displacement,bump"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("region,pixels,reference,coarse reference,displacement,bump"),
+            std::string::npos)
+      << csv;
   EXPECT_NE(md.find("| region | pixels | reference"), std::string::npos) << md;
 }
 

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <filesystem>
 
-
 namespace meso {
 namespace {
 
@@ -97,9 +96,11 @@ TEST(SynthesisRender, MeanIntensityHoldsFromFarToDeepZoom) {
     EXPECT_LT(reference.synthesis, 0.01) << "far away: no synthesized detail";
     for (float zoom : {4.0f, 16.0f, 64.0f, 256.0f}) {
       const Means m = meanOverSurface(type, far / zoom, 4096);
-      std::printf("  %s distance d/%g: mean %.4f (far %.4f, %+.2f%%), synthesis share %.2f\n", type, zoom, m.intensity,
-                  reference.intensity, 100.0 * (m.intensity / reference.intensity - 1.0), m.synthesis);
-      EXPECT_NEAR(m.intensity, reference.intensity, tolerance * reference.intensity) << type << " zoom " << zoom;
+      std::printf("  %s distance d/%g: mean %.4f (far %.4f, %+.2f%%), synthesis share %.2f\n", type,
+                  zoom, m.intensity, reference.intensity,
+                  100.0 * (m.intensity / reference.intensity - 1.0), m.synthesis);
+      EXPECT_NEAR(m.intensity, reference.intensity, tolerance * reference.intensity)
+          << type << " zoom " << zoom;
       if (zoom == 16.0f) {
         EXPECT_GT(m.synthesis, 0.2) << type << " zoom " << zoom;  // fading in
       }
@@ -137,7 +138,8 @@ TEST(SynthesisRender, IndexTextureContinuesTheReliefsOwnNormals) {
       angle += std::acos(std::clamp(n.z, -1.0f, 1.0f));
     }
     angle = degrees(static_cast<float>(angle / 2000));
-    std::printf("  octave count %.1f: mean deviation from the relief's own normal %.3f degrees\n", c, angle);
+    std::printf("  octave count %.1f: mean deviation from the relief's own normal %.3f degrees\n",
+                c, angle);
     if (c == 0.0f) {
       EXPECT_EQ(angle, 0.0);
     } else if (c <= 1.0f) {
@@ -155,9 +157,11 @@ TEST(SynthesisRender, FarBlinnPhongNdfIsTheLocalModel) {
   Scene withNdf = zoomScene("blinn-phong", 8.0f), plain = withNdf;
   plain.materials[0].ndf.present = false;
   PrepareTimes times;
-  const RenderContext a = prepareRenderContext(withNdf, times), b = prepareRenderContext(plain, times);
+  const RenderContext a = prepareRenderContext(withNdf, times),
+                      b = prepareRenderContext(plain, times);
   RenderCounters counters;
-  const Image ia = renderFrame(a, {1, 1, false}, counters), ib = renderFrame(b, {1, 1, false}, counters);
+  const Image ia = renderFrame(a, {1, 1, false}, counters),
+              ib = renderFrame(b, {1, 1, false}, counters);
   double worst = 0.0;
   for (size_t i = 0; i < ia.pixels.size(); i += ia.numChannels())
     worst = std::max(worst, static_cast<double>(std::abs(ia.pixels[i] - ib.pixels[i])));

@@ -35,7 +35,8 @@ class SceneReaderTest : public testing::TempDirTest {
     return "";
   }
   std::string at(int line, int col, const std::string& key) {
-    return (dir_ / "scene.toml").string() + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + key + ": ";
+    return (dir_ / "scene.toml").string() + ":" + std::to_string(line) + ":" + std::to_string(col) +
+           ": " + key + ": ";
   }
 };
 
@@ -138,13 +139,15 @@ normals = "facet"
 }
 
 TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
-  const Scene s = parse(std::string(kObject) + "translate = [10, 0, 0]\nrotate = [0, 0, 90]\nscale = [2, 1, 1]\n");
+  const Scene s = parse(std::string(kObject) +
+                        "translate = [10, 0, 0]\nrotate = [0, 0, 90]\nscale = [2, 1, 1]\n");
   EXPECT_EQ(s.camera.width, 640);
   EXPECT_EQ(s.camera.spp, 4);
   EXPECT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.render.algorithm, "auto");
   EXPECT_EQ(s.render.dicingMetric, "isotropic");
-  // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2, 0).
+  // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2,
+  // 0).
   const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);
   EXPECT_NEAR(p.x, 10.0f, 1e-5f);
   EXPECT_NEAR(p.y, 2.0f, 1e-5f);
@@ -152,58 +155,84 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
 }
 
 TEST_F(SceneReaderTest, UnknownKeysAreRejectedAtEveryLevel) {
-  EXPECT_NE(errorOf(std::string(kObject) + "colour = 1\n").find(at(3, 1, "objects.colour") + "unknown key"), std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nfocal = 3\n") + kObject).find(at(2, 1, "camera.focal")), std::string::npos);
-  EXPECT_NE(errorOf(std::string("lamps = 1\n") + kObject).find(at(1, 1, "lamps") + "unknown key (allowed here:"),
+  EXPECT_NE(errorOf(std::string(kObject) + "colour = 1\n")
+                .find(at(3, 1, "objects.colour") + "unknown key"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string(kObject) + "[[materials]]\nname = \"x\"\n[[materials.relief]]\nnoise = { octaves = 2, size = 3 }\n")
-                .find("materials.relief.noise.size: unknown key"),
+  EXPECT_NE(errorOf(std::string("[camera]\nfocal = 3\n") + kObject).find(at(2, 1, "camera.focal")),
             std::string::npos);
+  EXPECT_NE(errorOf(std::string("lamps = 1\n") + kObject)
+                .find(at(1, 1, "lamps") + "unknown key (allowed here:"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf(
+          std::string(kObject) +
+          "[[materials]]\nname = \"x\"\n[[materials.relief]]\nnoise = { octaves = 2, size = 3 }\n")
+          .find("materials.relief.noise.size: unknown key"),
+      std::string::npos);
 }
 
 TEST_F(SceneReaderTest, WrongTypesAreRejected) {
-  EXPECT_NE(errorOf(std::string("[camera]\nfov = \"wide\"\n") + kObject).find(at(2, 7, "camera.fov") + "expected a number, got a string"),
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = \"wide\"\n") + kObject)
+                .find(at(2, 7, "camera.fov") + "expected a number, got a string"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nspp = 2.5\n") + kObject).find(at(2, 7, "camera.spp") + "expected an integer, got 2.5"),
+  EXPECT_NE(errorOf(std::string("[camera]\nspp = 2.5\n") + kObject)
+                .find(at(2, 7, "camera.spp") + "expected an integer, got 2.5"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nposition = [1, 2]\n") + kObject).find(at(2, 12, "camera.position") + "expected an array of 3 numbers"),
+  EXPECT_NE(errorOf(std::string("[camera]\nposition = [1, 2]\n") + kObject)
+                .find(at(2, 12, "camera.position") + "expected an array of 3 numbers"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("camera = 3\n") + kObject).find(at(1, 10, "camera") + "expected a table"), std::string::npos);
+  EXPECT_NE(
+      errorOf(std::string("camera = 3\n") + kObject).find(at(1, 10, "camera") + "expected a table"),
+      std::string::npos);
 }
 
 TEST_F(SceneReaderTest, NanInfAndOutOfRangeAreRejected) {
-  EXPECT_NE(errorOf(std::string("[camera]\nfov = nan\n") + kObject).find(at(2, 7, "camera.fov") + "expected a finite number"),
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = nan\n") + kObject)
+                .find(at(2, 7, "camera.fov") + "expected a finite number"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[[lights]]\nintensity = inf\n") + kObject).find(at(2, 13, "lights.intensity") + "expected a finite number"),
+  EXPECT_NE(errorOf(std::string("[[lights]]\nintensity = inf\n") + kObject)
+                .find(at(2, 13, "lights.intensity") + "expected a finite number"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nfov = 190\n") + kObject).find(at(2, 7, "camera.fov") + "expected a number in (0, 180), got 190"),
+  EXPECT_NE(errorOf(std::string("[camera]\nfov = 190\n") + kObject)
+                .find(at(2, 7, "camera.fov") + "expected a number in (0, 180), got 190"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nresolution = [0, 10]\n") + kObject).find("camera.resolution: expected a number in [1, 16384]"),
+  EXPECT_NE(errorOf(std::string("[camera]\nresolution = [0, 10]\n") + kObject)
+                .find("camera.resolution: expected a number in [1, 16384]"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[render]\nspp = 1\n") + kObject).find("render.spp: unknown key"), std::string::npos);
-  EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\nkd = [1, -1, 0]\n") + kObject).find(at(3, 10, "materials.kd") + "expected a number in [0, 1e+06], got -1"),
+  EXPECT_NE(errorOf(std::string("[render]\nspp = 1\n") + kObject).find("render.spp: unknown key"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string(kObject) + "scale = 0\n").find(at(3, 9, "objects.scale") + "expected non-zero"), std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\nkd = [1, -1, 0]\n") + kObject)
+                .find(at(3, 10, "materials.kd") + "expected a number in [0, 1e+06], got -1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "scale = 0\n")
+                .find(at(3, 9, "objects.scale") + "expected non-zero"),
+            std::string::npos);
 }
 
 TEST_F(SceneReaderTest, EnumsReferencesAndDuplicatesAreChecked) {
   EXPECT_NE(errorOf(std::string(kObject) + "scheme = \"doo-sabin\"\n")
-                .find(at(3, 10, "objects.scheme") + "expected one of catmull-clark | loop | bilinear, got \"doo-sabin\""),
+                .find(at(3, 10, "objects.scheme") +
+                      "expected one of catmull-clark | loop | bilinear, got \"doo-sabin\""),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string(kObject) + "material = \"gold\"\n").find(at(3, 12, "objects.material") + "no material named \"gold\""),
+  EXPECT_NE(errorOf(std::string(kObject) + "material = \"gold\"\n")
+                .find(at(3, 12, "objects.material") + "no material named \"gold\""),
             std::string::npos);
-  EXPECT_NE(errorOf("[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n" + std::string(kObject))
-                .find(at(4, 8, "materials.name") + "duplicate material name"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf("[[materials]]\nname = \"a\"\n[[materials]]\nname = \"a\"\n" + std::string(kObject))
+          .find(at(4, 8, "materials.name") + "duplicate material name"),
+      std::string::npos);
   EXPECT_NE(errorOf(std::string("[render]\nthresholds = [-1, 0.5, 0.3, 1]\n") + kObject)
-                .find(at(2, 14, "render.thresholds") + "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4"),
+                .find(at(2, 14, "render.thresholds") +
+                      "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4"),
             std::string::npos);
 }
 
 TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
-  const Scene s = parse(std::string(kObject) +
-                        "[render.tables]\ntheta_v_bins = 9\ntheta_n_bins = 48\nphi_bins = 16\nazimuths = 8\n"
-                        "rays_per_view = 512\nmesh_resolution = 64\nbrdf_theta_l = 12\nbrdf_phi = 10\nvariant = \"separable\"\n");
+  const Scene s =
+      parse(std::string(kObject) +
+            "[render.tables]\ntheta_v_bins = 9\ntheta_n_bins = 48\nphi_bins = 16\nazimuths = 8\n"
+            "rays_per_view = 512\nmesh_resolution = 64\nbrdf_theta_l = 12\nbrdf_phi = 10\nvariant "
+            "= \"separable\"\n");
   const TableResolution& t = s.render.tables;
   EXPECT_EQ(t.thetaVBins, 9);
   EXPECT_EQ(t.thetaNBins, 48);
@@ -215,16 +244,21 @@ TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
   EXPECT_EQ(t.brdfPhi, 10);
   EXPECT_EQ(t.variant, "separable");
   EXPECT_EQ(parse(kObject).render.tables.thetaNBins, 96);
-  EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\ntheta_v_bins = 1\n")
-                .find(at(4, 16, "render.tables.theta_v_bins") + "expected an integer in [2, 90], got 1"),
-            std::string::npos);
-  EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\nrays = 3\n").find(at(4, 1, "render.tables.rays") + "unknown key"),
+  EXPECT_NE(
+      errorOf(std::string(kObject) + "[render.tables]\ntheta_v_bins = 1\n")
+          .find(at(4, 16, "render.tables.theta_v_bins") + "expected an integer in [2, 90], got 1"),
+      std::string::npos);
+  EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\nrays = 3\n")
+                .find(at(4, 1, "render.tables.rays") + "unknown key"),
             std::string::npos);
 }
 
 TEST_F(SceneReaderTest, NdfDeclarations) {
-  const Scene s = parse("[[materials]]\nname = \"m\"\n  [materials.ndf]\n  type = \"beckmann\"\n  alpha = [0.2, 0.05]\n"
-                        "  angle = 30\n  scale = 64\n  octaves = 5\n  seed = 3\n  lambert = false\n" + std::string(kObject));
+  const Scene s = parse(
+      "[[materials]]\nname = \"m\"\n  [materials.ndf]\n  type = \"beckmann\"\n  alpha = [0.2, "
+      "0.05]\n"
+      "  angle = 30\n  scale = 64\n  octaves = 5\n  seed = 3\n  lambert = false\n" +
+      std::string(kObject));
   const NdfDecl& n = s.materials[0].ndf;
   EXPECT_TRUE(n.present);
   EXPECT_EQ(n.type, "beckmann");
@@ -236,34 +270,54 @@ TEST_F(SceneReaderTest, NdfDeclarations) {
   EXPECT_EQ(n.seed, 3u);
   EXPECT_FALSE(n.lambert);
   EXPECT_FALSE(parse(kObject).materials[0].ndf.present);
-  EXPECT_FLOAT_EQ(parse("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0.4\n" + std::string(kObject)).materials[0].ndf.alpha.y, 0.4f);
-  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"ggx\"\n" + std::string(kObject))
-                .find(at(4, 8, "materials.ndf.type") + "expected one of beckmann | blinn-phong | tabulated | relief"),
+  EXPECT_FLOAT_EQ(
+      parse("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0.4\n" + std::string(kObject))
+          .materials[0]
+          .ndf.alpha.y,
+      0.4f);
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"ggx\"\n" +
+                    std::string(kObject))
+                .find(at(4, 8, "materials.ndf.type") +
+                      "expected one of beckmann | blinn-phong | tabulated | relief"),
             std::string::npos);
-  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"tabulated\"\n" + std::string(kObject))
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"tabulated\"\n" +
+                    std::string(kObject))
                 .find("materials.ndf.image: a tabulated NDF needs `image`"),
             std::string::npos);
-  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"relief\"\n" + std::string(kObject))
-                .find("materials.ndf.type: \"relief\" estimates the NDF from the material's finest relief level"),
+  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\ntype = \"relief\"\n" +
+                    std::string(kObject))
+                .find("materials.ndf.type: \"relief\" estimates the NDF from the material's finest "
+                      "relief level"),
             std::string::npos);
-  EXPECT_NE(errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0\n" + std::string(kObject))
-                .find(at(4, 9, "materials.ndf.alpha") + "expected a number in [0.0001, 10]"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf("[[materials]]\nname = \"m\"\n[materials.ndf]\nalpha = 0\n" + std::string(kObject))
+          .find(at(4, 9, "materials.ndf.alpha") + "expected a number in [0.0001, 10]"),
+      std::string::npos);
 }
 
 TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
-  EXPECT_NE(errorOf("[[objects]]\nmesh = \"nope.obj\"\n").find(at(2, 8, "objects.mesh") + "file not found: "), std::string::npos);
-  EXPECT_NE(errorOf("[[objects]]\nmesh = \".\"\n").find(at(2, 8, "objects.mesh") + "not a regular file"), std::string::npos);
-  EXPECT_NE(errorOf("[render]\nseed = 1\n").find("objects: expected at least one [[objects]]"), std::string::npos);
-  EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n") + kObject)
-                .find(at(4, 10, "materials.relief.height") + "file not found"),
+  EXPECT_NE(errorOf("[[objects]]\nmesh = \"nope.obj\"\n")
+                .find(at(2, 8, "objects.mesh") + "file not found: "),
             std::string::npos);
+  EXPECT_NE(
+      errorOf("[[objects]]\nmesh = \".\"\n").find(at(2, 8, "objects.mesh") + "not a regular file"),
+      std::string::npos);
+  EXPECT_NE(errorOf("[render]\nseed = 1\n").find("objects: expected at least one [[objects]]"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf(std::string(
+                  "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"gone.png\"\n") +
+              kObject)
+          .find(at(4, 10, "materials.relief.height") + "file not found"),
+      std::string::npos);
   EXPECT_NE(errorOf(std::string("[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 0]\n") + kObject)
                 .find(at(3, 11, "camera.look_at") + "expected a point different"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[camera]\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\n") + kObject).find("camera.up"),
+  EXPECT_NE(errorOf(std::string("[camera]\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\n") + kObject)
+                .find("camera.up"),
             std::string::npos);
-  EXPECT_NE(errorOf(std::string("[[lights]]\ndirection = [0, 0, 0]\n") + kObject).find(at(2, 13, "lights.direction")),
+  EXPECT_NE(errorOf(std::string("[[lights]]\ndirection = [0, 0, 0]\n") + kObject)
+                .find(at(2, 13, "lights.direction")),
             std::string::npos);
 }
 

@@ -36,13 +36,16 @@ class ProcessTemporaries {
 
 // A square [-half, half]^2 in z = 0 with uv running from uvLow to uvHigh across it, written once
 // per process (ctest runs tests in parallel processes) under a name made from `tag`.
-inline std::filesystem::path writePlaneObj(const std::string& tag, float half, float uvLow, float uvHigh) {
-  const std::filesystem::path file = ProcessTemporaries::add(
-      std::filesystem::temp_directory_path() / ("meso_" + tag + "_plane_" + std::to_string(::getpid()) + ".obj"));
+inline std::filesystem::path writePlaneObj(const std::string& tag, float half, float uvLow,
+                                           float uvHigh) {
+  const std::filesystem::path file =
+      ProcessTemporaries::add(std::filesystem::temp_directory_path() /
+                              ("meso_" + tag + "_plane_" + std::to_string(::getpid()) + ".obj"));
   std::ofstream out(file);
-  out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\nv " << half << " " << half
-      << " 0\nv " << -half << " " << half << " 0\nvt " << uvLow << " " << uvLow << "\nvt " << uvHigh << " " << uvLow
-      << "\nvt " << uvHigh << " " << uvHigh << "\nvt " << uvLow << " " << uvHigh << "\nf 1/1 2/2 3/3 4/4\n";
+  out << "v " << -half << " " << -half << " 0\nv " << half << " " << -half << " 0\nv " << half
+      << " " << half << " 0\nv " << -half << " " << half << " 0\nvt " << uvLow << " " << uvLow
+      << "\nvt " << uvHigh << " " << uvLow << "\nvt " << uvHigh << " " << uvHigh << "\nvt " << uvLow
+      << " " << uvHigh << "\nf 1/1 2/2 3/3 4/4\n";
   return file;
 }
 
@@ -57,8 +60,9 @@ inline ReliefLevelDecl noiseLevel(float amplitude, float scale, int octaves = 2)
 
 // The plane `obj` with `material`, lit from `lightDirection` (the direction light travels);
 // the camera still needs its position, look-at, size, field of view and samples.
-inline Scene planeScene(const std::filesystem::path& obj, const std::string& algorithm, const Material& material,
-                        const Vec3& lightDirection, const std::string& tag) {
+inline Scene planeScene(const std::filesystem::path& obj, const std::string& algorithm,
+                        const Material& material, const Vec3& lightDirection,
+                        const std::string& tag) {
   Scene s;
   s.camera.up = {0.0f, 0.0f, 1.0f};
   Light l;
@@ -70,8 +74,9 @@ inline Scene planeScene(const std::filesystem::path& obj, const std::string& alg
   o.scheme = SubdivisionScheme::Bilinear;
   s.objects = {o};
   s.render.algorithm = algorithm;
-  s.render.cacheDir = ProcessTemporaries::add(std::filesystem::temp_directory_path() /
-                                              ("meso_" + tag + "_cache_" + std::to_string(::getpid())));
+  s.render.cacheDir =
+      ProcessTemporaries::add(std::filesystem::temp_directory_path() /
+                              ("meso_" + tag + "_cache_" + std::to_string(::getpid())));
   return s;
 }
 

@@ -24,13 +24,15 @@ struct BrdfResolution {
 };
 
 // Each entry is the area-averaged reflectance of the relief seen from V and lit from L, per unit
-// kd (diffuse) or ks (specular): the shaded intensity of a pixel is ka + kd * diffuse + ks * specular
-// (times the light), which is what bump and displacement give when averaged over the same area.
+// kd (diffuse) or ks (specular): the shaded intensity of a pixel is ka + kd * diffuse + ks *
+// specular (times the light), which is what bump and displacement give when averaged over the same
+// area.
 class BrdfTable {
  public:
   BrdfTable() = default;
   // The finest level (Figure 2, first branch): (L.N) and (H.N)^phong over the visible normals.
-  static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res, float phong);
+  static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
+                                    float phong);
   // The same with any specular lobe.
   static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
                                     const SpecularLobe& lobe);
@@ -52,7 +54,9 @@ class BrdfTable {
   Value lookup(float thetaV, float phiV, float thetaL, float phiVL) const;
   int numPhiV() const { return phiV_; }
   // Nodes on the phi_{V-L} axis: res.phi over [0, pi] (isotropic), 2 res.phi - 1 over [-pi, pi].
-  static int phiNodes(const BrdfResolution& res, int phiV) { return phiV > 1 ? 2 * res.phi - 1 : res.phi; }
+  static int phiNodes(const BrdfResolution& res, int phiV) {
+    return phiV > 1 ? 2 * res.phi - 1 : res.phi;
+  }
 
   int numThetaV() const { return static_cast<int>(thetaV_.size()); }
   const BrdfResolution& resolution() const { return res_; }
@@ -62,7 +66,8 @@ class BrdfTable {
   Value entry(int k, int i, int j) const;
   // Raw storage for the cache and for checks (diffuse then specular, k-major).
   const std::vector<float>& data() const { return data_; }
-  static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data, int phiV = 1);
+  static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data,
+                            int phiV = 1);
 
  private:
   // k is a view slice: iThetaV * phiV + iPhiV.

@@ -1,5 +1,6 @@
-// Becker & Max 1993, section 2.1: visible-normal histograms measured by tracing orthographic rays at
-// a periodic tile of the fully displaced relief, neighbour tiles occluding (DESIGN.md section 4).
+// Becker & Max 1993, section 2.1: visible-normal histograms measured by tracing orthographic rays
+// at a periodic tile of the fully displaced relief, neighbour tiles occluding (DESIGN.md section
+// 4).
 #pragma once
 
 #include "meso/appearance/visible_normal_histogram.h"
@@ -22,9 +23,10 @@ class PeriodicRelief {
   virtual uint64_t fingerprint() const = 0;
 };
 
-// The area-preserving shape of a parameterization, Becker & Max's stretched (u, v) (docs/metric.md):
-// tangent coordinates of the tile (x, y) map to the surface's orthonormal frame (P_u direction
-// first) by the upper triangular [[a, b], [0, 1 / a]]. Identity: isotropic, orthogonal uv.
+// The area-preserving shape of a parameterization, Becker & Max's stretched (u, v)
+// (docs/metric.md): tangent coordinates of the tile (x, y) map to the surface's orthonormal frame
+// (P_u direction first) by the upper triangular [[a, b], [0, 1 / a]]. Identity: isotropic,
+// orthogonal uv.
 struct MetricShape {
   float a = 1.0f;
   float b = 0.0f;
@@ -34,16 +36,18 @@ struct MetricShape {
 
 struct HistogramSettings {
   HistogramResolution resolution;
-  int azimuths = 32;        // phi_V directions per theta_V slice
-  int raysPerView = 2048;   // rays per (theta_V, phi_V)
-  int meshResolution = 192; // quads per tile side of the traced height field
+  int azimuths = 32;         // phi_V directions per theta_V slice
+  int raysPerView = 2048;    // rays per (theta_V, phi_V)
+  int meshResolution = 192;  // quads per tile side of the traced height field
   uint64_t seed = 1;
   // The relief is traced as seen on a surface of this shape: rays and normals go through the map,
   // and the histogram is of normals in that surface's frame (its view azimuths about P_u).
   MetricShape shape;
 };
 
-// Traces the histogram; deterministic for a seed whatever the thread count (slices are independent).
-VisibleNormalHistogram buildVisibleNormalHistogram(const PeriodicRelief& relief, const HistogramSettings& settings);
+// Traces the histogram; deterministic for a seed whatever the thread count (slices are
+// independent).
+VisibleNormalHistogram buildVisibleNormalHistogram(const PeriodicRelief& relief,
+                                                   const HistogramSettings& settings);
 
 }  // namespace meso

@@ -18,7 +18,8 @@ struct TableSettings {
   BrdfResolution brdf;
   // Conditional by default: on the consistency test (Figure 6) the separable maps lose the coupling
   // between tilt and azimuth of visible normals and miss displacement by up to 5% at 60 degrees,
-  // the conditional maps by under 0.4% (measured on two reliefs, tests/render/consistency_test.cpp).
+  // the conditional maps by under 0.4% (measured on two reliefs,
+  // tests/render/consistency_test.cpp).
   RedistributionVariant variant = RedistributionVariant::Conditional;
   // render.shadows: also trace the relief's self-shadowing factor (ShadowingTable), cached under
   // its own key (the level's key with a shadows flag), so the unshadowed tables keep theirs.
@@ -30,20 +31,21 @@ struct LevelTables {
   VisibleNormalHistogram distr;
   Redistribution redistribution;
   BrdfTable brdf;
-  ShadowingTable shadowing;  // empty unless TableSettings::shadows
+  ShadowingTable shadowing;       // empty unless TableSettings::shadows
   double shadowingSeconds = 0.0;  // its build or load time (part of `seconds`)
-  uint64_t key = 0;         // cache key (also shapes the keys of coarser levels built over this one)
+  uint64_t key = 0;  // cache key (also shapes the keys of coarser levels built over this one)
   bool fromCache = false;
-  double seconds = 0.0;     // build or load time
-  size_t bytes = 0;         // size of the cached payload
+  double seconds = 0.0;  // build or load time
+  size_t bytes = 0;      // size of the cached payload
 };
 
 // Builds (or loads) the tables of a level. `finer` is the next finer level's tables, or nullptr for
 // the finest level, whose BRDF uses (L.N) and (H.N)^phong. Warnings (a corrupt cache file that was
 // rebuilt, an unwritable cache) are appended to *warnings.
 // `lobe` (may be null) replaces (H.N)^phong in the finest level's BRDF.
-LevelTables buildLevelTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
-                             const LevelTables* finer, const TableCache& cache,
-                             std::vector<std::string>* warnings, const SpecularLobe* lobe = nullptr);
+LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
+                             const TableSettings& settings, const LevelTables* finer,
+                             const TableCache& cache, std::vector<std::string>* warnings,
+                             const SpecularLobe* lobe = nullptr);
 
 }  // namespace meso

@@ -1,4 +1,5 @@
-// Monotone piecewise-linear CDFs over equal bins, and their exact inverses (used by redistribution).
+// Monotone piecewise-linear CDFs over equal bins, and their exact inverses (used by
+// redistribution).
 #pragma once
 
 #include <array>
@@ -46,7 +47,9 @@ struct CdfMix {
   size_t edges() const { return cdf[0].size(); }
 };
 
-float cdfForward(const CdfMix& mix, float lo, float width, float x, BinShape shape = BinShape::Uniform);
-float cdfInverse(const CdfMix& mix, float lo, float width, float p, BinShape shape = BinShape::Uniform);
+float cdfForward(const CdfMix& mix, float lo, float width, float x,
+                 BinShape shape = BinShape::Uniform);
+float cdfInverse(const CdfMix& mix, float lo, float width, float p,
+                 BinShape shape = BinShape::Uniform);
 
 }  // namespace meso

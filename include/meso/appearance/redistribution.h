@@ -34,7 +34,9 @@ class Redistribution {
   // Partial displacement: n' = R_thetaV(R_thetaW^-1(n)) with theta_W = arccot(cot(theta_V) / disp).
   // disp <= 0 is plain redistribution R_thetaV(n); disp >= 1 is the identity (full displacement).
   NormalAngles partial(float thetaV, float phiV, float disp, NormalAngles n) const;
-  NormalAngles partial(float thetaV, float disp, NormalAngles n) const { return partial(thetaV, 0.0f, disp, n); }
+  NormalAngles partial(float thetaV, float disp, NormalAngles n) const {
+    return partial(thetaV, 0.0f, disp, n);
+  }
 
   RedistributionVariant variant() const { return variant_; }
 

@@ -14,8 +14,8 @@
 namespace meso {
 
 // Bump this whenever the layout or meaning of any cached table changes: old files become misses.
-inline constexpr uint32_t kTableFormatVersion = 4;  // 4: masses only, view-azimuth slices, word checksum
-
+inline constexpr uint32_t kTableFormatVersion =
+    4;  // 4: masses only, view-azimuth slices, word checksum
 
 class TableCache {
  public:

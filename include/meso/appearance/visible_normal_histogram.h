@@ -10,10 +10,10 @@
 namespace meso {
 
 struct HistogramResolution {
-  int thetaV = 16;   // view slices, theta_V = k * thetaVMax / (thetaV - 1)
-  int thetaN = 96;   // normal polar bins, uniform in theta_N over [0, pi/2]; fine, because the
-                     // redistribution CDFs need the tails of steep reliefs (measured by chi-square)
-  int phi = 32;      // azimuth bins of phi_{N-V} = phi_N - phi_V, uniform over [-pi, pi)
+  int thetaV = 16;  // view slices, theta_V = k * thetaVMax / (thetaV - 1)
+  int thetaN = 96;  // normal polar bins, uniform in theta_N over [0, pi/2]; fine, because the
+                    // redistribution CDFs need the tails of steep reliefs (measured by chi-square)
+  int phi = 32;     // azimuth bins of phi_{N-V} = phi_N - phi_V, uniform over [-pi, pi)
   // View azimuth slices phi_V over [0, 2 pi), centres at 2 pi (a + 1/2) / phiV: 1 averages all view
   // azimuths (the paper's isotropic relief); more keep an anisotropic relief's dependence on where
   // it is seen from (docs/metric.md).
@@ -35,35 +35,38 @@ class VisibleNormalHistogram {
  public:
   // thetaVMax < pi/2: exactly grazing rays see only silhouettes, so the last slice is taken just
   // above the horizon and lookups beyond it clamp to it.
-  explicit VisibleNormalHistogram(HistogramResolution res, float thetaVMax = 1.5533430f /* 89 deg */);
+  explicit VisibleNormalHistogram(HistogramResolution res,
+                                  float thetaVMax = 1.5533430f /* 89 deg */);
   // The bin geometry alone, with no storage (for tables that only need the layout).
   struct LayoutOnly {};
   VisibleNormalHistogram(HistogramResolution res, float thetaVMax, LayoutOnly);
 
   const HistogramResolution& resolution() const { return res_; }
   float thetaVMax() const { return thetaVMax_; }
-  float thetaV(int k) const;           // view angle of theta_V index k
+  float thetaV(int k) const;  // view angle of theta_V index k
   int numSlices() const { return res_.thetaV * res_.phiV; }
   int sliceOf(int iThetaV, int iPhiV) const { return iThetaV * res_.phiV + iPhiV; }
   float sliceThetaV(int slice) const { return thetaV(slice / res_.phiV); }
   float slicePhiV(int slice) const { return phiVCentre(slice % res_.phiV); }
-  float phiVCentre(int a) const { return 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(res_.phiV); }
-  float thetaNWidth() const;           // bin width in theta_N
-  float phiWidth() const;              // bin width in phi
+  float phiVCentre(int a) const {
+    return 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(res_.phiV);
+  }
+  float thetaNWidth() const;  // bin width in theta_N
+  float phiWidth() const;     // bin width in phi
   float thetaNCentre(int i) const;
   float phiCentre(int j) const;
-  int thetaNBin(float thetaN) const;   // clamped into range
-  int phiBin(float phi) const;         // phi wrapped into [-pi, pi)
-  float solidAngle(int i) const;       // of one (theta_N bin i, phi bin) cell
+  int thetaNBin(float thetaN) const;  // clamped into range
+  int phiBin(float phi) const;        // phi wrapped into [-pi, pi)
+  float solidAngle(int i) const;      // of one (theta_N bin i, phi bin) cell
 
   float& mass(int k, int i, int j) { return data_[index(k, i, j)]; }
   float mass(int k, int i, int j) const { return data_[index(k, i, j)]; }
   std::span<const float> slice(int k) const;
-  // Counts one visible normal (weight = its share of projected area). `normal` is the unit normal in
-  // the view-aligned frame (view azimuth along +x, macro normal +z); its angles pick the bin.
+  // Counts one visible normal (weight = its share of projected area). `normal` is the unit normal
+  // in the view-aligned frame (view azimuth along +x, macro normal +z); its angles pick the bin.
   void add(int k, const Vec3& normal, float weight = 1.0f);
-  // Scales each slice to sum 1 and turns the normal sums into per-bin means; an empty slice gets all
-  // its mass in the theta_N = 0 bins (flat).
+  // Scales each slice to sum 1 and turns the normal sums into per-bin means; an empty slice gets
+  // all its mass in the theta_N = 0 bins (flat).
   void normalize();
   // Mean of the normals counted in a bin (not renormalized: sum of mass * meanNormal is exactly the
   // mean visible normal). A bin that received mass by mass() only returns its centre direction.

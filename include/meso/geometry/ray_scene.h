@@ -20,9 +20,9 @@ struct Ray {
 
 struct RayHit {
   float t = 0.0f;
-  int mesh = -1;       // index returned by RayScene::addMesh
-  int triangle = -1;   // primitive index in that mesh
-  float b1 = 0.0f;     // Embree barycentrics (u, v) of corners 1 and 2
+  int mesh = -1;      // index returned by RayScene::addMesh
+  int triangle = -1;  // primitive index in that mesh
+  float b1 = 0.0f;    // Embree barycentrics (u, v) of corners 1 and 2
   float b2 = 0.0f;
 };
 

@@ -55,7 +55,7 @@ class HeightTable : public HeightSource {
   float highestFrequency() const override { return freq_; }  // cycles per tile
   uint64_t fingerprint() const override;
   float maxAbsHeight() const override { return maxAbs_; }  // bilinear never leaves the texel range
-  float meanHeight() const override { return mean_; }      // texel mean (a periodic bilinear's mean)
+  float meanHeight() const override { return mean_; }  // texel mean (a periodic bilinear's mean)
 
   int width() const { return width_; }
   int heightTexels() const { return height_; }

@@ -1,5 +1,6 @@
-// Becker & Max 1993, section 5.1 and Figure 6: the area-averaged intensity of a flat periodic patch,
-// seen orthographically at theta_V and lit by a directional light at theta_L, for each renderer.
+// Becker & Max 1993, section 5.1 and Figure 6: the area-averaged intensity of a flat periodic
+// patch, seen orthographically at theta_V and lit by a directional light at theta_L, for each
+// renderer.
 #pragma once
 
 #include "meso/appearance/level_tables.h"
@@ -14,11 +15,11 @@ namespace meso {
 enum class Component { Diffuse, Specular, Both };
 
 struct ConsistencySettings {
-  float thetaL = 0.7853982f;   // light polar angle (radians)
-  float phi = 0.0f;            // phi_V - phi_L (radians)
+  float thetaL = 0.7853982f;  // light polar angle (radians)
+  float phi = 0.0f;           // phi_V - phi_L (radians)
   Component component = Component::Diffuse;
-  float phong = 20.0f;         // exponent for the specular component
-  int azimuths = 64;           // view azimuths averaged (the tables are azimuth averages too)
+  float phong = 20.0f;  // exponent for the specular component
+  int azimuths = 64;    // view azimuths averaged (the tables are azimuth averages too)
   int samplesPerAzimuth = 4096;
   uint64_t seed = 1;
   // Relief self-shadowing (DESIGN.md section 6): displacement traces a shadow ray towards L at
@@ -41,13 +42,15 @@ enum class TableFormat { Csv, Markdown };
 // (theta_v in degrees), or a Markdown table with the largest pairwise difference of redistribution,
 // brdf and displacement per row. normalizeTo > 0 scales every value so that bump at the first row
 // (theta_V = 0 when asked first) equals it, like the paper's Figure 6 (128).
-std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format, double normalizeTo);
+std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableFormat format,
+                              double normalizeTo);
 
 // Largest |a - b| / b over the pairs of redistribution, brdf and displacement, as a fraction.
 double worstPairwiseDifference(const ConsistencyRow& r);
 
 // Unit white directional light, kd = 1 and/or ks = 1, ka = 0. Deterministic for a seed.
 ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
-                                  const LevelTables& tables, float thetaV, const ConsistencySettings& s);
+                                  const LevelTables& tables, float thetaV,
+                                  const ConsistencySettings& s);
 
 }  // namespace meso

@@ -21,8 +21,8 @@ namespace meso {
 enum class DisplacementMode { Full, ByTransition };
 
 // The transition parameter of a level at a point: T = (nu - D) / (|cos theta_V| + eps) with
-// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3). lengthPerU is the
-// world length of one unit of u at the point: min(|P_u|, |P_v|) of the limit surface.
+// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3). lengthPerU is
+// the world length of one unit of u at the point: min(|P_u|, |P_v|) of the limit surface.
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings);
 
@@ -45,8 +45,9 @@ struct LevelTransitions {
 // section 4.2): T_i = max over V and each light's L of (nu_i - D) / (|cos theta| + eps), so relief
 // near a light's terminator is displaced (its shadows then come from real shadow rays) as soon as
 // it spans enough pixels, while far relief (nu < D) keeps the view's own T.
-LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp, const Vec3& eye,
-                                  float pixelsPerRadian, const TransitionSettings& settings, DisplacementMode mode,
+LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
+                                  const Vec3& eye, float pixelsPerRadian,
+                                  const TransitionSettings& settings, DisplacementMode mode,
                                   std::span<const Light> lights = {});
 
 // How the surface at one point is displaced: disp_i per level (0 for levels left flat) and the
@@ -97,7 +98,8 @@ float samplesPerU(const ReliefLevel& level);
 // (the edge rate at which micropolygons reach the sample spacing of the finest level that can be
 // raised on the face: every level in Full mode, in ByTransition mode those whose nu can exceed
 // D + e3 * eps there; finer levels are drawn flat, so dicing below their texels buys nothing).
-FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief, DisplacementMode mode,
-                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian);
+FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
+                      DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
+                      float pixelsPerRadian);
 
 }  // namespace meso

@@ -27,8 +27,12 @@ struct ViewFrame {
 // made orthogonal to N (or an arbitrary perpendicular if that is degenerate too).
 ViewFrame makeViewFrame(const Vec3& N, const Vec3& V, const Vec3& tangentHint);
 
-inline Vec3 toFrame(const ViewFrame& f, const Vec3& w) { return {glm::dot(w, f.T), glm::dot(w, f.B), glm::dot(w, f.N)}; }
-inline Vec3 fromFrame(const ViewFrame& f, const Vec3& v) { return v.x * f.T + v.y * f.B + v.z * f.N; }
+inline Vec3 toFrame(const ViewFrame& f, const Vec3& w) {
+  return {glm::dot(w, f.T), glm::dot(w, f.B), glm::dot(w, f.N)};
+}
+inline Vec3 fromFrame(const ViewFrame& f, const Vec3& v) {
+  return v.x * f.T + v.y * f.B + v.z * f.N;
+}
 
 // Redistribution bump mapping (section 3) with partial displacement (section 4.1): the bump normal
 // nBump (world, unit) mapped by n' = R_thetaV(R_thetaW^-1(n)); disp = 0 is plain redistribution,
@@ -48,14 +52,15 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
 // Redistribution on a surface of any metric (docs/metric.md): the bump normal and V go to the
 // tile of the metric class by `m` (M^T n and M^-1 V), are redistributed there, and the result
 // comes back by M^-T. Exact in distribution for any P_u, P_v when the tile relief is isotropic.
-Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp, const Vec3& nBump);
+Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp,
+                        const Vec3& nBump);
 
 // The BRDF renderer on a surface of any metric: V and each L go to tile coordinates by the
 // area-preserving map `m` (makeTileMap with areaLengthPerU), the tables of the two metric classes
 // around the surface's length per unit of u are looked up there and mixed by w (t1 may equal t0),
 // and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N.
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P, const TileMap& m,
-               const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w);
+Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
+               const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w);
 
 // phi_{V-L} of eq. (2) in [0, pi], or a negative value when V_n or L_n vanishes.
 float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv);

@@ -22,7 +22,8 @@ struct ReliefLevel {
   float scale = 1.0f;
   float freqPerU = 1.0f;  // highest frequency in cycles per unit of u
   float midlevel = 0.0f;  // the table value that stays on the surface (default the source's mean)
-  // Schilling's slope and roughness pyramids, built only for the bump renderer (buildSlopePyramids).
+  // Schilling's slope and roughness pyramids, built only for the bump renderer
+  // (buildSlopePyramids).
   std::shared_ptr<const SlopePyramid> pyramid;
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
@@ -45,9 +46,13 @@ ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
 class TileRelief : public PeriodicRelief {
  public:
   explicit TileRelief(const ReliefLevel& level, float lengthPerU = 1.0f)
-      : level_(level), factor_(level.scale * level.amplitude / lengthPerU), lengthPerU_(lengthPerU) {}
+      : level_(level),
+        factor_(level.scale * level.amplitude / lengthPerU),
+        lengthPerU_(lengthPerU) {}
   float height(float x, float y) const override { return factor_ * level_.source->height({x, y}); }
-  Vec2 gradient(float x, float y) const override { return factor_ * level_.source->gradient({x, y}); }
+  Vec2 gradient(float x, float y) const override {
+    return factor_ * level_.source->gradient({x, y});
+  }
   uint64_t fingerprint() const override;
 
  private:
@@ -78,8 +83,8 @@ struct MetricClass {
 MetricClass metricOf(const Vec3& Pu, const Vec3& Pv);
 
 // Where a surface's own metric falls between the classes: the classes of the nearest shape (in
-// log a and b) whose lengths bracket the surface's, k0 and k1 (equal at the ends), mixed by w in log
-// length; `nearest` is the closer one.
+// log a and b) whose lengths bracket the surface's, k0 and k1 (equal at the ends), mixed by w in
+// log length; `nearest` is the closer one.
 struct MetricPosition {
   int k0 = 0, k1 = 0, nearest = 0;
   float w = 0.0f;
@@ -90,7 +95,9 @@ struct MetricPosition {
 struct MaterialRelief {
   std::vector<ReliefLevel> levels;
   std::vector<MetricTables> metrics;  // sorted by lengthPerU; one class when the metric is constant
-  const LevelTables& tables(size_t level, int metric = 0) const { return metrics[metric].levels[level]; }
+  const LevelTables& tables(size_t level, int metric = 0) const {
+    return metrics[metric].levels[level];
+  }
   MetricPosition metricAt(const MetricClass& m) const;
   // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
   // material declares [materials.ndf].
@@ -106,7 +113,8 @@ TableSettings tableSettings(const TableResolution& resolution);
 // Builds (or loads) the tables of every level for each metric class (sorted by shape, then length,
 // here). Empty means the unit metric only.
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings, const TableSettings& settings = {},
+                                   std::vector<std::string>* warnings,
+                                   const TableSettings& settings = {},
                                    std::vector<MetricClass> classes = {});
 
 // The classes for the metrics sampled on a material's surfaces: shapes quantized to stepOctaves in

@@ -32,8 +32,8 @@ struct PreparedObject {
 
 // Wall-clock seconds of the preparation phases, for --stats.
 struct PrepareTimes {
-  double load = 0.0;        // reading control meshes
-  double tables = 0.0;      // building or loading appearance tables
+  double load = 0.0;    // reading control meshes
+  double tables = 0.0;  // building or loading appearance tables
   int tablesBuilt = 0;
   int tablesFromCache = 0;
   double tessellate = 0.0;  // limit surfaces and tessellation (all frames)
@@ -44,14 +44,14 @@ struct PrepareTimes {
 struct FrameGeometryStats {
   double tessellateSeconds = 0.0;
   double bvhSeconds = 0.0;
-  size_t triangles = 0;       // in the Embree scene
-  size_t micropolygons = 0;   // of that, displaced micropolygons
+  size_t triangles = 0;               // in the Embree scene
+  size_t micropolygons = 0;           // of that, displaced micropolygons
   size_t offScreenMicropolygons = 0;  // of those, none of whose vertices is in view
   int facesDiced = 0;
-  float coarsening = 1.0f;    // > 1 when the micropolygon cap coarsened dicing
+  float coarsening = 1.0f;  // > 1 when the micropolygon cap coarsened dicing
   size_t embreePeakBytes = 0;
-  size_t meshBytes = 0;       // meso's own copy of the displaced meshes (hit -> patch coordinates)
-  bool rebuilt = false;       // false: the previous frame's geometry was reused
+  size_t meshBytes = 0;  // meso's own copy of the displaced meshes (hit -> patch coordinates)
+  bool rebuilt = false;  // false: the previous frame's geometry was reused
 };
 
 // The per-frame state passed down to the renderers (no global mutable state).
@@ -63,8 +63,8 @@ struct RenderContext {
   std::vector<MaterialRelief> reliefs;  // per material; empty levels for materials no object uses
   std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
   Algorithm algorithm = Algorithm::Auto;
-  bool facetNormals = false;            // render.normals = "facet"
-  bool shadows = false;                 // render.shadows: shadow rays and tabulated self-shadowing
+  bool facetNormals = false;  // render.normals = "facet"
+  bool shadows = false;       // render.shadows: shadow rays and tabulated self-shadowing
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).
@@ -81,6 +81,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
 // displacement, where T can exceed e3 for auto); the others keep the uniform tessellation of
 // render.tessellation_rate, built on the first call and reused after. Warnings (a micropolygon cap
 // that coarsened dicing) are appended to ctx.warnings.
-FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& camera, PrepareTimes& times);
+FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& camera,
+                                PrepareTimes& times);
 
 }  // namespace meso

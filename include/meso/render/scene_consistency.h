@@ -15,9 +15,9 @@ namespace meso {
 
 struct SceneConsistencyOptions {
   std::vector<std::string> algorithms{"bump", "redistribution", "brdf", "auto"};
-  int bands = 6;                 // bands of image rows, top to bottom
+  int bands = 6;                  // bands of image rows, top to bottom
   float referenceDicing = 0.25f;  // dicing rate of the displacement reference, pixels
-  int referenceSpp = 0;          // 0: the scene's spp
+  int referenceSpp = 0;           // 0: the scene's spp
   const std::atomic<bool>* cancel = nullptr;
   // Called before each render with what it is (e.g. "reference: displacement at 0.25 px").
   std::function<void(const std::string&)> onRender;
@@ -32,7 +32,8 @@ struct ConsistencyRegion {
 };
 
 struct SceneConsistencyReport {
-  std::vector<std::string> renderers;  // "reference" first, then "coarse reference", then the algorithms
+  std::vector<std::string>
+      renderers;  // "reference" first, then "coarse reference", then the algorithms
   std::vector<ConsistencyRegion> regions;
   // The worst relative difference of a renderer (not the coarse reference) against the reference
   // over all regions with pixels, and where.

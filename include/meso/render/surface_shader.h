@@ -36,9 +36,9 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
 struct ShadeResult {
   Vec3 colour{0.0f};
   Vec3 algorithm{0.0f};
-  Vec3 normal{0.0f, 0.0f, 1.0f};  // the shading normal, facing the eye
-  float T = 0.0f;                 // of the finest visible level; 0 without relief
-  float synthesis = 0.0f;         // how much synthesized detail shows (0 none, 1 full)
+  Vec3 normal{0.0f, 0.0f, 1.0f};               // the shading normal, facing the eye
+  float T = 0.0f;                              // of the finest visible level; 0 without relief
+  float synthesis = 0.0f;                      // how much synthesized detail shows (0 none, 1 full)
   std::array<float, kMaxReliefLevels> disp{};  // per level, the disp shading assumed (auto mode)
 };
 
@@ -51,8 +51,9 @@ struct ShadeResult {
 // hit, from which T and disp are evaluated as the tessellator did. shadows (may be null: no
 // shadows at all, the unshadowed images bit for bit) is each light's macro visibility at the hit;
 // the relief's tabulated self-shadowing multiplies it where a level is not displaced.
-ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object, const SurfacePoint& sp,
-                         const Vec3& V, const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr,
-                         const Vec3* limitP = nullptr, const LightShadows* shadows = nullptr);
+ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
+                         const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal = nullptr,
+                         const Footprint* footprint = nullptr, const Vec3* limitP = nullptr,
+                         const LightShadows* shadows = nullptr);
 
 }  // namespace meso

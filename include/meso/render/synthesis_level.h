@@ -27,8 +27,8 @@ class HeightSource;
 inline constexpr float kStructureShare = 0.6f;
 
 // An NDF with its slopes scaled by k (k < 1 narrower): D_k(m) = D(m') cos^4(m') / (k^2 cos^4(m)),
-// m' the normal of slope s(m) / k. The slope density scales as p_k(s) = p(s / k) / k^2, so D_k stays
-// normalized (integral D_k cos dw = 1). Does not own the NDF.
+// m' the normal of slope s(m) / k. The slope density scales as p_k(s) = p(s / k) / k^2, so D_k
+// stays normalized (integral D_k cos dw = 1). Does not own the NDF.
 class ScaledSlopeNdf : public Ndf {
  public:
   ScaledSlopeNdf(const Ndf& ndf, float k) : ndf_(&ndf), k_(k) {}
@@ -53,14 +53,14 @@ struct SynthesisLevel {
   std::unique_ptr<Ndf> ndf;        // the material's NDF: far shading, the finest BRDF's lobe
   std::unique_ptr<Ndf> structure;  // ndf scaled by sqrt(kStructureShare): what L draws from
   std::unique_ptr<SynthesisSampler> sampler;
-  float peak = 1.0f;               // ndf->D(z): the specular unit (ks at the mirror direction)
+  float peak = 1.0f;  // ndf->D(z): the specular unit (ks at the mirror direction)
   float cosAngle = 1.0f, sinAngle = 0.0f;  // the NDF's x axis, from P_u towards P_v
   bool lambert = true;
-  double seconds = 0.0;            // build time
+  double seconds = 0.0;  // build time
   // type "relief": the finest relief level as indices into L (Kautz et al. section 7), so that the
   // synthesized detail continues that level's own normals and noise is added as one zooms in.
   std::unique_ptr<IndexTexture> index;
-  float indexScale = 1.0f;         // the finest level's tiling S: tile coordinates = S uv
+  float indexScale = 1.0f;  // the finest level's tiling S: tile coordinates = S uv
 
   // The lobe (H.n) -> D(h) / peak of an isotropic version of the NDF (the average over the x and y
   // axes), for the finest level's BRDF table (Figure 2's first branch over the NDF model).
@@ -71,10 +71,9 @@ struct SynthesisLevel {
 // the caller derives from the relief). principalAngle (radians) turns the NDF's x axis further.
 // `finest` (type "relief" only; may be null) is the level the index texture encodes, with its
 // amplitude and tiling scale.
-std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::unique_ptr<Ndf> ndf,
-                                                    float baseFrequency, float principalAngle = 0.0f,
-                                                    const HeightSource* finest = nullptr, float finestScale = 1.0f,
-                                                    float finestAmplitude = 0.0f);
+std::unique_ptr<SynthesisLevel> buildSynthesisLevel(
+    const NdfDecl& decl, std::unique_ptr<Ndf> ndf, float baseFrequency, float principalAngle = 0.0f,
+    const HeightSource* finest = nullptr, float finestScale = 1.0f, float finestAmplitude = 0.0f);
 
 // What synthesis did at one point.
 struct SynthesisShade {

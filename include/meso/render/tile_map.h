@@ -11,13 +11,19 @@
 namespace meso {
 
 struct TileMap {
-  Vec3 a{1, 0, 0}, b{0, 1, 0}, N{0, 0, 1};  // the columns of M: P_u / l, P_v / l (in the tangent plane), N
-  Vec3 aDual{1, 0, 0}, bDual{0, 1, 0};      // aDual.a = bDual.b = 1, aDual.b = bDual.a = 0, both tangent
+  Vec3 a{1, 0, 0}, b{0, 1, 0},
+      N{0, 0, 1};  // the columns of M: P_u / l, P_v / l (in the tangent plane), N
+  Vec3 aDual{1, 0, 0},
+      bDual{0, 1, 0};  // aDual.a = bDual.b = 1, aDual.b = bDual.a = 0, both tangent
 
   // M^-1 w: a world direction in tile coordinates.
-  Vec3 toTile(const Vec3& w) const { return {glm::dot(aDual, w), glm::dot(bDual, w), glm::dot(N, w)}; }
+  Vec3 toTile(const Vec3& w) const {
+    return {glm::dot(aDual, w), glm::dot(bDual, w), glm::dot(N, w)};
+  }
   // M^T n: a world normal as a tile normal (not normalized).
-  Vec3 normalToTile(const Vec3& n) const { return {glm::dot(a, n), glm::dot(b, n), glm::dot(N, n)}; }
+  Vec3 normalToTile(const Vec3& n) const {
+    return {glm::dot(a, n), glm::dot(b, n), glm::dot(N, n)};
+  }
   // M^-T n: a tile normal as a world normal (not normalized).
   Vec3 normalToWorld(const Vec3& n) const { return n.x * aDual + n.y * bDual + n.z * N; }
 };
@@ -47,6 +53,8 @@ inline TileMap makeTileMap(const Vec3& Pu, const Vec3& Pv, const Vec3& N, float 
 }
 
 // sqrt(|P_u x P_v|): the isotropic length per unit of u that keeps areas (the metric class axis).
-inline float areaLengthPerU(const Vec3& Pu, const Vec3& Pv) { return std::sqrt(glm::length(glm::cross(Pu, Pv))); }
+inline float areaLengthPerU(const Vec3& Pu, const Vec3& Pv) {
+  return std::sqrt(glm::length(glm::cross(Pu, Pv)));
+}
 
 }  // namespace meso

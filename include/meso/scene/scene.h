@@ -29,12 +29,13 @@ struct Light {
   LightType type = LightType::Directional;
   Vec3 direction{0.0f, 0.0f, -1.0f};  // directional: the direction the light travels (normalized)
   Vec3 position{0.0f};                // point: where the light is
-  float intensity = 1.0f;             // directional: irradiance at normal incidence; point: at distance 1
+  float intensity = 1.0f;  // directional: irradiance at normal incidence; point: at distance 1
   Vec3 colour{1.0f};
 };
 
 // One relief level as declared in the scene (used by the relief and appearance work).
-// The most relief levels one material may declare (meso::kMaxReliefLevels of relief/level_frames.h).
+// The most relief levels one material may declare (meso::kMaxReliefLevels of
+// relief/level_frames.h).
 inline constexpr int kMaxMaterialReliefLevels = 8;
 
 struct ReliefLevelDecl {
@@ -64,12 +65,12 @@ struct NdfDecl {
   float angle = 0.0f;             // degrees: the alpha_x axis, measured from P_u towards P_v
   float exponent = 40.0f;         // blinn-phong
   std::filesystem::path image;    // tabulated: NDF over (n.x, n.y) of the hemisphere
-  float scale = 0.0f;             // turbulence cycles per unit of u at octave 0 (0: from the relief or 16)
-  int octaves = 8;                // most turbulence octaves
+  float scale = 0.0f;  // turbulence cycles per unit of u at octave 0 (0: from the relief or 16)
+  int octaves = 8;     // most turbulence octaves
   float lacunarity = 2.0f;
   float gain = 0.5f;
   uint64_t seed = 0;
-  bool lambert = true;            // keep the kd (L.N) term
+  bool lambert = true;  // keep the kd (L.N) term
 };
 
 struct Material {
@@ -93,25 +94,26 @@ struct Object {
 
 // D, eps and the thresholds e1 < e2 < 0 < e3 < e4 of DESIGN.md section 3 (Becker & Max eq. 10).
 struct TransitionSettings {
-  float D = 2.0f;     // the speed-for-accuracy knob (the paper's c), in pixels per shortest wavelength
-  float eps = 0.1f;   // keeps T finite at the silhouette (cos theta_V = 0)
+  float D = 2.0f;  // the speed-for-accuracy knob (the paper's c), in pixels per shortest wavelength
+  float eps = 0.1f;  // keeps T finite at the silhouette (cos theta_V = 0)
   float e1 = -1.0f;
   float e2 = -0.3f;
   float e3 = 0.3f;
   float e4 = 1.0f;
 };
 
-// [render.tables]: resolutions of the appearance tables (DESIGN.md section 4). Part of the cache key.
+// [render.tables]: resolutions of the appearance tables (DESIGN.md section 4). Part of the cache
+// key.
 struct TableResolution {
-  int thetaVBins = 16;      // view slices of the visible-normal histogram and the BRDF
-  int thetaNBins = 96;      // normal polar bins
-  int phiBins = 32;         // normal azimuth bins
-  int phiVBins = 16;        // view azimuth slices (1: isotropic tables, the paper's)
-  int azimuths = 32;        // view azimuths traced per slice
-  int raysPerView = 2048;   // rays per (theta_V, phi_V)
-  int meshResolution = 192; // quads per tile side of the traced relief
-  int brdfThetaL = 16;      // BRDF nodes over theta_L
-  int brdfPhi = 16;         // BRDF nodes over |phi_{V-L}|
+  int thetaVBins = 16;                  // view slices of the visible-normal histogram and the BRDF
+  int thetaNBins = 96;                  // normal polar bins
+  int phiBins = 32;                     // normal azimuth bins
+  int phiVBins = 16;                    // view azimuth slices (1: isotropic tables, the paper's)
+  int azimuths = 32;                    // view azimuths traced per slice
+  int raysPerView = 2048;               // rays per (theta_V, phi_V)
+  int meshResolution = 192;             // quads per tile side of the traced relief
+  int brdfThetaL = 16;                  // BRDF nodes over theta_L
+  int brdfPhi = 16;                     // BRDF nodes over |phi_{V-L}|
   std::string variant = "conditional";  // redistribution maps: conditional | separable
   // Spacing of the metric classes (docs/metric.md) in octaves of length per unit of u: a surface
   // whose |P_u x P_v| varies gets one table set per step over its range.
@@ -121,18 +123,19 @@ struct TableResolution {
 struct RenderSettings {
   std::string algorithm = "auto";  // auto | brdf | bump | redistribution | displacement
   uint64_t seed = 0;
-  int threads = 0;          // 0: all cores
-  int tessellationRate = 8; // uniform Bfr rate (segments per base-face edge)
+  int threads = 0;           // 0: all cores
+  int tessellationRate = 8;  // uniform Bfr rate (segments per base-face edge)
   Vec3 background{0.0f};
   TransitionSettings transition;
-  float dicingRate = 1.0f;               // micropolygon edge length in pixels where displaced
+  float dicingRate = 1.0f;                 // micropolygon edge length in pixels where displaced
   std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
-  int64_t maxMicropolygons = 80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
-  std::string normals = "bump";          // shading normal on displaced geometry: bump | facet
+  int64_t maxMicropolygons =
+      80000000;                  // per frame (about 8 GiB); more coarsens dicing with a warning
+  std::string normals = "bump";  // shading normal on displaced geometry: bump | facet
   // Macro shadows (occlusion rays towards each light) and the relief's self-shadowing in the
   // tables and in T (DESIGN.md section 6, docs/shadows.md). false: exactly the unshadowed images.
   bool shadows = true;
-  std::filesystem::path cacheDir;        // table cache folder; empty: TableCache::defaultFolder()
+  std::filesystem::path cacheDir;  // table cache folder; empty: TableCache::defaultFolder()
   TableResolution tables;
 };
 
@@ -149,7 +152,7 @@ struct CameraKeyframe {
 struct PathSettings {
   std::vector<CameraKeyframe> keys;  // empty: a still image from [camera]
   int frames = 0;
-  double fps = 24.0;                 // for --video
+  double fps = 24.0;  // for --video
 };
 
 struct Scene {
