@@ -62,7 +62,8 @@ void BM_RedistributionToBump(benchmark::State& state) {
   Rng rng(3);
   float sum = 0.0f;
   for (auto _ : state) {
-    const NormalAngles n = r.toBump(1.5f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
+    const NormalAngles n =
+        r.toBump(1.5f * rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
     sum += n.thetaN + n.phi;
   }
   benchmark::DoNotOptimize(sum);
@@ -76,8 +77,8 @@ void BM_RedistributionPartial(benchmark::State& state) {
   Rng rng(4);
   float sum = 0.0f;
   for (auto _ : state) {
-    const NormalAngles n =
-        r.partial(1.5f * rng.uniform(), rng.uniform(), {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
+    const NormalAngles n = r.partial(1.5f * rng.uniform(), rng.uniform(),
+                                     {0.5f * rng.uniform(), 6.0f * rng.uniform() - 3.0f});
     sum += n.thetaN + n.phi;
   }
   benchmark::DoNotOptimize(sum);
@@ -99,7 +100,8 @@ ControlMesh torus(int nu, int nv) {
     for (int j = 0; j < nv; ++j) {
       const int i1 = (i + 1) % nu, j1 = (j + 1) % nv;
       mesh.faceSizes.push_back(4);
-      mesh.faceVertices.insert(mesh.faceVertices.end(), {i * nv + j, i * nv + j1, i1 * nv + j1, i1 * nv + j});
+      mesh.faceVertices.insert(mesh.faceVertices.end(),
+                               {i * nv + j, i * nv + j1, i1 * nv + j1, i1 * nv + j});
     }
   return mesh;
 }
@@ -114,7 +116,8 @@ struct Bumps : VertexDisplacement {
 };
 
 const ScreenMetric& screen() {
-  static const ScreenMetric s = ScreenMetric::lookAt(Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  static const ScreenMetric s =
+      ScreenMetric::lookAt(Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
   return s;
 }
 
@@ -141,13 +144,15 @@ const DisplacedScene& displaced(int ratePercent) {
 }
 
 // Rays from random points on a sphere of radius 3 towards random points near the torus: no two
-// consecutive rays share a BVH path, as for secondary rays and samples spread over a pixel footprint.
+// consecutive rays share a BVH path, as for secondary rays and samples spread over a pixel
+// footprint.
 void BM_IncoherentRays(benchmark::State& state) {
   const DisplacedScene& s = displaced(100);
   Rng rng(5);
   int64_t hits = 0;
   for (auto _ : state) {
-    const float z = 2.0f * rng.uniform() - 1.0f, a = 2.0f * kPi * rng.uniform(), r = std::sqrt(1.0f - z * z);
+    const float z = 2.0f * rng.uniform() - 1.0f, a = 2.0f * kPi * rng.uniform(),
+                r = std::sqrt(1.0f - z * z);
     const Vec3 origin = 3.0f * Vec3(r * std::cos(a), z, r * std::sin(a));
     const float b = 2.0f * kPi * rng.uniform();
     const Vec3 target(std::cos(b), 0.3f * (rng.uniform() - 0.5f), std::sin(b));
@@ -155,7 +160,8 @@ void BM_IncoherentRays(benchmark::State& state) {
     hits += s.rays.intersect(Ray{origin, glm::normalize(target - origin)}, hit);
   }
   state.SetItemsProcessed(state.iterations());
-  state.counters["hit_fraction"] = static_cast<double>(hits) / static_cast<double>(state.iterations());
+  state.counters["hit_fraction"] =
+      static_cast<double>(hits) / static_cast<double>(state.iterations());
   state.counters["micropolygons"] = static_cast<double>(s.tessellation.stats.micropolygons);
 }
 BENCHMARK(BM_IncoherentRays);
@@ -172,14 +178,20 @@ void BM_CameraRaysByDicingRate(benchmark::State& state) {
         const float sx = (2.0f * (x + 0.5f) / m.width - 1.0f) * m.tanHalfFovY * aspect;
         const float sy = (1.0f - 2.0f * (y + 0.5f) / m.height) * m.tanHalfFovY;
         RayHit hit;
-        benchmark::DoNotOptimize(s.rays.intersect(Ray{m.eye, glm::normalize(m.forward + sx * m.right + sy * m.up)}, hit));
+        benchmark::DoNotOptimize(s.rays.intersect(
+            Ray{m.eye, glm::normalize(m.forward + sx * m.right + sy * m.up)}, hit));
       }
     rays += int64_t(m.width) * m.height;
   }
   state.SetItemsProcessed(rays);
   state.counters["micropolygons"] = static_cast<double>(s.tessellation.stats.micropolygons);
 }
-BENCHMARK(BM_CameraRaysByDicingRate)->Arg(400)->Arg(200)->Arg(50)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CameraRaysByDicingRate)
+    ->Arg(400)
+    ->Arg(200)
+    ->Arg(50)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

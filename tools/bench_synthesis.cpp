@@ -47,7 +47,8 @@ void BM_Turbulence(benchmark::State& state) {
   const SynthesisSampler& s = sampler();
   const float c = static_cast<float>(state.range(0));
   size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(s.turbulence().evaluate(points()[k++ & (kPoints - 1)], c));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(s.turbulence().evaluate(points()[k++ & (kPoints - 1)], c));
 }
 BENCHMARK(BM_Turbulence)->Arg(1)->Arg(6);
 
@@ -63,7 +64,8 @@ BENCHMARK(BM_CdfAndTable);
 
 void BM_ShadeSynthesized(benchmark::State& state) {
   const SynthesisSampler& s = sampler();
-  const Vec3 N(0, 0, 1), T(1, 0, 0), V = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)), L = glm::normalize(Vec3(-0.4f, 0.2f, 1.0f));
+  const Vec3 N(0, 0, 1), T(1, 0, 0), V = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)),
+                                     L = glm::normalize(Vec3(-0.4f, 0.2f, 1.0f));
   size_t k = 0;
   for (auto _ : state) {
     const Vec3 m = s.normalAtCount(points()[k++ & (kPoints - 1)], 6.0f);

@@ -1,5 +1,6 @@
 // Benchmarks of view-dependent displaced tessellation (shared/DESIGN.md section 5): a Catmull-Clark
-// torus seen at 640x360, dicing rate 1 px, smooth analytic displacement. Issue 5's goals on 2 cores:
+// torus seen at 640x360, dicing rate 1 px, smooth analytic displacement. Issue 5's goals on 2
+// cores:
 // >= 5 M micropolygons/s tessellate+displace, >= 5 M triangles/s BVH build, <= 150 MiB per million
 // micropolygons at peak. BM_PeakMemory runs first so that VmHWM starts from the process baseline.
 // Run: ./build/tools/bench_tessellation

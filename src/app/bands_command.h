@@ -6,14 +6,14 @@
 namespace meso::app {
 
 struct BandsCommandOptions {
-  std::filesystem::path height;               // any image OpenImageIO reads
+  std::filesystem::path height;  // any image OpenImageIO reads
   int levels = 3;
   std::filesystem::path outDir = "out/bands";
-  bool clamp = false;                          // the map does not tile: mirror it before filtering
+  bool clamp = false;  // the map does not tile: mirror it before filtering
 };
 
-// Writes OUT/<stem>_band<k>.exr (k = 1 is the lowest band; one float channel Y each), prints one CSV
-// row per band (file, freq, crossovers, range) and the reconstruction error of their sum, and a
+// Writes OUT/<stem>_band<k>.exr (k = 1 is the lowest band; one float channel Y each), prints one
+// CSV row per band (file, freq, crossovers, range) and the reconstruction error of their sum, and a
 // [[materials.relief]] snippet for a scene. Throws meso::Error on bad input.
 void runBands(const BandsCommandOptions& options);
 

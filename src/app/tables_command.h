@@ -8,7 +8,8 @@ namespace meso::app {
 
 struct TablesCommandOptions {
   std::filesystem::path scene;
-  std::filesystem::path outDir = "out/tables";  // plots: <material>_level<i>_histogram.png, _brdf.png
+  std::filesystem::path outDir =
+      "out/tables";  // plots: <material>_level<i>_histogram.png, _brdf.png
   bool noPlots = false;
 };
 

@@ -46,7 +46,8 @@ void ProgressBar::loop() {
   }
 }
 
-// The bar is redrawn in place with '\r'; ETA assumes the remaining work goes at the mean rate so far.
+// The bar is redrawn in place with '\r'; ETA assumes the remaining work goes at the mean rate so
+// far.
 void ProgressBar::draw(bool final) const {
   const int64_t done = std::min(done_.load(std::memory_order_relaxed), total_);
   const double fraction = static_cast<double>(done) / static_cast<double>(total_);

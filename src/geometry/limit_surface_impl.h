@@ -48,8 +48,8 @@ struct LimitSurface::Impl {
   Vec2 chartToBfr(int face, Vec2 st, glm::mat2& jacobian) const;
   // meso's st of a point given in Bfr coordinates.
   Vec2 bfrToChart(int face, Vec2 bfrUv) const;
-  // meso's st of corner `corner` of the face: the edge from corner i to corner i + 1 is the straight
-  // st segment between them (in the chart too, whose boundary maps onto the face's edges).
+  // meso's st of corner `corner` of the face: the edge from corner i to corner i + 1 is the
+  // straight st segment between them (in the chart too, whose boundary maps onto the face's edges).
   Vec2 cornerSt(int face, int corner) const {
     const Face& f = faces[face];
     if (f.chartOffset >= 0) return chartPoints[f.chartOffset + corner];
@@ -63,12 +63,12 @@ class VertexDisplacement;  // meso/geometry/adaptive_tessellation.h
 struct TriangleGrid;       // meso/geometry/ray_scene.h
 
 // The engine behind tessellateUniform and tessellateAdaptive (tessellation.cpp): Bfr tessellation
-// with one rate per base-level edge (OpenSubdiv's edge numbering). A rate is a property of the edge,
-// so both faces of an edge place the same points on it; those points, like the corner points, are
-// created once by the first face (in index order) that reaches them and shared by the others, as in
-// OpenSubdiv's tutorial_2_2, so the mesh is watertight. The point layout depends on the rates only
-// (faces are laid out by prefix sums, not by which thread gets there first), so the output is the
-// same whatever the number of threads.
+// with one rate per base-level edge (OpenSubdiv's edge numbering). A rate is a property of the
+// edge, so both faces of an edge place the same points on it; those points, like the corner points,
+// are created once by the first face (in index order) that reaches them and shared by the others,
+// as in OpenSubdiv's tutorial_2_2, so the mesh is watertight. The point layout depends on the rates
+// only (faces are laid out by prefix sums, not by which thread gets there first), so the output is
+// the same whatever the number of threads.
 class EdgeRateTessellator {
  public:
   explicit EdgeRateTessellator(const LimitSurface& surface);
@@ -99,7 +99,7 @@ class EdgeRateTessellator {
   };
   struct FaceScratch;
   struct GridShape {
-    int width = 0, height = 0;  // interior points per row and rows; 0: no grid
+    int width = 0, height = 0;   // interior points per row and rows; 0: no grid
     int innerU = 0, innerV = 0;  // Bfr's inner rates
   };
 

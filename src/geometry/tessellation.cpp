@@ -22,12 +22,12 @@ using OpenSubdiv::Far::ConstIndexArray;
 
 // Buffers of one task, reused from face to face.
 struct EdgeRateTessellator::FaceScratch {
-  std::vector<int> rates;       // of the face's edges
-  std::vector<float> coords;    // Bfr (u, v) pairs: boundary first, then interior
-  std::vector<int> facets;      // 3 coordinate indices per triangle
-  std::vector<Vec2> st;         // meso's st of each coordinate
-  std::vector<int> point;       // output point of each coordinate
-  std::vector<int> gridCoord;   // coordinate at each interior grid slot, row by row
+  std::vector<int> rates;      // of the face's edges
+  std::vector<float> coords;   // Bfr (u, v) pairs: boundary first, then interior
+  std::vector<int> facets;     // 3 coordinate indices per triangle
+  std::vector<Vec2> st;        // meso's st of each coordinate
+  std::vector<int> point;      // output point of each coordinate
+  std::vector<int> gridCoord;  // coordinate at each interior grid slot, row by row
 };
 
 EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
@@ -144,8 +144,8 @@ void EdgeRateTessellator::placeBoundary(size_t k, const std::vector<int>& edgeRa
 
 // The interior coordinates of a quad face are the (innerU - 1) x (innerV - 1) points (i / innerU,
 // j / innerV) of a regular grid (Bfr lists them ring by ring), with Bfr's inferred inner rates.
-EdgeRateTessellator::GridShape EdgeRateTessellator::interiorGrid(
-    int face, const Tessellation& tess, const FaceScratch& scratch) const {
+EdgeRateTessellator::GridShape EdgeRateTessellator::interiorGrid(int face, const Tessellation& tess,
+                                                                 const FaceScratch& scratch) const {
   GridShape shape;
   if (impl_.faces[face].param.GetType() != OpenSubdiv::Bfr::Parameterization::QUAD) return shape;
   const std::vector<int>& r = scratch.rates;

@@ -64,7 +64,8 @@ FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(option
     oct.period = options.periodic ? static_cast<int>(std::clamp(std::round(f), 1.0, 1e8)) : 0;
     oct.frequency = options.periodic ? oct.period : f;
     oct.weight = static_cast<float>(a);
-    oct.salt = mix64(options.seed ^ mix64(static_cast<uint64_t>(o) + 0x9e3779b97f4a7c15ull));  // per seed and octave
+    oct.salt = mix64(options.seed ^ mix64(static_cast<uint64_t>(o) +
+                                          0x9e3779b97f4a7c15ull));  // per seed and octave
     octaves_.push_back(oct);
     f *= options.lacunarity;
     a *= options.gain;
@@ -101,7 +102,8 @@ float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
   return nx0 + sv * (nx1 - nx0);
 }
 
-// octave() without the gradient: the same value, bit for bit (the same operations in the same order).
+// octave() without the gradient: the same value, bit for bit (the same operations in the same
+// order).
 float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
   int64_t ix, iy;
   float u, v;
@@ -113,7 +115,8 @@ float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
     const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
     const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
     const uint64_t h = mix64(o.salt ^ (cx << 32 | cy));
-    n[c] = glm::dot(gradients[h >> 54], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
+    n[c] = glm::dot(gradients[h >> 54],
+                    Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
   }
   const float su = fade(u), sv = fade(v);
   const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);

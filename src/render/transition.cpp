@@ -11,7 +11,8 @@ namespace meso {
 void validateTransitionSettings(const TransitionSettings& s, const char* where) {
   const float all[] = {s.D, s.eps, s.e1, s.e2, s.e3, s.e4};
   for (float v : all)
-    if (!std::isfinite(v)) throw Error(std::string(where) + ": transition settings must be finite numbers");
+    if (!std::isfinite(v))
+      throw Error(std::string(where) + ": transition settings must be finite numbers");
   if (s.D < 0.0f) throw Error(std::string(where) + ": D must be >= 0");
   if (s.eps < 0.0f) throw Error(std::string(where) + ": eps must be >= 0");
   if (!(s.e1 < s.e2 && s.e2 < 0.0f && 0.0f < s.e3 && s.e3 < s.e4))

@@ -21,8 +21,8 @@ T hermite(const std::vector<CameraKeyframe>& k, size_t i, float s, Get get) {
   const float h = k[i + 1].time - k[i].time;
   const float s2 = s * s, s3 = s2 * s;
   const T m0 = tangent<T>(k, i, get) * h, m1 = tangent<T>(k, i + 1, get) * h;
-  return (2 * s3 - 3 * s2 + 1) * get(k[i]) + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * get(k[i + 1]) +
-         (s3 - s2) * m1;
+  return (2 * s3 - 3 * s2 + 1) * get(k[i]) + (s3 - 2 * s2 + s) * m0 +
+         (-2 * s3 + 3 * s2) * get(k[i + 1]) + (s3 - s2) * m1;
 }
 
 }  // namespace
@@ -31,8 +31,8 @@ CameraPath::CameraPath(std::vector<CameraKeyframe> keys) : keys_(std::move(keys)
   if (keys_.empty()) throw Error("camera path: needs at least one keyframe");
   for (size_t i = 1; i < keys_.size(); ++i)
     if (!(keys_[i].time > keys_[i - 1].time))
-      throw Error("camera path: keyframe times must strictly increase (keyframe " + std::to_string(i + 1) +
-                  " has time " + std::to_string(keys_[i].time) + ")");
+      throw Error("camera path: keyframe times must strictly increase (keyframe " +
+                  std::to_string(i + 1) + " has time " + std::to_string(keys_[i].time) + ")");
 }
 
 CameraKeyframe CameraPath::at(float t) const {

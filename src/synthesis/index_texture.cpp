@@ -10,8 +10,8 @@
 
 namespace meso {
 
-IndexTexture::IndexTexture(const HeightSource& source, const NormalLookupTable& table, int resolution,
-                           float slopeScale)
+IndexTexture::IndexTexture(const HeightSource& source, const NormalLookupTable& table,
+                           int resolution, float slopeScale)
     : res_(resolution) {
   if (resolution < 1 || resolution > 16384 || !std::isfinite(slopeScale))
     throw Error("index texture: need 1..16384 texels per axis and a finite slope scale (got " +
@@ -43,7 +43,8 @@ Vec2 IndexTexture::index(Vec2 p) const {
   if (!std::isfinite(x) || !std::isfinite(y)) return Vec2(0.5f);
   const float fx = std::floor(x), fy = std::floor(y);
   // Wrap the texel index into range first: floats far from 0 would overflow an int.
-  const int i = static_cast<int>(std::fmod(fx, static_cast<float>(res_))), j = static_cast<int>(std::fmod(fy, static_cast<float>(res_)));
+  const int i = static_cast<int>(std::fmod(fx, static_cast<float>(res_))),
+            j = static_cast<int>(std::fmod(fy, static_cast<float>(res_)));
   const float a = x - fx, b = y - fy;
   const Vec2 p0 = index(i, j) + a * (index(i + 1, j) - index(i, j));
   const Vec2 p1 = index(i, j + 1) + a * (index(i + 1, j + 1) - index(i, j + 1));

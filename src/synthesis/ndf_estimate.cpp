@@ -17,18 +17,22 @@ NdfEstimate estimateNdf(const HeightSource& source, const NdfEstimateOptions& op
   const int n = options.samples;
   if (n < 2 || n > 16384 || !std::isfinite(options.slopeScale) || options.tableResolution < 2 ||
       options.tableResolution > 4096)
-    throw Error("NDF estimate: need 2..16384 samples per axis, a finite slope scale and 2..4096 table cells (got " +
-                std::to_string(n) + ", " + std::to_string(options.slopeScale) + ", " +
-                std::to_string(options.tableResolution) + ")");
+    throw Error(
+        "NDF estimate: need 2..16384 samples per axis, a finite slope scale and 2..4096 table "
+        "cells (got " +
+        std::to_string(n) + ", " + std::to_string(options.slopeScale) + ", " +
+        std::to_string(options.tableResolution) + ")");
   NdfEstimate e;
   const int res = options.tableResolution;
-  std::vector<float> counts(options.model == NdfModel::Tabulated ? static_cast<size_t>(res) * res : 0, 0.0f);
+  std::vector<float> counts(
+      options.model == NdfModel::Tabulated ? static_cast<size_t>(res) * res : 0, 0.0f);
   double a = 0.0, b = 0.0, c = 0.0;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const Vec2 s = options.slopeScale * source.gradient(Vec2((i + 0.5f) / n, (j + 0.5f) / n));
       if (!std::isfinite(s.x) || !std::isfinite(s.y)) continue;
-      a += static_cast<double>(s.x) * s.x, b += static_cast<double>(s.x) * s.y, c += static_cast<double>(s.y) * s.y;
+      a += static_cast<double>(s.x) * s.x, b += static_cast<double>(s.x) * s.y,
+          c += static_cast<double>(s.y) * s.y;
       if (counts.empty()) continue;
       const Vec3 m = glm::normalize(Vec3(-s.x, -s.y, 1.0f));
       const int ci = std::clamp(static_cast<int>((m.x + 1.0f) * 0.5f * res), 0, res - 1);
@@ -37,19 +41,23 @@ NdfEstimate estimateNdf(const HeightSource& source, const NdfEstimateOptions& op
     }
   }
   const double count = static_cast<double>(n) * n;
-  e.covariance = {static_cast<float>(a / count), static_cast<float>(b / count), static_cast<float>(c / count)};
+  e.covariance = {static_cast<float>(a / count), static_cast<float>(b / count),
+                  static_cast<float>(c / count)};
   if (options.model == NdfModel::Tabulated) {
     e.ndf = std::make_unique<TabulatedNdf>(res, res, std::move(counts));
     return e;
   }
   // Eigen-decomposition of the symmetric 2x2 K.
   const double ka = a / count, kb = b / count, kc = c / count;
-  const double mean = 0.5 * (ka + kc), diff = 0.5 * (ka - kc), radius = std::sqrt(diff * diff + kb * kb);
+  const double mean = 0.5 * (ka + kc), diff = 0.5 * (ka - kc),
+               radius = std::sqrt(diff * diff + kb * kb);
   const double l1 = mean + radius, l2 = std::max(0.0, mean - radius);
   double angle = 0.5 * std::atan2(2.0 * kb, ka - kc);
   if (angle <= -0.5 * kPi) angle += kPi;
   e.principalAngle = static_cast<float>(angle);
-  const auto alpha = [](double l) { return static_cast<float>(std::max(1e-4, std::sqrt(2.0 * std::max(l, 0.0)))); };
+  const auto alpha = [](double l) {
+    return static_cast<float>(std::max(1e-4, std::sqrt(2.0 * std::max(l, 0.0))));
+  };
   e.ndf = std::make_unique<BeckmannNdf>(alpha(l1), alpha(l2));
   return e;
 }

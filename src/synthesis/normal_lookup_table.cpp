@@ -38,7 +38,8 @@ float inverseCells(const float* cdf, int n, float r, int& cell) {
   }
   r = std::max(r, 0.0f);
   // The cell c with cdf[c] <= r < cdf[c + 1]: it has mass.
-  const int c = std::clamp(static_cast<int>(std::upper_bound(cdf, cdf + n + 1, r) - cdf) - 1, 0, n - 1);
+  const int c =
+      std::clamp(static_cast<int>(std::upper_bound(cdf, cdf + n + 1, r) - cdf) - 1, 0, n - 1);
   const float width = cdf[c + 1] - cdf[c];
   const float f = width > 0.0f ? (r - cdf[c]) / width : 0.0f;
   cell = c;
@@ -75,9 +76,13 @@ float NormalLookupTable::unwarp(float r) {
 
 NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& options)
     : res_(options.resolution), pdfRes_(options.pdfResolution), support_(ndf.support()) {
-  if (res_ < 2 || res_ > 8192 || pdfRes_ < 1 || pdfRes_ > 8192 || options.subsamples < 1 || options.subsamples > 64)
-    throw Error("normal lookup table: need 2..8192 nodes, 1..8192 density cells and 1..64 subsamples (got " +
-                std::to_string(res_) + ", " + std::to_string(pdfRes_) + ", " + std::to_string(options.subsamples) + ")");
+  if (res_ < 2 || res_ > 8192 || pdfRes_ < 1 || pdfRes_ > 8192 || options.subsamples < 1 ||
+      options.subsamples > 64)
+    throw Error(
+        "normal lookup table: need 2..8192 nodes, 1..8192 density cells and 1..64 subsamples "
+        "(got " +
+        std::to_string(res_) + ", " + std::to_string(pdfRes_) + ", " +
+        std::to_string(options.subsamples) + ")");
   const int n = pdfRes_, k = options.subsamples;
   const double wx = 2.0 * support_.x / n, wy = 2.0 * support_.y / n;
   // Cell masses of the disk density D (their common factor wx wy / k^2 cancels in the CDFs).
@@ -90,7 +95,8 @@ NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& 
         for (int b = 0; b < k; ++b) {
           const double y = -support_.y + (j + (b + 0.5) / k) * wy, r2 = x * x + y * y;
           if (r2 < 1.0)
-            m += ndf.D(Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(std::sqrt(1.0 - r2))));
+            m += ndf.D(Vec3(static_cast<float>(x), static_cast<float>(y),
+                            static_cast<float>(std::sqrt(1.0 - r2))));
         }
       }
       mass[static_cast<size_t>(i) * n + j] = m;
@@ -100,11 +106,14 @@ NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& 
   double total = 0.0;
   for (double m : column) total += m;
   if (!(total > 0.0) || !std::isfinite(total))
-    throw Error("normal lookup table: the NDF " + ndf.name() + " has no mass inside its support box");
+    throw Error("normal lookup table: the NDF " + ndf.name() +
+                " has no mass inside its support box");
   marginalCdf_.resize(n + 1);
   cumulate(column.data(), n, marginalCdf_.data());
   conditionalCdf_.resize(static_cast<size_t>(n) * (n + 1));
-  for (int i = 0; i < n; ++i) cumulate(&mass[static_cast<size_t>(i) * n], n, &conditionalCdf_[static_cast<size_t>(i) * (n + 1)]);
+  for (int i = 0; i < n; ++i)
+    cumulate(&mass[static_cast<size_t>(i) * n], n,
+             &conditionalCdf_[static_cast<size_t>(i) * (n + 1)]);
 
   nodes_.resize(static_cast<size_t>(res_) * res_);
   for (int i = 0; i < res_; ++i) {
@@ -124,7 +133,8 @@ float NormalLookupTable::marginalInverse(float r1, int& column) const {
 
 float NormalLookupTable::conditionalInverse(int column, float r2) const {
   int cell = 0;
-  const float pos = inverseCells(&conditionalCdf_[static_cast<size_t>(column) * (pdfRes_ + 1)], pdfRes_, r2, cell);
+  const float pos = inverseCells(&conditionalCdf_[static_cast<size_t>(column) * (pdfRes_ + 1)],
+                                 pdfRes_, r2, cell);
   return -support_.y + pos * (2.0f * support_.y / pdfRes_);
 }
 
@@ -135,15 +145,18 @@ Vec3 NormalLookupTable::sampleExact(Vec2 r) const {
 }
 
 Vec2 NormalLookupTable::cdf(const Vec3& m) const {
-  const float px = std::clamp((m.x + support_.x) / (2.0f * support_.x) * pdfRes_, 0.0f, static_cast<float>(pdfRes_));
-  const float py = std::clamp((m.y + support_.y) / (2.0f * support_.y) * pdfRes_, 0.0f, static_cast<float>(pdfRes_));
+  const float px = std::clamp((m.x + support_.x) / (2.0f * support_.x) * pdfRes_, 0.0f,
+                              static_cast<float>(pdfRes_));
+  const float py = std::clamp((m.y + support_.y) / (2.0f * support_.y) * pdfRes_, 0.0f,
+                              static_cast<float>(pdfRes_));
   const int c = std::min(static_cast<int>(px), pdfRes_ - 1);
   return Vec2(forwardCells(marginalCdf_.data(), pdfRes_, px),
               forwardCells(&conditionalCdf_[static_cast<size_t>(c) * (pdfRes_ + 1)], pdfRes_, py));
 }
 
 Vec2 NormalLookupTable::interpolate(Vec2 t) const {
-  const int i = std::min(static_cast<int>(t.x), res_ - 2), j = std::min(static_cast<int>(t.y), res_ - 2);
+  const int i = std::min(static_cast<int>(t.x), res_ - 2),
+            j = std::min(static_cast<int>(t.y), res_ - 2);
   const float a = t.x - i, b = t.y - j;
   const Vec2* row0 = &nodes_[static_cast<size_t>(j) * res_ + i];
   const Vec2* row1 = row0 + res_;
@@ -202,8 +215,8 @@ float NormalLookupTable::cellAngle(Vec2 r) const {
   const float s = static_cast<float>(res_ - 1);
   const int i = std::min(static_cast<int>(unwarp(r.x) * s), res_ - 2);
   const int j = std::min(static_cast<int>(unwarp(r.y) * s), res_ - 2);
-  const Vec3 c[4] = {normalFromXY(nodeXY(i, j)), normalFromXY(nodeXY(i + 1, j)), normalFromXY(nodeXY(i, j + 1)),
-                     normalFromXY(nodeXY(i + 1, j + 1))};
+  const Vec3 c[4] = {normalFromXY(nodeXY(i, j)), normalFromXY(nodeXY(i + 1, j)),
+                     normalFromXY(nodeXY(i, j + 1)), normalFromXY(nodeXY(i + 1, j + 1))};
   float largest = 0.0f;
   for (int p = 0; p < 4; ++p)
     for (int q = p + 1; q < 4; ++q)

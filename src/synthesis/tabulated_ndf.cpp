@@ -39,8 +39,7 @@ TabulatedNdf::TabulatedNdf(int width, int height, std::vector<float> values)
     const double y = -1.0 + (b + 0.5) * h;
     for (int a = 0; a < kNormalizationGrid; ++a) {
       const double x = -1.0 + (a + 0.5) * h;
-      if (x * x + y * y < 1.0)
-        sum += interpolate(static_cast<float>(x), static_cast<float>(y));
+      if (x * x + y * y < 1.0) sum += interpolate(static_cast<float>(x), static_cast<float>(y));
     }
   }
   sum *= h * h;
@@ -52,7 +51,8 @@ TabulatedNdf::TabulatedNdf(int width, int height, std::vector<float> values)
   int i0 = width, i1 = -1, j0 = height, j1 = -1;
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i)
-      if (cell(i, j) > 0.0f) i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+      if (cell(i, j) > 0.0f)
+        i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
   // Cell k covers [-1 + k * 2 / w, -1 + (k + 1) * 2 / w]; one more cell either side for the spill.
   const auto extent = [](int lo, int hi, int n) {
     const float a = -1.0f + (lo - 1) * 2.0f / n, b = -1.0f + (hi + 2) * 2.0f / n;
@@ -65,7 +65,8 @@ float TabulatedNdf::interpolate(float x, float y) const {
   // Continuous cell coordinates: cell centre i sits at i + 0.5.
   const float fx = std::clamp((x + 1.0f) * 0.5f * width_ - 0.5f, 0.0f, width_ - 1.0f);
   const float fy = std::clamp((y + 1.0f) * 0.5f * height_ - 0.5f, 0.0f, height_ - 1.0f);
-  const int i = std::min(static_cast<int>(fx), width_ - 2), j = std::min(static_cast<int>(fy), height_ - 2);
+  const int i = std::min(static_cast<int>(fx), width_ - 2),
+            j = std::min(static_cast<int>(fy), height_ - 2);
   const float tx = fx - i, ty = fy - j;
   const float* row0 = &values_[static_cast<size_t>(j) * width_ + i];
   const float* row1 = row0 + width_;

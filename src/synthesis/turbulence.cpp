@@ -47,7 +47,8 @@ Turbulence::Turbulence(const TurbulenceOptions& options) : options_(options) {
       oct.sinA = static_cast<float>(std::sin(angle));
       oct.offsetX = 4096.0 * rng.uniform();
       oct.offsetY = 4096.0 * rng.uniform();
-      oct.salt = mix64(o.seed ^ mix64(0x51ed270b + 977u * static_cast<uint64_t>(ch) + static_cast<uint64_t>(k)));
+      oct.salt = mix64(
+          o.seed ^ mix64(0x51ed270b + 977u * static_cast<uint64_t>(ch) + static_cast<uint64_t>(k)));
       if (ch == 0 && k < o.maxOctaves) sumAbs += a;
       f *= o.lacunarity;
       a *= o.gain;
@@ -59,7 +60,8 @@ Turbulence::Turbulence(const TurbulenceOptions& options) : options_(options) {
 
 float Turbulence::octaveCount(float pixelsPerUnit) const {
   if (!(pixelsPerUnit > 0.0f) || !std::isfinite(pixelsPerUnit)) return 0.0f;
-  const float c = std::log(pixelsPerUnit / (options_.nyquistPixels * options_.baseFrequency)) / logLacunarity_;
+  const float c =
+      std::log(pixelsPerUnit / (options_.nyquistPixels * options_.baseFrequency)) / logLacunarity_;
   return std::clamp(c, 0.0f, static_cast<float>(options_.maxOctaves));
 }
 
@@ -70,12 +72,18 @@ float Turbulence::octaveWeight(float c, int o) {
 
 float Turbulence::octaveNoise(int channel, int o, Vec2 p) const {
   const Octave& oct = octaves_[channel & 1][std::clamp(o, 0, kMaxOctaves - 1)];
-  // Rotate, scale and offset into the octave's lattice (double: high octaves have millions of cells).
-  const double x = (static_cast<double>(oct.cosA) * p.x - static_cast<double>(oct.sinA) * p.y) * oct.frequency + oct.offsetX;
-  const double y = (static_cast<double>(oct.sinA) * p.x + static_cast<double>(oct.cosA) * p.y) * oct.frequency + oct.offsetY;
+  // Rotate, scale and offset into the octave's lattice (double: high octaves have millions of
+  // cells).
+  const double x =
+      (static_cast<double>(oct.cosA) * p.x - static_cast<double>(oct.sinA) * p.y) * oct.frequency +
+      oct.offsetX;
+  const double y =
+      (static_cast<double>(oct.sinA) * p.x + static_cast<double>(oct.cosA) * p.y) * oct.frequency +
+      oct.offsetY;
   const double fx = std::floor(x), fy = std::floor(y);
   const float u = static_cast<float>(x - fx), v = static_cast<float>(y - fy);
-  const uint32_t ix = static_cast<uint32_t>(static_cast<int64_t>(fx)), iy = static_cast<uint32_t>(static_cast<int64_t>(fy));
+  const uint32_t ix = static_cast<uint32_t>(static_cast<int64_t>(fx)),
+                 iy = static_cast<uint32_t>(static_cast<int64_t>(fy));
   const uint32_t salt = static_cast<uint32_t>(oct.salt);
   float n[4];
   for (int c = 0; c < 4; ++c) {

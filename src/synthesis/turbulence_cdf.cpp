@@ -68,9 +68,11 @@ inline float shapeCoordinate(float c) {
 
 TurbulenceCdf::TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOptions& options)
     : bins_(options.bins), range_(turbulence.maxAbs()) {
-  if (options.points < 16 || options.bins < 8 || options.bins > (1 << 20) || !(options.domain > 0.0f))
-    throw Error("turbulence CDF: need at least 16 points, 8..2^20 bins and a positive domain (got " +
-                std::to_string(options.points) + ", " + std::to_string(options.bins) + ")");
+  if (options.points < 16 || options.bins < 8 || options.bins > (1 << 20) ||
+      !(options.domain > 0.0f))
+    throw Error(
+        "turbulence CDF: need at least 16 points, 8..2^20 bins and a positive domain (got " +
+        std::to_string(options.points) + ", " + std::to_string(options.bins) + ")");
   const size_t measured = kMeasuredCounts.size();
   std::vector<float> quantiles(measured * kQuantiles), cdf(bins_ + 1);
   std::vector<double> counts(bins_);
@@ -105,10 +107,12 @@ TurbulenceCdf::TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOp
     const float c = first + static_cast<float>(f) / kRowsPerOctave;
     size_t a = 0;
     while (a + 2 < measured && !(c < kMeasuredCounts[a + 1])) ++a;
-    const float sa = shapeCoordinate(kMeasuredCounts[a]), sb = shapeCoordinate(kMeasuredCounts[a + 1]);
+    const float sa = shapeCoordinate(kMeasuredCounts[a]),
+                sb = shapeCoordinate(kMeasuredCounts[a + 1]);
     const float w = std::clamp((shapeCoordinate(c) - sa) / (sb - sa), 0.0f, 1.0f);
     for (int k = 0; k < kQuantiles; ++k)
-      q[k] = quantiles[a * kQuantiles + k] + w * (quantiles[(a + 1) * kQuantiles + k] - quantiles[a * kQuantiles + k]);
+      q[k] = quantiles[a * kQuantiles + k] +
+             w * (quantiles[(a + 1) * kQuantiles + k] - quantiles[a * kQuantiles + k]);
     cdfOf(q.data(), bins_, range_, &cdf_[static_cast<size_t>(f) * (bins_ + 1)]);
   }
 }
@@ -138,7 +142,8 @@ float TurbulenceCdf::G(float t, float c) const {
   float w;
   rows(c, row, w);
   if (!(t == t)) t = 0.0f;  // NaN: the median
-  const float x = std::clamp((t + range_) * (bins_ / (2.0f * range_)), 0.0f, static_cast<float>(bins_));
+  const float x =
+      std::clamp((t + range_) * (bins_ / (2.0f * range_)), 0.0f, static_cast<float>(bins_));
   const int e = std::min(static_cast<int>(x), bins_ - 1);
   const float f = x - e;
   const float lo = blended(row, w, e), hi = blended(row, w, e + 1);

@@ -32,11 +32,13 @@ TEST_F(BandsCommand, BandsSumToTheMapAndRiseInFrequency) {
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {
       const float u = x / 64.0f, v = y / 48.0f;
-      map.at(x, y, 0) = std::sin(2 * kPi * u) + 0.3f * std::cos(2 * kPi * (6 * u + 4 * v)) + 0.05f * rng.uniform();
+      map.at(x, y, 0) = std::sin(2 * kPi * u) + 0.3f * std::cos(2 * kPi * (6 * u + 4 * v)) +
+                        0.05f * rng.uniform();
     }
   writeExr(dir_ / "map.exr", map);
   std::string out;
-  ASSERT_EQ(run((dir_ / "map.exr").string() + " -n 3 -o " + (dir_ / "bands").string(), &out), 0) << out;
+  ASSERT_EQ(run((dir_ / "map.exr").string() + " -n 3 -o " + (dir_ / "bands").string(), &out), 0)
+      << out;
   Image sum(64, 48, {"Y"});
   float previousFreq = -1.0f;
   for (int k = 1; k <= 3; ++k) {
@@ -45,7 +47,8 @@ TEST_F(BandsCommand, BandsSumToTheMapAndRiseInFrequency) {
     ASSERT_EQ(band.height, 48);
     for (size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += band.pixels[i];
     // The CSV row of band k: "k,file,freq,..."; frequencies grow from band to band.
-    std::string key = "\n";  // built step by step: GCC 12 warns falsely (-Wrestrict) on "\n" + string
+    std::string key =
+        "\n";  // built step by step: GCC 12 warns falsely (-Wrestrict) on "\n" + string
     key += std::to_string(k);
     key += ',';
     const size_t row = out.find(key);
@@ -56,7 +59,8 @@ TEST_F(BandsCommand, BandsSumToTheMapAndRiseInFrequency) {
     previousFreq = freq;
   }
   double worst = 0.0;
-  for (size_t i = 0; i < sum.pixels.size(); ++i) worst = std::max(worst, double(std::abs(sum.pixels[i] - map.pixels[i])));
+  for (size_t i = 0; i < sum.pixels.size(); ++i)
+    worst = std::max(worst, double(std::abs(sum.pixels[i] - map.pixels[i])));
   EXPECT_LT(worst, 1e-5);
   EXPECT_NE(out.find("their sum reproduces it within"), std::string::npos);
 }

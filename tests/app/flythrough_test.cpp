@@ -1,5 +1,6 @@
 // Fly-throughs as a farm would run them: shards give exactly the frames of one run, complete
-// frames are skipped on a rerun, and an interrupt leaves no partial frame (tested with a real signal).
+// frames are skipped on a rerun, and an interrupt leaves no partial frame (tested with a real
+// signal).
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -33,8 +34,8 @@ class FlythroughTest : public meso::testing::TempDirTest {
  protected:
   std::string args(const std::string& out, const std::string& extra,
                    const std::string& quality = "--width 48 --height 27 --spp 2") const {
-    return "render " + std::string(MESO_SOURCE_DIR) + "/scenes/flythrough.toml -o " + (dir_ / out).string() + " " +
-           quality + " -q " + extra;
+    return "render " + std::string(MESO_SOURCE_DIR) + "/scenes/flythrough.toml -o " +
+           (dir_ / out).string() + " " + quality + " -q " + extra;
   }
 };
 
@@ -82,15 +83,18 @@ TEST_F(FlythroughTest, BadFrameRangesAndShardsAreErrors) {
 // SIGINT during a long path: status 130, every file under a final name is a complete frame pair
 // (EXR and PNG) and no temporary is left; a rerun completes the path.
 TEST_F(FlythroughTest, InterruptLeavesNoPartialFrameAndRerunCompletes) {
-  const std::string cmd = std::string(MESO_EXE) + " " + args("f.exr", "", "--spp 16 --width 160 --height 90");
+  const std::string cmd =
+      std::string(MESO_EXE) + " " + args("f.exr", "", "--spp 16 --width 160 --height 90");
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + cmd + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd + " >/dev/null 2>&1").c_str(),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   // Wait until the first frame is complete, then interrupt mid-path.
-  for (int i = 0; i < 600 && !fs::exists(dir_ / "f_0001.png"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  for (int i = 0; i < 600 && !fs::exists(dir_ / "f_0001.png"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);

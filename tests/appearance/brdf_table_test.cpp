@@ -41,8 +41,8 @@ TEST(BrdfTable, ZeroReliefDiffuseIsExactlyLDotN) {
       for (int j = 0; j < 7; ++j) {
         EXPECT_FLOAT_EQ(t.entry(k, i, j).diffuse, std::max(std::cos(t.thetaL(i)), 0.0f));
         const Vec3 V(std::sin(t.thetaV(k)), 0.0f, std::cos(t.thetaV(k)));
-        const Vec3 L(std::sin(t.thetaL(i)) * std::cos(-t.phi(j)), std::sin(t.thetaL(i)) * std::sin(-t.phi(j)),
-                     std::cos(t.thetaL(i)));
+        const Vec3 L(std::sin(t.thetaL(i)) * std::cos(-t.phi(j)),
+                     std::sin(t.thetaL(i)) * std::sin(-t.phi(j)), std::cos(t.thetaL(i)));
         const Vec3 H = glm::normalize(V + L);
         EXPECT_NEAR(t.entry(k, i, j).specular, std::pow(H.z, 30.0f), 1e-5f);
       }
@@ -79,7 +79,8 @@ TEST(BrdfTable, LookupInterpolatesTrilinearly) {
               0.5f * (t.entry(2, 3, 4).diffuse + t.entry(2, 4, 4).diffuse), 1e-6f);
   // phi is |phi_V - phi_L| modulo 2 pi.
   EXPECT_FLOAT_EQ(t.lookup(0.3f, 0.4f, -0.5f).diffuse, t.lookup(0.3f, 0.4f, 0.5f).diffuse);
-  EXPECT_NEAR(t.lookup(0.3f, 0.4f, 2.0f * kPi - 0.5f).diffuse, t.lookup(0.3f, 0.4f, 0.5f).diffuse, 1e-5f);
+  EXPECT_NEAR(t.lookup(0.3f, 0.4f, 2.0f * kPi - 0.5f).diffuse, t.lookup(0.3f, 0.4f, 0.5f).diffuse,
+              1e-5f);
 }
 
 // A flat finer level makes the coarser table equal to the finest table of the coarse relief.

@@ -25,8 +25,10 @@ VisibleNormalHistogram syntheticHistogram(bool coupled) {
       for (int j = 0; j < kRes.phi; ++j) {
         const float t = h.thetaNCentre(i), p = h.phiCentre(j);
         const float facing = 1.0f + 0.9f * s * std::cos(p);
-        const float width = 0.35f * (1.0f - 0.5f * s) * (coupled ? (1.0f + 0.6f * s * std::cos(p)) : 1.0f);
-        h.mass(k, i, j) = facing * (std::sin(t) * std::exp(-(t * t) / (width * width)) + (i == 20 ? 0.0f : 1e-4f));
+        const float width =
+            0.35f * (1.0f - 0.5f * s) * (coupled ? (1.0f + 0.6f * s * std::cos(p)) : 1.0f);
+        h.mass(k, i, j) = facing * (std::sin(t) * std::exp(-(t * t) / (width * width)) +
+                                    (i == 20 ? 0.0f : 1e-4f));
       }
   }
   h.normalize();
@@ -42,7 +44,8 @@ NormalAngles sampleSlice(const VisibleNormalHistogram& h, int k, Rng& rng) {
   for (; b + 1 < s.size() && u >= s[b]; ++b) u -= s[b];
   const int i = static_cast<int>(b) / kRes.phi, j = static_cast<int>(b) % kRes.phi;
   const float c0 = std::cos(i * h.thetaNWidth()), c1 = std::cos((i + 1) * h.thetaNWidth());
-  return {std::acos(c0 - rng.uniform() * (c0 - c1)), -kPi + (static_cast<float>(j) + rng.uniform()) * h.phiWidth()};
+  return {std::acos(c0 - rng.uniform() * (c0 - c1)),
+          -kPi + (static_cast<float>(j) + rng.uniform()) * h.phiWidth()};
 }
 
 TEST(Redistribution, IdentityAtNormalIncidence) {
@@ -77,7 +80,8 @@ TEST(Redistribution, RoundTripWithinOneBinOverAThetaSweep) {
 }
 
 // Bump normals drawn from f and mapped by R_theta must follow distr[theta] (slice angles).
-void expectMappedSamplesFollowSlices(const VisibleNormalHistogram& h, RedistributionVariant variant) {
+void expectMappedSamplesFollowSlices(const VisibleNormalHistogram& h,
+                                     RedistributionVariant variant) {
   const Redistribution r(h, variant);
   const int slices[] = {2, 5, 8};  // 21.8, 54.5 and 87.1 degrees
   const double alpha = testing::sidakAlpha(0.01, 3);

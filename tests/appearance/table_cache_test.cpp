@@ -47,7 +47,8 @@ TEST_F(TableCacheTest, CorruptTruncatedAndStaleFilesAreRejectedAndRemoved) {
   EXPECT_FALSE(cache.load(7, &warning).has_value());
   EXPECT_NE(warning.find("truncated"), std::string::npos) << warning;
 
-  std::ofstream(file, std::ios::binary) << "garbage that is long enough to fill a header, surely it is";
+  std::ofstream(file, std::ios::binary)
+      << "garbage that is long enough to fill a header, surely it is";
   EXPECT_FALSE(cache.load(7, &warning).has_value());
   EXPECT_NE(warning.find("not a meso table file"), std::string::npos) << warning;
 }

@@ -20,7 +20,8 @@ class ImageIoTest : public testing::TempDirTest {
 
 Image testImage() {
   Image img(5, 3, {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z"});
-  for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = 0.37f * static_cast<float>(i) - 3.1f;
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+    img.pixels[i] = 0.37f * static_cast<float>(i) - 3.1f;
   return img;
 }
 

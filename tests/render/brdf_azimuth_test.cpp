@@ -19,7 +19,8 @@ TEST(Eq2Azimuth, OrthonormalTangentsGiveTheProjectedAngle) {
   Rng rng(8);
   for (int k = 0; k < 500; ++k) {
     const float phiV = 2 * kPi * rng.uniform(), phiL = 2 * kPi * rng.uniform();
-    const Vec3 V = direction(0.05f + 1.4f * rng.uniform(), phiV), L = direction(0.05f + 1.4f * rng.uniform(), phiL);
+    const Vec3 V = direction(0.05f + 1.4f * rng.uniform(), phiV),
+               L = direction(0.05f + 1.4f * rng.uniform(), phiL);
     float expected = std::abs(phiV - phiL);
     if (expected > kPi) expected = 2 * kPi - expected;
     EXPECT_NEAR(azimuthEq2(V, L, Vec3(1, 0, 0), Vec3(0, 1, 0)), expected, 2e-3f);
@@ -36,8 +37,9 @@ TEST(Eq2Azimuth, StretchedTangentsStretchTheAzimuth) {
   EXPECT_NEAR(azimuthEq2(V, L, Vec3(2, 0, 0), Vec3(0, 1, 0)), std::atan(0.5f), 1e-5f);
   EXPECT_NEAR(azimuthEq2(V, L, Vec3(1, 0, 0), Vec3(0, 2, 0)), std::atan(2.0f), 1e-5f);
   // Warped (non-orthogonal) tangents: P_v leaning towards P_u.
-  const float expected = std::acos(glm::dot(glm::normalize(Vec2(1.0f, std::cos(kPi / 3))),
-                                            glm::normalize(Vec2(glm::dot(L, Vec3(1, 0, 0)) , glm::dot(L, Vec3(0.5f, 0.8660254f, 0))) )));
+  const float expected = std::acos(glm::dot(
+      glm::normalize(Vec2(1.0f, std::cos(kPi / 3))),
+      glm::normalize(Vec2(glm::dot(L, Vec3(1, 0, 0)), glm::dot(L, Vec3(0.5f, 0.8660254f, 0))))));
   EXPECT_NEAR(azimuthEq2(V, L, Vec3(1, 0, 0), Vec3(0.5f, 0.8660254f, 0)), expected, 1e-4f);
 }
 

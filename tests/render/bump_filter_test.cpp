@@ -14,7 +14,6 @@
 #include <cmath>
 #include <filesystem>
 
-
 namespace meso {
 namespace {
 
@@ -25,7 +24,8 @@ Scene farReliefScene() {
   m.kd = Vec3(0.3f);
   m.ks = Vec3(0.7f);
   m.phong = 40.0f;
-  m.relief = {testing::noiseLevel(0.02f, 2.0f)};  // slopes about 0.5: strong, many waves per pixel far away
+  m.relief = {
+      testing::noiseLevel(0.02f, 2.0f)};  // slopes about 0.5: strong, many waves per pixel far away
   // Light towards the eye: a broad highlight.
   Scene s = testing::planeScene(testing::writePlaneObj("bumpf", 20.0f, 0.0f, 40.0f), "bump", m,
                                 Vec3(0.0f, -0.6f, -0.5f), "bumpf");
@@ -71,7 +71,8 @@ TEST(BumpFilter, OneFilteredSampleIsCloserToTheSupersampledImage) {
   };
   std::printf("  mean intensity: reference %.4f, filtered %.4f\n", mean(reference), mean(filtered));
   EXPECT_LT(ef, 0.3 * ep);  // measured 0.020 against 0.141
-  EXPECT_NEAR(mean(filtered), mean(reference), 0.02 * mean(reference));  // the lobe keeps its energy
+  EXPECT_NEAR(mean(filtered), mean(reference),
+              0.02 * mean(reference));  // the lobe keeps its energy
 }
 
 TEST(BumpFilter, RoughenedHighlightIsBlinnPhongWithoutRoughness) {
@@ -86,10 +87,13 @@ TEST(BumpFilter, RoughenedHighlightIsBlinnPhongWithoutRoughness) {
     const Vec3 V = glm::normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, 1.0f));
     const Vec3 N(0, 0, 1), e1(1, 0, 0), e2(0, 1, 0);
     const Vec3 plain = shadeLocal(m, std::span<const Light>(&l, 1), Vec3(0.0f), N, V);
-    const Vec3 rough0 = shadeRoughened(m, std::span<const Light>(&l, 1), Vec3(0.0f), N, V, e1, e2, {});
+    const Vec3 rough0 =
+        shadeRoughened(m, std::span<const Light>(&l, 1), Vec3(0.0f), N, V, e1, e2, {});
     EXPECT_NEAR(plain.x, rough0.x, 1e-4f * (1.0f + plain.x));
-    // Roughness widens the highlight: the peak falls and the tails rise, never above the smooth peak.
-    const Vec3 rough = shadeRoughened(m, std::span<const Light>(&l, 1), Vec3(0.0f), N, V, e1, e2, {0.01f, 0.0f, 0.01f});
+    // Roughness widens the highlight: the peak falls and the tails rise, never above the smooth
+    // peak.
+    const Vec3 rough = shadeRoughened(m, std::span<const Light>(&l, 1), Vec3(0.0f), N, V, e1, e2,
+                                      {0.01f, 0.0f, 0.01f});
     EXPECT_TRUE(isFinite(rough));
     EXPECT_LE(rough.x, m.ka.x + m.kd.x + m.ks.x + 1e-5f);
   }
@@ -110,7 +114,8 @@ TEST(BumpFilter, FootprintOfAPlaneSeenHeadOn) {
   sp.Pu = Vec3(2.0f, 0.0f, 0.0f);
   sp.Pv = Vec3(0.0f, 2.0f, 0.0f);
   sp.N = Vec3(0.0f, 0.0f, 1.0f);
-  const Footprint fp = footprintAt(sp, camera.generateRay(51.0f, 50.0f), camera.generateRay(50.0f, 51.0f), 1.0f);
+  const Footprint fp =
+      footprintAt(sp, camera.generateRay(51.0f, 50.0f), camera.generateRay(50.0f, 51.0f), 1.0f);
   ASSERT_TRUE(fp.valid);
   const float expected = 10.0f / (camera.pixelsPerRadian() * 2.0f);
   EXPECT_NEAR(std::abs(fp.dUVdx.x), expected, 0.01f * expected);

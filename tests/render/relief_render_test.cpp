@@ -9,7 +9,6 @@
 #include <cmath>
 #include <filesystem>
 
-
 namespace meso {
 namespace {
 
@@ -49,7 +48,8 @@ double meanRed(const Image& img, int y0, int y1) {
 
 TEST(ReliefRender, EveryAlgorithmIsFiniteAtTheExtremes) {
   for (const char* algorithm : {"auto", "bump", "redistribution", "brdf", "displacement"})
-    for (float amplitude : {0.0f, 1e-9f, 0.002f, 0.5f}) {  // zero relief to relief taller than its wavelength
+    for (float amplitude :
+         {0.0f, 1e-9f, 0.002f, 0.5f}) {  // zero relief to relief taller than its wavelength
       Scene s = reliefScene(algorithm, amplitude);
       for (float height : {1e-4f, 1.2f, 1e4f}) {  // grazing to overhead, near and far
         s.camera.position = {0.0f, -6.0f, height};

@@ -81,7 +81,8 @@ TEST(Transition, ThresholdsInTheWrongOrderAreAnError) {
     validateTransitionSettings(s, "render.thresholds");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("render.thresholds: thresholds must satisfy e1 < e2 < 0 < e3 < e4"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "render.thresholds: thresholds must satisfy e1 < e2 < 0 < e3 < e4"),
               std::string::npos);
   }
   s = TransitionSettings{};

@@ -46,7 +46,8 @@ struct ChiSquareResult {
 };
 
 // Merges bins (in order) until each merged bin expects at least 5; dof = merged bins - 1.
-inline ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected) {
+inline ChiSquareResult chiSquareTest(const std::vector<double>& observed,
+                                     const std::vector<double>& expected) {
   ChiSquareResult r;
   double obs = 0.0, exp = 0.0;
   int bins = 0;
@@ -69,11 +70,14 @@ inline ChiSquareResult chiSquareTest(const std::vector<double>& observed, const 
 }
 
 // Significance level per test for `tests` simultaneous tests at overall level alpha (Sidak).
-inline double sidakAlpha(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
+inline double sidakAlpha(double alpha, int tests) {
+  return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
 
 inline void dumpTable(const std::vector<double>& observed, const std::vector<double>& expected) {
   for (size_t i = 0; i < observed.size(); ++i)
-    std::fprintf(stderr, "  bin %3zu  observed %10.1f  expected %10.1f\n", i, observed[i], expected[i]);
+    std::fprintf(stderr, "  bin %3zu  observed %10.1f  expected %10.1f\n", i, observed[i],
+                 expected[i]);
 }
 
 }  // namespace meso::testing

@@ -14,7 +14,9 @@
 namespace meso {
 namespace {
 
-float angleBetween(const Vec3& a, const Vec3& b) { return 2.0f * std::asin(std::min(1.0f, 0.5f * glm::length(a - b))); }
+float angleBetween(const Vec3& a, const Vec3& b) {
+  return 2.0f * std::asin(std::min(1.0f, 0.5f * glm::length(a - b)));
+}
 
 struct RoundTrip {
   float maxError = 0.0f;      // radians, over texels the table can reach
@@ -64,12 +66,14 @@ TEST(IndexTexture, RoundTripWithEstimatedBeckmann) {
     float highestFrequency() const override { return s->highestFrequency(); }
     uint64_t fingerprint() const override { return 0; }
   } rotated;
-  rotated.s = &relief(), rotated.c = std::cos(e.principalAngle), rotated.sn = std::sin(e.principalAngle);
+  rotated.s = &relief(), rotated.c = std::cos(e.principalAngle),
+  rotated.sn = std::sin(e.principalAngle);
   const NormalLookupTable table(*e.ndf);
   const IndexTexture tex(rotated, table, 128, kSlopeScale);
   const RoundTrip r = roundTrip(tex, table);
-  std::printf("[index] %s: max error %.4f deg, largest cell %.3f deg, %d of %d beyond the support box\n",
-              e.ndf->name().c_str(), degrees(r.maxError), degrees(r.maxCellAngle), r.outside, 128 * 128);
+  std::printf(
+      "[index] %s: max error %.4f deg, largest cell %.3f deg, %d of %d beyond the support box\n",
+      e.ndf->name().c_str(), degrees(r.maxError), degrees(r.maxCellAngle), r.outside, 128 * 128);
   EXPECT_EQ(r.violations, 0);
   EXPECT_LT(r.outside, 128 * 128 / 100);
   EXPECT_LT(degrees(r.maxError), 0.01f);  // invert() is the exact inverse of the bilinear table

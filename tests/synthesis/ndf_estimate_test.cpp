@@ -82,9 +82,11 @@ TEST(NdfEstimate, TabulatedMatchesTheReliefsNormalMoments) {
   const int g = 600;
   for (int j = 0; j < g; ++j)
     for (int i = 0; i < g; ++i) {
-      const double x = -1.0 + (i + 0.5) * 2.0 / g, y = -1.0 + (j + 0.5) * 2.0 / g, r2 = x * x + y * y;
+      const double x = -1.0 + (i + 0.5) * 2.0 / g, y = -1.0 + (j + 0.5) * 2.0 / g,
+                   r2 = x * x + y * y;
       if (r2 >= 1.0) continue;
-      const double d = e.ndf->D(Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(std::sqrt(1.0 - r2))));
+      const double d = e.ndf->D(Vec3(static_cast<float>(x), static_cast<float>(y),
+                                     static_cast<float>(std::sqrt(1.0 - r2))));
       ndfX += d * x * x, ndfY += d * y * y, mass += d;
     }
   const double cell = 4.0 / (g * g);

@@ -17,7 +17,8 @@ namespace {
 
 Vec3 sphericalToVector(double theta, double phi) {
   return Vec3(static_cast<float>(std::sin(theta) * std::cos(phi)),
-              static_cast<float>(std::sin(theta) * std::sin(phi)), static_cast<float>(std::cos(theta)));
+              static_cast<float>(std::sin(theta) * std::sin(phi)),
+              static_cast<float>(std::cos(theta)));
 }
 
 // integral of D cos(theta) dw over the cone theta < thetaMax, midpoint rule in (theta, phi): a
@@ -43,7 +44,8 @@ double supportMass(const Ndf& ndf, int n = 800) {
     for (int i = 0; i < n; ++i) {
       const double x = -s.x + (i + 0.5) * hx, y = -s.y + (j + 0.5) * hy, r2 = x * x + y * y;
       if (r2 < 1.0)
-        sum += ndf.D(Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(std::sqrt(1.0 - r2))));
+        sum += ndf.D(Vec3(static_cast<float>(x), static_cast<float>(y),
+                          static_cast<float>(std::sqrt(1.0 - r2))));
     }
   return sum * hx * hy;
 }
@@ -54,11 +56,15 @@ double coneFor(const Ndf& ndf) {
 }
 
 TEST(Ndf, BeckmannNormalizationAndSupport) {
-  for (auto [ax, ay] : {std::pair{0.3f, 0.3f}, {0.05f, 0.05f}, {0.6f, 0.15f}, {0.1f, 0.9f},
-                        {1e-4f, 1e-4f}, {2e-3f, 5e-2f}}) {
+  for (auto [ax, ay] : {std::pair{0.3f, 0.3f},
+                        {0.05f, 0.05f},
+                        {0.6f, 0.15f},
+                        {0.1f, 0.9f},
+                        {1e-4f, 1e-4f},
+                        {2e-3f, 5e-2f}}) {
     BeckmannNdf ndf(ax, ay);
     EXPECT_NEAR(projectedIntegral(ndf, std::numbers::pi / 2 * (ax > 0.5f || ay > 0.5f) +
-                                            coneFor(ndf) * !(ax > 0.5f || ay > 0.5f)),
+                                           coneFor(ndf) * !(ax > 0.5f || ay > 0.5f)),
                 1.0, 1e-3)
         << ndf.name();
     EXPECT_GT(supportMass(ndf), 1.0 - 1e-4) << ndf.name();
@@ -79,18 +85,21 @@ TEST(Ndf, BeckmannMatchesTheGaussianSlopeDensity) {
   // Independent form: slope density p(s) = exp(-s^2 / a^2) / (pi a^2), D = p / cos^4.
   BeckmannNdf ndf(0.4f);
   const double theta = 0.5, a = 0.4, t = std::tan(theta);
-  const double expected = std::exp(-t * t / (a * a)) / (std::numbers::pi * a * a * std::pow(std::cos(theta), 4));
+  const double expected =
+      std::exp(-t * t / (a * a)) / (std::numbers::pi * a * a * std::pow(std::cos(theta), 4));
   EXPECT_NEAR(ndf.D(sphericalToVector(theta, 1.1)), expected, 1e-5 * expected);
   // Anisotropy: rotating by 90 degrees swaps the axes.
   BeckmannNdf aniso(0.2f, 0.5f), swapped(0.5f, 0.2f);
   const Vec3 m = sphericalToVector(0.3, 0.4), r(-m.y, m.x, m.z);
   EXPECT_NEAR(aniso.D(m), swapped.D(r), 1e-4f * aniso.D(m));
-  EXPECT_GT(aniso.D(sphericalToVector(0.3, std::numbers::pi / 2)), aniso.D(sphericalToVector(0.3, 0.0)));
+  EXPECT_GT(aniso.D(sphericalToVector(0.3, std::numbers::pi / 2)),
+            aniso.D(sphericalToVector(0.3, 0.0)));
 }
 
 TEST(Ndf, FiniteAtGrazingAndExtremeRoughness) {
   std::vector<std::unique_ptr<Ndf>> ndfs;
-  for (float a : {1e-6f, 1e-4f, 0.3f, 10.0f, 1e4f, 1e6f}) ndfs.push_back(std::make_unique<BeckmannNdf>(a));
+  for (float a : {1e-6f, 1e-4f, 0.3f, 10.0f, 1e4f, 1e6f})
+    ndfs.push_back(std::make_unique<BeckmannNdf>(a));
   ndfs.push_back(std::make_unique<BeckmannNdf>(1e-4f, 1e4f));
   for (float n : {0.0f, 1.0f, 1e4f, 1e8f}) ndfs.push_back(std::make_unique<BlinnPhongNdf>(n));
   ndfs.push_back(std::make_unique<TabulatedNdf>(2, 2, std::vector<float>{1, 2, 3, 4}));
@@ -98,7 +107,8 @@ TEST(Ndf, FiniteAtGrazingAndExtremeRoughness) {
     for (double theta : {0.0, 1e-6, 0.3, 1.2, 1.5707, 1.57079, std::numbers::pi / 2}) {
       for (double phi : {0.0, 0.7, 2.0}) {
         const float d = ndf->D(sphericalToVector(theta, phi));
-        EXPECT_TRUE(std::isfinite(d) && d >= 0.0f) << ndf->name() << " theta " << theta << ": " << d;
+        EXPECT_TRUE(std::isfinite(d) && d >= 0.0f)
+            << ndf->name() << " theta " << theta << ": " << d;
       }
     }
     EXPECT_EQ(ndf->D(Vec3(0, 0, -1)), 0.0f);
@@ -121,7 +131,8 @@ std::vector<float> gaussianGrid(int n, float sigmaX, float sigmaY, float cx = 0.
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const float x = -1.0f + (i + 0.5f) * 2.0f / n - cx, y = -1.0f + (j + 0.5f) * 2.0f / n;
-      v[static_cast<size_t>(j) * n + i] = std::exp(-0.5f * (x * x / (sigmaX * sigmaX) + y * y / (sigmaY * sigmaY)));
+      v[static_cast<size_t>(j) * n + i] =
+          std::exp(-0.5f * (x * x / (sigmaX * sigmaX) + y * y / (sigmaY * sigmaY)));
     }
   return v;
 }

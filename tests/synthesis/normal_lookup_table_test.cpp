@@ -19,7 +19,8 @@ namespace {
 TEST(NormalLookupTable, WarpInvertsAndCrowdsTheEnds) {
   for (int k = 0; k <= 100; ++k) {
     const float t = k / 100.0f;
-    EXPECT_NEAR(NormalLookupTable::unwarp(NormalLookupTable::warp(t)), t, 1e-5f);  // float near r = 1
+    EXPECT_NEAR(NormalLookupTable::unwarp(NormalLookupTable::warp(t)), t,
+                1e-5f);  // float near r = 1
   }
   EXPECT_LT(NormalLookupTable::warp(1.0f / 255.0f), 3e-7f);  // the first cell's mass
 }

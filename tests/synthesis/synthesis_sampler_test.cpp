@@ -47,8 +47,8 @@ struct PolarBins {
       const double r = std::sqrt(s0 + (i + 0.5) * ds), z = std::sqrt(std::max(0.0, 1.0 - r * r));
       for (int j = 0; j < nP; ++j) {
         const double phi = p0 + (j + 0.5) * dp;
-        sum += ndf.D(Vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
-                          static_cast<float>(z)));
+        sum += ndf.D(Vec3(static_cast<float>(r * std::cos(phi)),
+                          static_cast<float>(r * std::sin(phi)), static_cast<float>(z)));
       }
     }
     return sum * ds * dp * 0.5;
@@ -67,7 +67,8 @@ struct PolarBins {
 };
 
 // Histogram of `samples` normals from draw(p) at independent random points p far apart.
-std::vector<double> histogram(const PolarBins& bins, int samples, const std::function<Vec3(Vec2)>& draw) {
+std::vector<double> histogram(const PolarBins& bins, int samples,
+                              const std::function<Vec3(Vec2)>& draw) {
   std::vector<double> counts(bins.count(), 0.0);
   Rng rng(20010815, 3);
   for (int k = 0; k < samples; ++k) {
@@ -95,7 +96,8 @@ void expectFollowsNdf(const Ndf& ndf, float octaveCount, const char* what) {
   const std::vector<double> expected = bins.expected(ndf, kSamples);
   const std::vector<double> observed =
       histogram(bins, kSamples, [&](Vec2 p) { return sampler.normalAtCount(p, octaveCount); });
-  EXPECT_GT(chiSquarePValue(observed, expected, what), testing::sidakAlpha(0.01, kChiSquareTests)) << what;
+  EXPECT_GT(chiSquarePValue(observed, expected, what), testing::sidakAlpha(0.01, kChiSquareTests))
+      << what;
 }
 
 TEST(SynthesisSampler, IsotropicBeckmannChiSquare) {
@@ -117,8 +119,10 @@ TabulatedNdf twoLobes() {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const float x = -1.0f + (i + 0.5f) * 2.0f / n, y = -1.0f + (j + 0.5f) * 2.0f / n;
-      const float a = (x - 0.3f) / 0.15f, b = (y + 0.1f) / 0.3f, c = (x + 0.25f) / 0.2f, d = (y - 0.35f) / 0.1f;
-      v[static_cast<size_t>(j) * n + i] = std::exp(-0.5f * (a * a + b * b)) + 0.6f * std::exp(-0.5f * (c * c + d * d));
+      const float a = (x - 0.3f) / 0.15f, b = (y + 0.1f) / 0.3f, c = (x + 0.25f) / 0.2f,
+                  d = (y - 0.35f) / 0.1f;
+      v[static_cast<size_t>(j) * n + i] =
+          std::exp(-0.5f * (a * a + b * b)) + 0.6f * std::exp(-0.5f * (c * c + d * d));
     }
   return TabulatedNdf(n, n, v);
 }
@@ -137,14 +141,20 @@ TEST(SynthesisSampler, ChiSquareRejectsWrongDistributions) {
   const std::vector<double> observed =
       histogram(bins, kSamples, [&](Vec2 p) { return sampler.normalAtCount(p, 3.5f); });
   // The frame matters (axes swapped), and so does a 10% error in roughness.
-  EXPECT_LT(chiSquarePValue(observed, bins.expected(swapped, kSamples), "control: axes swapped", false), alpha);
-  EXPECT_LT(chiSquarePValue(observed, bins.expected(slightlyRougher, kSamples), "control: 10% rougher", false), alpha);
+  EXPECT_LT(
+      chiSquarePValue(observed, bins.expected(swapped, kSamples), "control: axes swapped", false),
+      alpha);
+  EXPECT_LT(chiSquarePValue(observed, bins.expected(slightlyRougher, kSamples),
+                            "control: 10% rougher", false),
+            alpha);
   // Without G the turbulence is not uniform, and L then gives the wrong distribution.
   const std::vector<double> withoutG = histogram(bins, kSamples, [&](Vec2 p) {
     const Vec2 t = sampler.turbulence().evaluate(p, 3.5f);
     return sampler.table().lookup(glm::clamp(t + 0.5f, 0.0f, 1.0f));
   });
-  EXPECT_LT(chiSquarePValue(withoutG, bins.expected(aniso, kSamples), "control: turbulence without G", false), alpha);
+  EXPECT_LT(chiSquarePValue(withoutG, bins.expected(aniso, kSamples),
+                            "control: turbulence without G", false),
+            alpha);
 }
 
 }  // namespace

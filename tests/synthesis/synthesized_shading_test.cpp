@@ -45,7 +45,8 @@ TEST(SynthesizedShading, TiltedMicrofacetAndTangentFrame) {
   const Vec3 mWorld = ndfFrameToWorld(N, T, m);
   EXPECT_NEAR(glm::length(mWorld - glm::normalize(Vec3(0.0f, 1.0f, 0.3f))), 0.0f, 1e-6f);
   // Mirror V about the tilted facet: the half vector is the facet normal, h_m = z, D maximal.
-  const Vec3 V = glm::normalize(Vec3(0.2f, 1.0f, -0.1f)), L = 2.0f * glm::dot(V, mWorld) * mWorld - V;
+  const Vec3 V = glm::normalize(Vec3(0.2f, 1.0f, -0.1f)),
+             L = 2.0f * glm::dot(V, mWorld) * mWorld - V;
   const SynthesizedShading s = shadeSynthesized(ndf, N, T, V, L, m);
   EXPECT_NEAR(s.specular, ndf.D(Vec3(0, 0, 1)), 1e-3f * s.specular);
   EXPECT_NEAR(s.diffuse, glm::dot(L, mWorld), 1e-5f);
@@ -67,16 +68,22 @@ TEST(SynthesizedShading, NeverNanAtGrazingOrDegenerateInput) {
       for (float tv : {0.0f, 1.0f, 1.5707f, 1.5707963f, 1.6f})
         for (float tl : {0.0f, 1.2f, 1.5707963f})
           for (float pl : {0.0f, 3.14159265f})
-            for (Vec3 m : {Vec3(0, 0, 1), glm::normalize(Vec3(0.99f, 0.0f, 1e-3f)), Vec3(1e-4f, 0.0f, 1.0f)}) {
-              const SynthesizedShading s = shadeSynthesized(ndf, N, T, dir(tv, 0.0f), dir(tl, pl), m);
+            for (Vec3 m : {Vec3(0, 0, 1), glm::normalize(Vec3(0.99f, 0.0f, 1e-3f)),
+                           Vec3(1e-4f, 0.0f, 1.0f)}) {
+              const SynthesizedShading s =
+                  shadeSynthesized(ndf, N, T, dir(tv, 0.0f), dir(tl, pl), m);
               ASSERT_TRUE(std::isfinite(s.specular) && std::isfinite(s.diffuse))
                   << alpha << " " << tv << " " << tl << " " << pl;
               EXPECT_GE(s.specular, 0.0f);
               EXPECT_GE(s.diffuse, 0.0f);
             }
     // V = -L: no half vector. Light below the surface: nothing.
-    EXPECT_EQ(shadeSynthesized(ndf, N, Vec3(1, 0, 0), dir(1.0f, 0.0f), -dir(1.0f, 0.0f), Vec3(0, 0, 1)).specular, 0.0f);
-    const SynthesizedShading below = shadeSynthesized(ndf, N, Vec3(1, 0, 0), dir(0.3f, 0.0f), dir(1.8f, 1.0f), Vec3(0, 0, 1));
+    EXPECT_EQ(
+        shadeSynthesized(ndf, N, Vec3(1, 0, 0), dir(1.0f, 0.0f), -dir(1.0f, 0.0f), Vec3(0, 0, 1))
+            .specular,
+        0.0f);
+    const SynthesizedShading below =
+        shadeSynthesized(ndf, N, Vec3(1, 0, 0), dir(0.3f, 0.0f), dir(1.8f, 1.0f), Vec3(0, 0, 1));
     EXPECT_EQ(below.specular, 0.0f);
     EXPECT_EQ(below.diffuse, 0.0f);
   }

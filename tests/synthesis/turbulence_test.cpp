@@ -65,7 +65,8 @@ TEST(Turbulence, OctaveFadeInIsContinuousAndSmooth) {
   const auto secondDifference = [&](float h) {
     float largest = 0.0f;
     for (const Vec2& p : points) {
-      const Vec2 d = turb.evaluate(p, 3.0f + h) - 2.0f * turb.evaluate(p, 3.0f) + turb.evaluate(p, 3.0f - h);
+      const Vec2 d =
+          turb.evaluate(p, 3.0f + h) - 2.0f * turb.evaluate(p, 3.0f) + turb.evaluate(p, 3.0f - h);
       largest = std::max(largest, std::max(std::abs(d.x), std::abs(d.y)));
     }
     return largest;
@@ -83,8 +84,10 @@ TEST(Turbulence, SynthesizedNormalsFadeInWithoutPopping) {
     float largest = 0.0f;
     for (const Vec2& p : points)
       for (double c = 1.95; c < 2.05; c += h) {
-        const Vec3 a = sampler.normalAtCount(p, static_cast<float>(c)), b = sampler.normalAtCount(p, static_cast<float>(c + h));
-        largest = std::max(largest, 2.0f * std::asin(0.5f * glm::length(a - b)));  // acos loses 5e-4 near 1
+        const Vec3 a = sampler.normalAtCount(p, static_cast<float>(c)),
+                   b = sampler.normalAtCount(p, static_cast<float>(c + h));
+        largest = std::max(largest,
+                           2.0f * std::asin(0.5f * glm::length(a - b)));  // acos loses 5e-4 near 1
       }
     return largest;
   };
@@ -136,19 +139,26 @@ TEST(TurbulenceCdf, MakesTurbulenceUniform) {
     std::sort(u.begin(), u.end());
     double ks = 0.0;
     for (size_t k = 0; k < u.size(); ++k)
-      ks = std::max({ks, std::abs(u[k] - static_cast<double>(k) / u.size()), std::abs(u[k] - static_cast<double>(k + 1) / u.size())});
-    // KS critical value at alpha = 0.001: 1.95 / sqrt(N); G's own sampling error adds ~0.5 / sqrt(4 * 2^18).
-    const double bound = 1.95 / std::sqrt(static_cast<double>(u.size())) + 0.5 / std::sqrt(4.0 * (1 << 18));
+      ks = std::max({ks, std::abs(u[k] - static_cast<double>(k) / u.size()),
+                     std::abs(u[k] - static_cast<double>(k + 1) / u.size())});
+    // KS critical value at alpha = 0.001: 1.95 / sqrt(N); G's own sampling error adds ~0.5 / sqrt(4
+    // * 2^18).
+    const double bound =
+        1.95 / std::sqrt(static_cast<double>(u.size())) + 0.5 / std::sqrt(4.0 * (1 << 18));
     std::printf("[G] c = %.1f  KS distance %.4f (bound %.4f)\n", c, ks, bound);
     EXPECT_LT(ks, bound) << "c = " << c;
   }
   // Without G (t linearly mapped to [0, 1]) the same statistic fails by far.
   std::vector<float> raw;
   Rng rng(5, 5);
-  for (int k = 0; k < n; ++k) raw.push_back(std::clamp(turb.evaluate(Vec2(3e4f * rng.uniform(), 3e4f * rng.uniform()), 3.0f).x + 0.5f, 0.0f, 1.0f));
+  for (int k = 0; k < n; ++k)
+    raw.push_back(
+        std::clamp(turb.evaluate(Vec2(3e4f * rng.uniform(), 3e4f * rng.uniform()), 3.0f).x + 0.5f,
+                   0.0f, 1.0f));
   std::sort(raw.begin(), raw.end());
   double ks = 0.0;
-  for (size_t k = 0; k < raw.size(); ++k) ks = std::max(ks, std::abs(raw[k] - static_cast<double>(k) / raw.size()));
+  for (size_t k = 0; k < raw.size(); ++k)
+    ks = std::max(ks, std::abs(raw[k] - static_cast<double>(k) / raw.size()));
   EXPECT_GT(ks, 0.05);
 }
 

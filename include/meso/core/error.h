@@ -23,7 +23,8 @@ class Error : public std::runtime_error {
 
   const FileLoc& where() const { return loc_; }
 
-  static std::string format(const FileLoc& loc, const std::string& key, const std::string& message) {
+  static std::string format(const FileLoc& loc, const std::string& key,
+                            const std::string& message) {
     // append() rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter.
     std::string s = loc.file;
     if (loc.line > 0) {

@@ -16,7 +16,9 @@ class Hasher {
     return *this;
   }
   template <typename T>
-  Hasher& value(const T& v) { return bytes(&v, sizeof v); }
+  Hasher& value(const T& v) {
+    return bytes(&v, sizeof v);
+  }
   Hasher& string(const std::string& s) { return value(s.size()).bytes(s.data(), s.size()); }
   uint64_t digest() const { return h_; }
 

@@ -14,7 +14,9 @@ struct Image {
 
   Image() = default;
   Image(int w, int h, std::vector<std::string> names)
-      : width(w), height(h), channels(std::move(names)),
+      : width(w),
+        height(h),
+        channels(std::move(names)),
         pixels(static_cast<size_t>(w) * h * channels.size(), 0.0f) {}
 
   int numChannels() const { return static_cast<int>(channels.size()); }

@@ -1,5 +1,5 @@
-// A progress bar on stderr (done/total, elapsed, ETA), drawn from its own thread; silent when stderr
-// is not a terminal.
+// A progress bar on stderr (done/total, elapsed, ETA), drawn from its own thread; silent when
+// stderr is not a terminal.
 #pragma once
 
 #include <atomic>

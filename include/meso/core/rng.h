@@ -1,4 +1,5 @@
-// Small counter-based random numbers: the same (seed, pixel, sample) gives the same value on any thread.
+// Small counter-based random numbers: the same (seed, pixel, sample) gives the same value on any
+// thread.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
-// The control cage of a subdivision surface: polygons with optional face-varying texture coordinates.
+// The control cage of a subdivision surface: polygons with optional face-varying texture
+// coordinates.
 #pragma once
 
 #include "meso/core/math.h"
@@ -13,7 +14,8 @@ struct ControlMesh {
   std::vector<Vec3> positions;
   std::vector<int> faceSizes;     // vertices per face
   std::vector<int> faceVertices;  // concatenated vertex indices, faceSizes[f] per face
-  // Optional face-varying (u, v): uvIndices parallels faceVertices and indexes uvs. Empty if absent.
+  // Optional face-varying (u, v): uvIndices parallels faceVertices and indexes uvs. Empty if
+  // absent.
   std::vector<Vec2> uvs;
   std::vector<int> uvIndices;
 

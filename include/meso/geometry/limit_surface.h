@@ -9,9 +9,9 @@
 namespace meso {
 
 // A point of the limit surface with its first derivatives. Pu, Pv are the derivatives with respect
-// to the texture coordinates (u, v) when the mesh has them, otherwise with respect to the face's own
-// patch coordinates (s, t). N is the unit limit normal, facing the mesh's outward side (so
-// N = -normalize(Pu x Pv) for a mirrored uv map), never a facet normal (Chan 2002).
+// to the texture coordinates (u, v) when the mesh has them, otherwise with respect to the face's
+// own patch coordinates (s, t). N is the unit limit normal, facing the mesh's outward side (so N =
+// -normalize(Pu x Pv) for a mirrored uv map), never a facet normal (Chan 2002).
 struct SurfacePoint {
   Vec3 P{0.0f};
   Vec3 Pu{0.0f};

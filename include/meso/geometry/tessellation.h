@@ -1,4 +1,5 @@
-// Triangles of a limit surface (OpenSubdiv Bfr::Tessellation) that remember their patch coordinates.
+// Triangles of a limit surface (OpenSubdiv Bfr::Tessellation) that remember their patch
+// coordinates.
 #pragma once
 
 #include "meso/core/math.h"
@@ -11,12 +12,13 @@ namespace meso {
 
 // Triangles over the limit surface. Vertices on edges shared by two faces are evaluated once and
 // shared, so the mesh is watertight. Each triangle keeps its base face and the patch coordinates of
-// its three corners, so a hit's barycentrics give the patch coordinates to evaluate the limit there.
+// its three corners, so a hit's barycentrics give the patch coordinates to evaluate the limit
+// there.
 struct TessellatedMesh {
   std::vector<Vec3> positions;
-  std::vector<uint32_t> indices;    // 3 per triangle
-  std::vector<int> triangleFace;    // base face of each triangle
-  std::vector<Vec2> cornerSt;       // 3 per triangle: patch coordinates of its corners in that face
+  std::vector<uint32_t> indices;  // 3 per triangle
+  std::vector<int> triangleFace;  // base face of each triangle
+  std::vector<Vec2> cornerSt;     // 3 per triangle: patch coordinates of its corners in that face
 
   size_t numTriangles() const { return triangleFace.size(); }
   // Patch coordinates inside triangle `tri` at Embree barycentrics (b1, b2) of corners 1 and 2.

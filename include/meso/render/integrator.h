@@ -13,7 +13,7 @@ namespace meso {
 struct RenderOptions {
   int spp = 4;
   uint64_t seed = 0;
-  bool progress = true;  // progress bar on stderr (drawn only when stderr is a terminal)
+  bool progress = true;      // progress bar on stderr (drawn only when stderr is a terminal)
   bool falseColour = false;  // beauty = algorithm colours (Figure 4) instead of shading
   // Polled once per tile; when it becomes true the frame stops and renderFrame throws Interrupted.
   const std::atomic<bool>* cancel = nullptr;
@@ -34,10 +34,10 @@ struct RenderCounters {
   std::atomic<int64_t> nonFinite{0};
 };
 
-// The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that hit
-// a surface, 0 where none did), normal.X/Y/Z (mean shading normal over hits, 0 where none),
-// algorithm.R/G/B (the renderer colours of DESIGN.md section 2 mixed by blend weights, averaged over
-// all samples) and T.Y (mean transition parameter of the finest visible level over hits).
+// The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that
+// hit a surface, 0 where none did), normal.X/Y/Z (mean shading normal over hits, 0 where none),
+// algorithm.R/G/B (the renderer colours of DESIGN.md section 2 mixed by blend weights, averaged
+// over all samples) and T.Y (mean transition parameter of the finest visible level over hits).
 // Every pixel depends only on (seed, pixel, sample index), so any thread count gives the same bits.
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters);
 

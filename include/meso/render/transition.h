@@ -6,14 +6,14 @@
 
 namespace meso {
 
-
-// Throws meso::Error naming `where` (e.g. "render.thresholds") unless e1 < e2 < 0 < e3 < e4, D >= 0,
-// eps >= 0 and all are finite.
+// Throws meso::Error naming `where` (e.g. "render.thresholds") unless e1 < e2 < 0 < e3 < e4, D >=
+// 0, eps >= 0 and all are finite.
 void validateTransitionSettings(const TransitionSettings& s, const char* where);
 
 // T_i = (nu_i - D) / (cos(theta_V) + eps) with nu_i = lambda_i * p / d the number of pixels the
 // level's shortest wavelength spans at distance d (p: pixels per radian). cosThetaV is clamped to
-// [0, 1]; with eps = 0 at cos theta_V = 0 the result is clamped to +-1e6 instead of dividing by zero.
+// [0, 1]; with eps = 0 at cos theta_V = 0 the result is clamped to +-1e6 instead of dividing by
+// zero.
 float transitionParameter(float wavelength, float pixelsPerRadian, float distance, float cosThetaV,
                           const TransitionSettings& s);
 

@@ -29,7 +29,9 @@ class SynthesisSampler {
   Vec2 indices(Vec2 uv, float c) const { return cdf_.G(turbulence_.evaluate(uv, c), c); }
   // The unit microfacet normal L(r1, r2) in the NDF's frame (z = the macro normal, x = the NDF's
   // principal axis) at uv, where one unit of uv spans pixelsPerUnit pixels (1 / footprint).
-  Vec3 normal(Vec2 uv, float pixelsPerUnit) const { return normalAtCount(uv, turbulence_.octaveCount(pixelsPerUnit)); }
+  Vec3 normal(Vec2 uv, float pixelsPerUnit) const {
+    return normalAtCount(uv, turbulence_.octaveCount(pixelsPerUnit));
+  }
   // The same for an explicit octave count c (Turbulence::octaveCount).
   Vec3 normalAtCount(Vec2 uv, float c) const { return table_.lookup(indices(uv, c)); }
 

@@ -53,7 +53,9 @@ class Turbulence {
   // (t1, t2) at p (units of the surface parameter) for octave count c (clamped to [0, maxOctaves]).
   Vec2 evaluate(Vec2 p, float c) const;
   // evaluate(p, octaveCount(pixelsPerUnit)).
-  Vec2 atFootprint(Vec2 p, float pixelsPerUnit) const { return evaluate(p, octaveCount(pixelsPerUnit)); }
+  Vec2 atFootprint(Vec2 p, float pixelsPerUnit) const {
+    return evaluate(p, octaveCount(pixelsPerUnit));
+  }
   // One channel's octave o alone at p: gradient noise n_o(p) in [-0.7072, 0.7072].
   float octaveNoise(int channel, int o, Vec2 p) const;
   // An upper bound of |t| over all p and c.
@@ -65,8 +67,8 @@ class Turbulence {
  private:
   struct Octave {
     double frequency;
-    float amplitude;        // gain^o (1 for o = 0)
-    float cosA, sinA;       // the lattice rotation
+    float amplitude;          // gain^o (1 for o = 0)
+    float cosA, sinA;         // the lattice rotation
     double offsetX, offsetY;  // in lattice cells
     uint64_t salt;
   };

@@ -34,11 +34,13 @@ struct TurbulenceCdfOptions {
 // Building costs about points * 1.4 us; G() and inverse() are allocation-free and thread-safe.
 class TurbulenceCdf {
  public:
-  static constexpr std::array<float, 8> kMeasuredCounts{1.0f, 1.25f, 1.5f, 1.75f, 2.0f, 2.5f, 3.0f, 4.0f};
+  static constexpr std::array<float, 8> kMeasuredCounts{1.0f, 1.25f, 1.5f, 1.75f,
+                                                        2.0f, 2.5f,  3.0f, 4.0f};
   static constexpr int kRowsPerOctave = 16;
 
   TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOptions& options);
-  explicit TurbulenceCdf(const Turbulence& turbulence) : TurbulenceCdf(turbulence, TurbulenceCdfOptions{}) {}
+  explicit TurbulenceCdf(const Turbulence& turbulence)
+      : TurbulenceCdf(turbulence, TurbulenceCdfOptions{}) {}
 
   // G(t; c) in [0, 1], nondecreasing in t.
   float G(float t, float c) const;
