@@ -20,6 +20,10 @@ struct RenderOptions {
   // The bump renderer filters its slopes over each sample's footprint with Schilling's pyramids;
   // false: point-sampled Blinn bump mapping (aliases when the relief is finer than a pixel).
   bool filterBump = true;
+  // Camera rays only: each sample's closest hit is found with Embree and nothing else is done (no
+  // shading, no shadow rays; beauty is black, depth.Z as usual). The cost of tracing exactly the
+  // frame's rays against its geometry: the baseline tools/bench_frame measures renderers against.
+  bool traceOnly = false;
 };
 
 // Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.
