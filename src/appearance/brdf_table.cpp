@@ -136,8 +136,7 @@ BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) cons
   const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
   const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
   const TableAxis c = locateOnAxis(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
-  return interpolateTable<Value>(a, TableAxis{}, 1, b, c,
-                                 [this](int k, int i, int j) { return entry(k, i, j); });
+  return interpolateTable<Value>(a, TableAxis{}, b, c, layout());
 }
 
 BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float phiVL) const {
@@ -146,8 +145,7 @@ BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float
   const TableAxis m = locateViewAzimuth(phiV, phiV_);
   const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
   const TableAxis c = locateOnAxis(wrapAngle(phiVL), -kPi, kPi, nPhi_);
-  return interpolateTable<Value>(a, m, phiV_, b, c,
-                                 [this](int k, int i, int j) { return entry(k, i, j); });
+  return interpolateTable<Value>(a, m, b, c, layout());
 }
 
 }  // namespace meso

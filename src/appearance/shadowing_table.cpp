@@ -142,8 +142,7 @@ ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float the
   const float p = wrapAngle(phiVL);
   const TableAxis c =
       phiV_ > 1 ? locateOnAxis(p, -kPi, kPi, nPhi_) : locateOnAxis(std::abs(p), 0.0f, kPi, nPhi_);
-  return interpolateTable<Value>(a, m, phiV_, b, c,
-                                 [this](int k, int i, int j) { return entry(k, i, j); });
+  return interpolateTable<Value>(a, m, b, c, layout());
 }
 
 std::vector<float> ShadowingTable::toData() const {

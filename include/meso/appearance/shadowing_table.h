@@ -2,6 +2,8 @@
 // section 4.2): S(theta_V, phi_V, theta_L, phi_{V-L}), traced in the periodic tile.
 #pragma once
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/appearance/histogram_builder.h"
 #include "meso/appearance/periodic_tile.h"
 
@@ -73,6 +75,9 @@ class ShadowingTable {
                        ShadowingTable& out);
 
  private:
+  TableLayout layout() const {
+    return {data_.data(), data_.data() + data_.size() / 2, phiV_, numDelta(), nPhi_};
+  }
   size_t index(int slice, int i, int j) const {
     return (static_cast<size_t>(slice) * numDelta() + i) * nPhi_ + j;
   }
