@@ -227,28 +227,28 @@ void addTradeCommand(CLI::App& cli) {
   t->add_option("--frames", o.frames,
                 "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
                 "default all");
-  t->add_option("--reference-spp", o.referenceSpp,
+  t->add_option("--reference-spp", o.settings.reference.spp,
                 "Samples per pixel of the reference's first level; each "
                 "refinement doubles it")
       ->capture_default_str();
-  t->add_option("--reference-dicing-rate", o.referenceDicingRate,
+  t->add_option("--reference-dicing-rate", o.settings.reference.dicingRate,
                 "Dicing rate (pixels) of the reference's first level; each refinement halves it")
       ->capture_default_str();
-  t->add_option("--reference-tolerance", o.referenceTolerance,
+  t->add_option("--reference-tolerance", o.settings.reference.tolerance,
                 "Percent: the reference has converged when a refinement changes its mean intensity "
                 "by less (and "
                 "the rmse is within --reference-rmse-tolerance)")
       ->capture_default_str();
-  t->add_option("--reference-rmse-tolerance", o.referenceRmseTolerance,
+  t->add_option("--reference-rmse-tolerance", o.settings.reference.rmseTolerance,
                 "Percent of the mean intensity: largest rmse between successive reference levels "
                 "that counts as "
                 "converged (it includes both levels' sampling noise)")
       ->capture_default_str();
   t->add_option(
-       "--reference-max-refinements", o.referenceMaxRefinements,
+       "--reference-max-refinements", o.settings.reference.maxRefinements,
        "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
       ->capture_default_str();
-  t->add_option("--reference-max-micropolygons", o.referenceMaxMicropolygons,
+  t->add_option("--reference-max-micropolygons", o.settings.reference.maxMicropolygons,
                 "No reference level is started that would need more micropolygons (it would be "
                 "about 4x the last)")
       ->capture_default_str();
@@ -257,18 +257,19 @@ void addTradeCommand(CLI::App& cli) {
       "Folder of cached reference renders (default: references/ in the table cache folder)");
   t->add_flag("--no-reference-cache", o.noReferenceCache,
               "Render the reference levels even if cached; store none");
-  t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")
+  t->add_option("--d-values", o.settings.grid.dValues, "Transition D of the hybrid configurations")
       ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")
+  t->add_option("--spp-values", o.settings.grid.sppValues,
+                "Samples per pixel of every swept configuration")
       ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--dicing-rates", o.dicingRates,
+  t->add_option("--dicing-rates", o.settings.grid.dicingRates,
                 "Dicing rates (pixels) of the displacement-only configurations")
       ->delimiter(',')
       ->capture_default_str();
   t->add_option(
-       "--hybrid-dicing-rates", o.hybridDicingRates,
+       "--hybrid-dicing-rates", o.settings.grid.hybridDicingRates,
        "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
       ->delimiter(',')
       ->capture_default_str();
@@ -276,13 +277,13 @@ void addTradeCommand(CLI::App& cli) {
   t->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)");
   t->add_option("--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)");
   t->add_flag(
-      "--temporal", o.temporal,
+      "--temporal", o.settings.temporal,
       "Also the frame-to-frame change of the default hybrid and the reference in "
       "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
   t->add_flag("--temporal-only", o.temporalOnly,
               "Only the reference and the default hybrid, for --temporal");
   t->add_option("--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
-  t->add_flag("-q,--quiet", o.quiet, "No progress on stderr");
+  t->add_flag("-q,--quiet", o.settings.quiet, "No progress on stderr");
   t->callback([] { meso::app::runTrade(o); });
 }
 

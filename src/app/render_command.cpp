@@ -1,6 +1,7 @@
 #include "render_command.h"
 
 #include "cli_values.h"
+#include "external_program.h"
 #include "memory_estimates.h"
 
 #include "meso/core/atomic_file.h"
@@ -27,12 +28,7 @@
 #include <thread>
 
 #include <semaphore.h>
-#include <spawn.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
-
-extern char** environ;
 
 namespace meso::app {
 namespace {
@@ -151,45 +147,12 @@ std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scen
   return frames;
 }
 
-// ffmpeg's full path from $PATH, or empty: looked up without a shell.
-std::string findOnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "/usr/local/bin:/usr/bin:/bin";
-  for (size_t start = 0; start <= dirs.size();) {
-    size_t end = dirs.find(':', start);
-    if (end == std::string::npos) end = dirs.size();
-    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
-    const std::string candidate = dir + "/" + program;
-    struct stat st;
-    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
-        ::access(candidate.c_str(), X_OK) == 0)
-      return candidate;
-    start = end + 1;
-  }
-  return {};
-}
-
 std::string ffmpegOrThrow(const std::filesystem::path& video) {
   const std::string ffmpeg = findOnPath("ffmpeg");
   if (ffmpeg.empty())
     throw Error(video.string() +
                 ": --video: expected ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
   return ffmpeg;
-}
-
-// Runs argv[0] with the arguments as given (no shell: quotes, $(...) and ; in file names are just
-// characters) and returns its exit status, -1 when it could not start or was killed.
-int runProgram(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  std::vector<std::string> copy = args;
-  for (std::string& a : copy) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, copy[0].c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // ffmpeg's image2 demuxer expands %d patterns: a literal % in the name is written %%.

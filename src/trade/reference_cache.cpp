@@ -1,5 +1,5 @@
 // Reference renders of `meso trade`, cached on disk (see reference_cache.h).
-#include "reference_cache.h"
+#include "meso/trade/reference_cache.h"
 
 #include "meso/appearance/table_cache.h"
 #include "meso/core/atomic_file.h"
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <iterator>
 
-namespace meso::app {
+namespace meso::trade {
 namespace {
 
 namespace fs = std::filesystem;
@@ -143,4 +143,4 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   writeFileAtomically(file, out);
 }
 
-}  // namespace meso::app
+}  // namespace meso::trade
