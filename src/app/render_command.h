@@ -1,9 +1,9 @@
 // `meso render`: options as parsed by the CLI, and the command itself.
 #pragma once
 
+#include "interrupt.h"
+
 #include <cstdint>
-#include <exception>
-#include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -36,14 +36,6 @@ struct RenderCommandOptions {
   std::string shard;            // "i/n": render frames f with f % n == i
   bool overwrite = false;       // re-render frames already complete on disk
   std::filesystem::path video;  // assemble the frames' PNGs with ffmpeg
-};
-
-// Set by SIGINT/SIGTERM: the frame in progress stops, nothing partial is written, status 130.
-void installInterruptHandler();
-// True once SIGINT or SIGTERM arrived (for commands that poll it in their long loops).
-const std::atomic<bool>& interruptRequested();
-struct RenderInterrupted : std::exception {
-  const char* what() const noexcept override { return "interrupted"; }
 };
 
 // Renders and writes the EXR, its PNG preview and (optionally) the stats JSON. Throws meso::Error.
