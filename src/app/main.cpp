@@ -8,6 +8,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/memory_budget.h"
+#include "meso/scene/choices.h"
 
 #include <CLI/CLI.hpp>
 
@@ -15,6 +16,42 @@
 #include <exception>
 
 namespace {
+
+// Options that name one of Choices<E> (meso/scene/choices.h): checked against its table and
+// converted as they are parsed (CLI11 runs the check before the function).
+template <class E>
+CLI::Option* addChoice(CLI::App* app, const std::string& name, std::optional<E>& value,
+                       const std::string& help) {
+  return app
+      ->add_option_function<std::string>(
+          name, [&value](const std::string& s) { value = meso::parseChoice<E>(s); }, help)
+      ->check(CLI::IsMember(meso::choiceNames<E>()));
+}
+template <class E>
+CLI::Option* addChoice(CLI::App* app, const std::string& name, E& value, const std::string& help) {
+  return app
+      ->add_option_function<std::string>(
+          name, [&value](const std::string& s) { value = *meso::parseChoice<E>(s); }, help)
+      ->check(CLI::IsMember(meso::choiceNames<E>()))
+      ->default_str(meso::choiceName(value));
+}
+template <class E>
+CLI::Option* addChoices(CLI::App* app, const std::string& name, std::vector<E>& values,
+                        const std::string& help) {
+  std::string defaults;
+  for (E v : values) defaults += (defaults.empty() ? "" : ",") + std::string(meso::choiceName(v));
+  return app
+      ->add_option_function<std::vector<std::string>>(
+          name,
+          [&values](const std::vector<std::string>& names) {
+            values.clear();
+            for (const std::string& s : names) values.push_back(*meso::parseChoice<E>(s));
+          },
+          help)
+      ->delimiter(',')
+      ->check(CLI::IsMember(meso::choiceNames<E>()))
+      ->default_str(defaults);
+}
 
 void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   CLI::App* render =
@@ -32,10 +69,8 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "Worker threads, 0 = all cores (overrides render.threads)")
       ->check(CLI::Range(0, 1024));
   render->add_option("--seed", o.seed, "Random seed (overrides render.seed)");
-  render
-      ->add_option("--algorithm", o.algorithm,
-                   "auto|brdf|bump|redistribution|displacement (overrides render.algorithm)")
-      ->check(CLI::IsMember({"auto", "brdf", "bump", "redistribution", "displacement"}));
+  addChoice(render, "--algorithm", o.algorithm,
+            meso::choiceList<meso::Algorithm>("|") + " (overrides render.algorithm)");
   render
       ->add_option("--tessellation-rate", o.tessellationRate,
                    "Uniform Bfr tessellation rate per base-face edge")
@@ -60,10 +95,8 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "Cap per frame; a frame over it is diced coarser, with a warning (overrides "
                    "render.max_micropolygons)")
       ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
-  render
-      ->add_option("--normals", o.normals,
-                   "Shading normal of --algorithm displacement: bump (the paper's) or facet")
-      ->check(CLI::IsMember({"bump", "facet"}));
+  addChoice(render, "--normals", o.normals,
+            "Shading normal of --algorithm displacement: bump (the paper's) or facet");
   render
       ->add_option("--D", o.transitionD,
                    "Transition D: pixels per shortest wavelength below which a level is not "
@@ -119,11 +152,8 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
                 "SCENE: samples per pixel of the reference (0: the scene's)")
       ->check(CLI::Range(0, 65536))
       ->capture_default_str();
-  c->add_option("--algorithms", o.algorithms,
-                "SCENE: renderers compared with the reference, comma separated")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"bump", "redistribution", "brdf", "displacement", "auto"}))
-      ->capture_default_str();
+  addChoices(c, "--algorithms", o.algorithms,
+             "SCENE: renderers compared with the reference, comma separated");
   c->add_option("--height", o.height,
                 "Height image (any format OpenImageIO reads); default: procedural fBm noise")
       ->check(CLI::ExistingFile);
@@ -164,9 +194,8 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
   c->add_option("--azimuths", o.azimuths, "View azimuths averaged")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  c->add_option("--variant", o.variant, "Redistribution maps: conditional|separable")
-      ->check(CLI::IsMember({"conditional", "separable"}))
-      ->capture_default_str();
+  addChoice(c, "--variant", o.variant,
+            "Redistribution maps: " + meso::choiceList<meso::RedistributionVariant>("|"));
   c->add_option(
       "--cache-dir", o.cacheDir,
       "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");

@@ -3,6 +3,8 @@
 
 #include "interrupt.h"
 
+#include "meso/scene/choices.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -18,13 +20,13 @@ struct RenderCommandOptions {
   std::optional<int> spp;
   std::optional<int> threads;
   std::optional<uint64_t> seed;
-  std::optional<std::string> algorithm;
+  std::optional<Algorithm> algorithm;
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
   std::optional<float> dicingRate;
   std::optional<std::string> dicingMetric;
   std::optional<int64_t> maxMicropolygons;
-  std::optional<std::string> normals;
+  std::optional<ShadingNormals> normals;
   std::optional<float> transitionD, transitionEps;
   std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   bool falseColour = false;

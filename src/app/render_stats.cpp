@@ -6,18 +6,6 @@
 namespace meso::app {
 namespace {
 
-const char* schemeName(SubdivisionScheme s) {
-  switch (s) {
-    case SubdivisionScheme::CatmullClark:
-      return "catmull-clark";
-    case SubdivisionScheme::Loop:
-      return "loop";
-    case SubdivisionScheme::Bilinear:
-      return "bilinear";
-  }
-  return "?";
-}
-
 nlohmann::json perMillion(double value, size_t micropolygons) {
   return micropolygons > 0 ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
@@ -30,18 +18,18 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
   nlohmann::json objects = nlohmann::json::array();
   for (const Object& o : scene.objects)
     objects.push_back({{"mesh", o.mesh.string()},
-                       {"scheme", schemeName(o.scheme)},
+                       {"scheme", choiceName(o.scheme)},
                        {"material", scene.materials[o.material].name}});
   return {{"scene", scene.file.string()},
           {"output", output.string()},
-          {"algorithm", scene.render.algorithm},
+          {"algorithm", choiceName(scene.render.algorithm)},
           {"seed", scene.render.seed},
           {"threads", scene.render.threads},
           {"tessellation_rate", scene.render.tessellationRate},
           {"dicing_rate", scene.render.dicingRate},
           {"dicing_metric", scene.render.dicingMetric},
           {"max_micropolygons", scene.render.maxMicropolygons},
-          {"normals", scene.render.normals},
+          {"normals", choiceName(scene.render.normals)},
           {"shadows", scene.render.shadows},
           {"transition",
            {{"D", t.D}, {"eps", t.eps}, {"e1", t.e1}, {"e2", t.e2}, {"e3", t.e3}, {"e4", t.e4}}},

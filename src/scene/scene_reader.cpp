@@ -63,8 +63,7 @@ void readCamera(TableReader& r, CameraSettings& c) {
 
 Light readLight(TableReader& r) {
   Light l;
-  const std::string type = r.choice("type", "directional", {"directional", "point"});
-  l.type = type == "point" ? LightType::Point : LightType::Directional;
+  l.type = r.choice("type", l.type);
   if (l.type == LightType::Directional) {
     l.direction = r.vec3("direction", l.direction);
     if (glm::length(l.direction) < 1e-12f)
@@ -89,11 +88,11 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t,
     throw Error(d.loc, r.prefix() + "height",
                 "expected exactly one of `height` (an image file) or `noise` (a table)");
   if (hasHeight) {
-    d.source = "image";
+    d.source = ReliefSource::Image;
     d.height = readablePath(r, "height", base);
     d.periodic = r.choice("wrap", "periodic", {"periodic", "clamp"}) == "periodic";
   } else {
-    d.source = "noise";
+    d.source = ReliefSource::Noise;
     TableReader n(*r.subtable("noise"), r.prefix() + "noise.", r.file());
     d.octaves = static_cast<int>(n.integer("octaves", d.octaves, 1, 16));
     d.lacunarity = static_cast<float>(n.number("lacunarity", d.lacunarity, 1.0, 16.0));
@@ -115,7 +114,7 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
   d.present = true;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
-  d.type = r.choice("type", d.type, {"beckmann", "blinn-phong", "tabulated", "relief"});
+  d.type = r.choice("type", d.type);
   if (const toml::node* a = r.get("alpha")) {
     if (a->is_array()) {
       const std::vector<double> v = r.numbers(*a, "alpha", 2, 1e-4, 10.0);
@@ -126,7 +125,7 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
   }
   d.angle = static_cast<float>(r.number("angle", d.angle, -360.0, 360.0));
   d.exponent = static_cast<float>(r.number("exponent", d.exponent, 0.0, 1e6, true));
-  if (d.type == "tabulated") {
+  if (d.type == NdfType::Tabulated) {
     if (!r.get("image"))
       throw Error(d.loc, r.prefix() + "image",
                   "a tabulated NDF needs `image` (an NDF over n.x, n.y)");
@@ -165,7 +164,7 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   if (const toml::table* t = r.subtable("ndf")) {
     TableReader nr(*t, r.prefix() + "ndf.", r.file());
     m.ndf = readNdf(nr, *t, base);
-    if (m.ndf.type == "relief" && m.relief.empty())
+    if (m.ndf.type == NdfType::Relief && m.relief.empty())
       throw Error(m.ndf.loc, r.prefix() + "ndf.type",
                   "\"relief\" estimates the NDF from the material's finest relief level, "
                   "but the material has no [[materials.relief]]");
@@ -204,11 +203,7 @@ Object readObject(TableReader& r, const std::vector<Material>& materials,
                 "every object needs a mesh file (OBJ, PLY or OFF)");
   o.loc = r.loc(*mesh);
   o.mesh = readablePath(r, "mesh", base);
-  const std::string scheme =
-      r.choice("scheme", "catmull-clark", {"catmull-clark", "loop", "bilinear"});
-  o.scheme = scheme == "loop"       ? SubdivisionScheme::Loop
-             : scheme == "bilinear" ? SubdivisionScheme::Bilinear
-                                    : SubdivisionScheme::CatmullClark;
+  o.scheme = r.choice("scheme", o.scheme);
   if (const std::optional<std::string> name = r.string("material")) {
     auto it = std::find_if(materials.begin(), materials.end(),
                            [&](const Material& m) { return m.name == *name; });
@@ -225,8 +220,7 @@ Object readObject(TableReader& r, const std::vector<Material>& materials,
 }
 
 void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& base) {
-  s.algorithm = r.choice("algorithm", s.algorithm,
-                         {"auto", "brdf", "bump", "redistribution", "displacement"});
+  s.algorithm = r.choice("algorithm", s.algorithm);
   s.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 1, 64));
@@ -235,17 +229,16 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.transition.eps = static_cast<float>(r.number("eps", s.transition.eps, 0.0, 1e6));
   if (const toml::node* n = r.get("thresholds")) {
     const std::vector<double> v = r.numbers(*n, "thresholds", 4, -1e6, 1e6);
-    if (!(v[0] < v[1] && v[1] < 0.0 && 0.0 < v[2] && v[2] < v[3]))
-      r.fail(*n, "thresholds", "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4");
-    s.transition.e1 = static_cast<float>(v[0]);
-    s.transition.e2 = static_cast<float>(v[1]);
-    s.transition.e3 = static_cast<float>(v[2]);
-    s.transition.e4 = static_cast<float>(v[3]);
+    const float e1 = static_cast<float>(v[0]), e2 = static_cast<float>(v[1]),
+                e3 = static_cast<float>(v[2]), e4 = static_cast<float>(v[3]);
+    if (!thresholdsOrdered(e1, e2, e3, e4))
+      r.fail(*n, "thresholds", std::string("expected [e1, e2, e3, e4] with ") + kThresholdOrder);
+    s.transition.e1 = e1, s.transition.e2 = e2, s.transition.e3 = e3, s.transition.e4 = e4;
   }
   s.dicingRate = static_cast<float>(r.number("dicing_rate", s.dicingRate, 0.01, 1000.0));
   s.dicingMetric = r.choice("dicing_metric", s.dicingMetric, {"isotropic", "projected"});
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
-  s.normals = r.choice("normals", s.normals, {"bump", "facet"});
+  s.normals = r.choice("normals", s.normals);
   s.shadows = r.boolean("shadows", s.shadows);
   if (const std::optional<std::string> c = r.string("cache_dir"))
     s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
@@ -261,7 +254,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));
     q.brdfThetaL = static_cast<int>(tr.integer("brdf_theta_l", q.brdfThetaL, 2, 512));
     q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));
-    q.variant = tr.choice("variant", q.variant, {"conditional", "separable"});
+    q.variant = tr.choice("variant", q.variant);
     q.metricStep = static_cast<float>(tr.number("metric_step", q.metricStep, 0.01, 4.0));
     tr.finish();
   }

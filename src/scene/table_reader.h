@@ -5,6 +5,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/math.h"
+#include "meso/scene/choices.h"
 
 #include <toml++/toml.h>
 
@@ -52,6 +53,14 @@ class TableReader {
   // One of `allowed`, else an error listing them.
   std::string choice(const std::string& key, const std::string& fallback,
                      const std::vector<std::string>& allowed);
+  // A name from Choices<E> (choices.h), converted here, else an error listing the names.
+  template <class E>
+  E choice(const std::string& key, E fallback) {
+    const std::optional<std::string> v = string(key);
+    if (!v) return fallback;
+    if (const std::optional<E> e = parseChoice<E>(*v)) return *e;
+    fail(*get(key), key, "expected one of " + choiceList<E>() + ", got \"" + *v + "\"");
+  }
   // An array of exactly `size` numbers, each within [lo, hi].
   std::vector<double> numbers(const toml::node& n, const std::string& key, size_t size, double lo,
                               double hi) const;

@@ -50,7 +50,7 @@ std::vector<Configuration> configurations(const SweepGrid& grid, const Scene& sc
 
 Scene sceneFor(const Scene& base, const Configuration& c) {
   Scene scene = base;
-  scene.render.algorithm = c.kind == Kind::Hybrid ? "auto" : "displacement";
+  scene.render.algorithm = c.kind == Kind::Hybrid ? Algorithm::Auto : Algorithm::Displacement;
   if (c.kind == Kind::Hybrid) scene.render.transition.D = c.D;
   scene.render.dicingRate = c.dicingRate;
   scene.camera.spp = c.spp;
