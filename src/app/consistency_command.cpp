@@ -19,7 +19,7 @@ namespace {
 ReliefLevelDecl reliefFrom(const ConsistencyCommandOptions& o) {
   ReliefLevelDecl d;
   d.loc.file = o.height.empty() ? "<command line>" : o.height.string();
-  d.source = o.height.empty() ? "noise" : "image";
+  d.source = o.height.empty() ? ReliefSource::Noise : ReliefSource::Image;
   d.height = o.height;
   d.amplitude = o.amplitude;
   d.scale = o.scale;
@@ -75,8 +75,7 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   const ReliefLevelDecl decl = reliefFrom(o);
   const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
   TableSettings settings;
-  settings.variant = o.variant == "separable" ? RedistributionVariant::Separable
-                                              : RedistributionVariant::Conditional;
+  settings.variant = o.variant;
   settings.shadows = o.shadows;
   if (o.shadowRays > 0) settings.shadowing.raysPerSlice = o.shadowRays;
   const TableCache cache(o.noCache

@@ -1,6 +1,8 @@
 // `meso consistency`: the paper's Figure 6 for any relief.
 #pragma once
 
+#include "meso/scene/choices.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -14,7 +16,8 @@ struct ConsistencyCommandOptions {
   int bands = 6;
   float referenceDicing = 0.25f;
   int referenceSpp = 0;
-  std::vector<std::string> algorithms{"bump", "redistribution", "brdf", "auto"};
+  std::vector<Algorithm> algorithms{Algorithm::Bump, Algorithm::Redistribution, Algorithm::Brdf,
+                                    Algorithm::Auto};
   std::filesystem::path height;  // empty: procedural noise
   float amplitude = 0.05f;
   float scale = 1.0f;
@@ -29,7 +32,7 @@ struct ConsistencyCommandOptions {
   double normalize = 0.0;
   int samples = 4096;
   int azimuths = 64;
-  std::string variant = "conditional";
+  RedistributionVariant variant = RedistributionVariant::Conditional;
   std::filesystem::path cacheDir;  // empty: the default cache folder
   bool noCache = false;
   bool shadows = false;  // relief self-shadowing in every renderer but bump

@@ -8,6 +8,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/memory_budget.h"
+#include "meso/scene/choices.h"
 
 #include <CLI/CLI.hpp>
 
@@ -15,6 +16,42 @@
 #include <exception>
 
 namespace {
+
+// Options that name one of Choices<E> (meso/scene/choices.h): checked against its table and
+// converted as they are parsed (CLI11 runs the check before the function).
+template <class E>
+CLI::Option* addChoice(CLI::App* app, const std::string& name, std::optional<E>& value,
+                       const std::string& help) {
+  return app
+      ->add_option_function<std::string>(
+          name, [&value](const std::string& s) { value = meso::parseChoice<E>(s); }, help)
+      ->check(CLI::IsMember(meso::choiceNames<E>()));
+}
+template <class E>
+CLI::Option* addChoice(CLI::App* app, const std::string& name, E& value, const std::string& help) {
+  return app
+      ->add_option_function<std::string>(
+          name, [&value](const std::string& s) { value = *meso::parseChoice<E>(s); }, help)
+      ->check(CLI::IsMember(meso::choiceNames<E>()))
+      ->default_str(meso::choiceName(value));
+}
+template <class E>
+CLI::Option* addChoices(CLI::App* app, const std::string& name, std::vector<E>& values,
+                        const std::string& help) {
+  std::string defaults;
+  for (E v : values) defaults += (defaults.empty() ? "" : ",") + std::string(meso::choiceName(v));
+  return app
+      ->add_option_function<std::vector<std::string>>(
+          name,
+          [&values](const std::vector<std::string>& names) {
+            values.clear();
+            for (const std::string& s : names) values.push_back(*meso::parseChoice<E>(s));
+          },
+          help)
+      ->delimiter(',')
+      ->check(CLI::IsMember(meso::choiceNames<E>()))
+      ->default_str(defaults);
+}
 
 void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   CLI::App* render =
@@ -32,10 +69,8 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "Worker threads, 0 = all cores (overrides render.threads)")
       ->check(CLI::Range(0, 1024));
   render->add_option("--seed", o.seed, "Random seed (overrides render.seed)");
-  render
-      ->add_option("--algorithm", o.algorithm,
-                   "auto|brdf|bump|redistribution|displacement (overrides render.algorithm)")
-      ->check(CLI::IsMember({"auto", "brdf", "bump", "redistribution", "displacement"}));
+  addChoice(render, "--algorithm", o.algorithm,
+            meso::choiceList<meso::Algorithm>("|") + " (overrides render.algorithm)");
   render
       ->add_option("--tessellation-rate", o.tessellationRate,
                    "Uniform Bfr tessellation rate per base-face edge")
@@ -60,10 +95,8 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "Cap per frame; a frame over it is diced coarser, with a warning (overrides "
                    "render.max_micropolygons)")
       ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
-  render
-      ->add_option("--normals", o.normals,
-                   "Shading normal of --algorithm displacement: bump (the paper's) or facet")
-      ->check(CLI::IsMember({"bump", "facet"}));
+  addChoice(render, "--normals", o.normals,
+            "Shading normal of --algorithm displacement: bump (the paper's) or facet");
   render
       ->add_option("--D", o.transitionD,
                    "Transition D: pixels per shortest wavelength below which a level is not "
@@ -119,11 +152,8 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
                 "SCENE: samples per pixel of the reference (0: the scene's)")
       ->check(CLI::Range(0, 65536))
       ->capture_default_str();
-  c->add_option("--algorithms", o.algorithms,
-                "SCENE: renderers compared with the reference, comma separated")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"bump", "redistribution", "brdf", "displacement", "auto"}))
-      ->capture_default_str();
+  addChoices(c, "--algorithms", o.algorithms,
+             "SCENE: renderers compared with the reference, comma separated");
   c->add_option("--height", o.height,
                 "Height image (any format OpenImageIO reads); default: procedural fBm noise")
       ->check(CLI::ExistingFile);
@@ -164,9 +194,8 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
   c->add_option("--azimuths", o.azimuths, "View azimuths averaged")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  c->add_option("--variant", o.variant, "Redistribution maps: conditional|separable")
-      ->check(CLI::IsMember({"conditional", "separable"}))
-      ->capture_default_str();
+  addChoice(c, "--variant", o.variant,
+            "Redistribution maps: " + meso::choiceList<meso::RedistributionVariant>("|"));
   c->add_option(
       "--cache-dir", o.cacheDir,
       "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
@@ -227,28 +256,28 @@ void addTradeCommand(CLI::App& cli) {
   t->add_option("--frames", o.frames,
                 "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
                 "default all");
-  t->add_option("--reference-spp", o.referenceSpp,
+  t->add_option("--reference-spp", o.settings.reference.spp,
                 "Samples per pixel of the reference's first level; each "
                 "refinement doubles it")
       ->capture_default_str();
-  t->add_option("--reference-dicing-rate", o.referenceDicingRate,
+  t->add_option("--reference-dicing-rate", o.settings.reference.dicingRate,
                 "Dicing rate (pixels) of the reference's first level; each refinement halves it")
       ->capture_default_str();
-  t->add_option("--reference-tolerance", o.referenceTolerance,
+  t->add_option("--reference-tolerance", o.settings.reference.tolerance,
                 "Percent: the reference has converged when a refinement changes its mean intensity "
                 "by less (and "
                 "the rmse is within --reference-rmse-tolerance)")
       ->capture_default_str();
-  t->add_option("--reference-rmse-tolerance", o.referenceRmseTolerance,
+  t->add_option("--reference-rmse-tolerance", o.settings.reference.rmseTolerance,
                 "Percent of the mean intensity: largest rmse between successive reference levels "
                 "that counts as "
                 "converged (it includes both levels' sampling noise)")
       ->capture_default_str();
   t->add_option(
-       "--reference-max-refinements", o.referenceMaxRefinements,
+       "--reference-max-refinements", o.settings.reference.maxRefinements,
        "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
       ->capture_default_str();
-  t->add_option("--reference-max-micropolygons", o.referenceMaxMicropolygons,
+  t->add_option("--reference-max-micropolygons", o.settings.reference.maxMicropolygons,
                 "No reference level is started that would need more micropolygons (it would be "
                 "about 4x the last)")
       ->capture_default_str();
@@ -257,18 +286,19 @@ void addTradeCommand(CLI::App& cli) {
       "Folder of cached reference renders (default: references/ in the table cache folder)");
   t->add_flag("--no-reference-cache", o.noReferenceCache,
               "Render the reference levels even if cached; store none");
-  t->add_option("--d-values", o.dValues, "Transition D of the hybrid configurations")
+  t->add_option("--d-values", o.settings.grid.dValues, "Transition D of the hybrid configurations")
       ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--spp-values", o.sppValues, "Samples per pixel of every swept configuration")
+  t->add_option("--spp-values", o.settings.grid.sppValues,
+                "Samples per pixel of every swept configuration")
       ->delimiter(',')
       ->capture_default_str();
-  t->add_option("--dicing-rates", o.dicingRates,
+  t->add_option("--dicing-rates", o.settings.grid.dicingRates,
                 "Dicing rates (pixels) of the displacement-only configurations")
       ->delimiter(',')
       ->capture_default_str();
   t->add_option(
-       "--hybrid-dicing-rates", o.hybridDicingRates,
+       "--hybrid-dicing-rates", o.settings.grid.hybridDicingRates,
        "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
       ->delimiter(',')
       ->capture_default_str();
@@ -276,13 +306,13 @@ void addTradeCommand(CLI::App& cli) {
   t->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)");
   t->add_option("--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)");
   t->add_flag(
-      "--temporal", o.temporal,
+      "--temporal", o.settings.temporal,
       "Also the frame-to-frame change of the default hybrid and the reference in "
       "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
   t->add_flag("--temporal-only", o.temporalOnly,
               "Only the reference and the default hybrid, for --temporal");
   t->add_option("--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
-  t->add_flag("-q,--quiet", o.quiet, "No progress on stderr");
+  t->add_flag("-q,--quiet", o.settings.quiet, "No progress on stderr");
   t->callback([] { meso::app::runTrade(o); });
 }
 

@@ -1,7 +1,10 @@
 #include "render_command.h"
 
 #include "cli_values.h"
+#include "interrupt.h"
 #include "memory_estimates.h"
+#include "render_stats.h"
+#include "video.h"
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
@@ -17,37 +20,11 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include <atomic>
-#include <chrono>
-#include <csignal>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <optional>
-#include <thread>
-
-#include <semaphore.h>
-#include <spawn.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-extern char** environ;
 
 namespace meso::app {
 namespace {
-
-const char* schemeName(SubdivisionScheme s) {
-  switch (s) {
-    case SubdivisionScheme::CatmullClark:
-      return "catmull-clark";
-    case SubdivisionScheme::Loop:
-      return "loop";
-    case SubdivisionScheme::Bilinear:
-      return "bilinear";
-  }
-  return "?";
-}
 
 void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.spp) scene.camera.spp = *o.spp;
@@ -70,64 +47,9 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   validateTransitionSettings(t, "--D/--eps/--thresholds");
 }
 
-nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& output) {
-  const CameraSettings& c = scene.camera;
-  nlohmann::json objects = nlohmann::json::array();
-  for (const Object& o : scene.objects)
-    objects.push_back({{"mesh", o.mesh.string()},
-                       {"scheme", schemeName(o.scheme)},
-                       {"material", scene.materials[o.material].name}});
-  return {{"scene", scene.file.string()},
-          {"output", output.string()},
-          {"algorithm", scene.render.algorithm},
-          {"seed", scene.render.seed},
-          {"threads", scene.render.threads},
-          {"tessellation_rate", scene.render.tessellationRate},
-          {"dicing_rate", scene.render.dicingRate},
-          {"dicing_metric", scene.render.dicingMetric},
-          {"max_micropolygons", scene.render.maxMicropolygons},
-          {"normals", scene.render.normals},
-          {"shadows", scene.render.shadows},
-          {"transition",
-           {{"D", scene.render.transition.D},
-            {"eps", scene.render.transition.eps},
-            {"e1", scene.render.transition.e1},
-            {"e2", scene.render.transition.e2},
-            {"e3", scene.render.transition.e3},
-            {"e4", scene.render.transition.e4}}},
-          {"width", c.width},
-          {"height", c.height},
-          {"spp", c.spp},
-          {"fov", c.fovY},
-          {"camera_position", {c.position.x, c.position.y, c.position.z}},
-          {"camera_look_at", {c.lookAt.x, c.lookAt.y, c.lookAt.z}},
-          {"lights", scene.lights.size()},
-          {"objects", objects}};
-}
-
 std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
   return std::filesystem::path("out") / (scene.stem().string() + ".exr");
 }
-
-}  // namespace
-
-namespace {
-
-std::atomic<bool> gInterrupted{false};
-sem_t* gWake = nullptr;
-// How long a command has to stop by itself after SIGINT/SIGTERM before the watchdog ends it.
-constexpr int kInterruptGraceMs = 100;
-
-extern "C" void onInterrupt(int) {
-  gInterrupted.store(true);
-  if (gWake) sem_post(gWake);
-}
-
-}  // namespace
-
-const std::atomic<bool>& interruptRequested() { return gInterrupted; }
-
-namespace {
 
 std::filesystem::path frameOutput(const std::filesystem::path& output, int frame, bool animated) {
   if (!animated) return output;
@@ -151,280 +73,158 @@ std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scen
   return frames;
 }
 
-// ffmpeg's full path from $PATH, or empty: looked up without a shell.
-std::string findOnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "/usr/local/bin:/usr/bin:/bin";
-  for (size_t start = 0; start <= dirs.size();) {
-    size_t end = dirs.find(':', start);
-    if (end == std::string::npos) end = dirs.size();
-    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
-    const std::string candidate = dir + "/" + program;
-    struct stat st;
-    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
-        ::access(candidate.c_str(), X_OK) == 0)
-      return candidate;
-    start = end + 1;
+// One `meso render` run: the checked plan, then the frames, then the stats and the video.
+class RenderRun {
+ public:
+  explicit RenderRun(const RenderCommandOptions& o) : o_(o) {}
+
+  void run() {
+    plan();
+    const int threads =
+        scene_.render.threads > 0 ? scene_.render.threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    stats_.threads = threads;
+    createOutputFolder(output_.parent_path(), "-o");
+    if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
+    ctx_.emplace(prepareRenderContext(scene_, prep_, false));
+    if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
+    reportWarnings();
+    stats_.maxTriangles = ctx_->numTriangles();
+    for (int f : frames_) renderFrameOf(f);
+    finish();
   }
-  return {};
-}
 
-std::string ffmpegOrThrow(const std::filesystem::path& video) {
-  const std::string ffmpeg = findOnPath("ffmpeg");
-  if (ffmpeg.empty())
-    throw Error(video.string() +
-                ": --video: expected ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
-  return ffmpeg;
-}
-
-// Runs argv[0] with the arguments as given (no shell: quotes, $(...) and ; in file names are just
-// characters) and returns its exit status, -1 when it could not start or was killed.
-int runProgram(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  std::vector<std::string> copy = args;
-  for (std::string& a : copy) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, copy[0].c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-// ffmpeg's image2 demuxer expands %d patterns: a literal % in the name is written %%.
-std::string escapePercent(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    out += c;
-    if (c == '%') out += '%';
-  }
-  return out;
-}
-
-void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video,
-                   const std::filesystem::path& output, double fps, int firstFrame) {
-  const std::filesystem::path tmp = temporarySibling(video);
-  const std::string pattern =
-      (output.parent_path() / (escapePercent(output.stem().string()) + "_%04d.png")).string();
-  const int status =
-      runProgram({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps),
-                  "-start_number", std::to_string(firstFrame), "-i", pattern, "-c:v", "libx264",
-                  "-pix_fmt", "yuv420p", tmp.string()});
-  std::error_code ec;
-  if (status != 0) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(video.string() + ": ffmpeg failed to assemble " + pattern +
-                (status < 0 ? " (it did not start or was killed)"
-                            : " (exit status " + std::to_string(status) + ")"));
-  }
-  std::filesystem::rename(tmp, video, ec);
-  forgetTemporary(tmp);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(video.string() + ": --video: cannot rename the complete video into place");
-  }
-}
-
-}  // namespace
-
-void installInterruptHandler() {
-  // Commands poll interruptRequested() in their long loops and stop cleanly; a loop that does not
-  // (inside a library, OpenSubdiv, table building) is stopped by this watchdog, woken by the
-  // handler through a semaphore (sem_post is async-signal-safe): after a grace period it removes
-  // every temporary and exits with 130. Final names only ever hold complete files, so nothing
-  // partial remains either way.
-  static sem_t wake;
-  sem_init(&wake, 0, 0);
-  gWake = &wake;
-  std::thread([] {
-    while (sem_wait(gWake) != 0) {
+ private:
+  // Loads the scene and checks every output before any work: nothing is rendered for a run that
+  // cannot finish.
+  void plan() {
+    scene_ = loadScene(o_.scene);
+    applyOverrides(o_, scene_);
+    std::vector<std::string> memoryWarnings;
+    checkRenderMemory(scene_, memoryWarnings);
+    for (const std::string& w : memoryWarnings)
+      std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+    output_ = o_.output.empty() ? defaultOutput(o_.scene) : o_.output;
+    if (output_.extension() != ".exr")
+      throw Error(output_.string() +
+                  ": output must be an .exr file (the PNG preview is written beside it)");
+    checkOutputFile(output_, "-o");
+    checkOutputFile(pngBeside(output_), "-o (its PNG preview)");
+    if (!o_.statsFile.empty()) checkOutputFile(o_.statsFile, "--stats");
+    if (!o_.video.empty()) {
+      checkOutputFile(o_.video, "--video");
+      ffmpeg_ = ffmpegOrThrow(o_.video);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(kInterruptGraceMs));
-    removeTemporaries();
-    static const char message[] =
-        "meso: interrupted; complete outputs are kept, nothing partial was written\n";
-    (void)!::write(2, message, sizeof message - 1);
-    ::_exit(130);
-  }).detach();
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
-}
-
-void runRender(const RenderCommandOptions& o) {
-  Timer total, phase;
-  Scene scene = loadScene(o.scene);
-  applyOverrides(o, scene);
-  std::vector<std::string> memoryWarnings;
-  checkRenderMemory(scene, memoryWarnings);
-  for (const std::string& w : memoryWarnings)
-    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
-  const std::filesystem::path output = o.output.empty() ? defaultOutput(o.scene) : o.output;
-  if (output.extension() != ".exr")
-    throw Error(output.string() +
-                ": output must be an .exr file (the PNG preview is written beside it)");
-  // Every output is checked before any work: nothing is rendered for a run that cannot finish.
-  checkOutputFile(output, "-o");
-  checkOutputFile(pngBeside(output), "-o (its PNG preview)");
-  if (!o.statsFile.empty()) checkOutputFile(o.statsFile, "--stats");
-  std::string ffmpeg;
-  if (!o.video.empty()) {
-    checkOutputFile(o.video, "--video");
-    ffmpeg = ffmpegOrThrow(o.video);
+    animated_ = !scene_.path.keys.empty();
+    frames_ = framesToRender(o_, scene_);
+    if (animated_) path_.emplace(scene_.path.keys);
+    stats_.parseSeconds = total_.seconds();
   }
-  const bool animated = !scene.path.keys.empty();
-  const std::vector<int> frames = framesToRender(o, scene);
-  const std::optional<CameraPath> path =
-      animated ? std::optional<CameraPath>(scene.path.keys) : std::nullopt;
-  const double parseSeconds = phase.seconds();
 
-  const int threads =
-      scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  createOutputFolder(output.parent_path(), "-o");
-  if (!o.statsFile.empty()) createOutputFolder(o.statsFile.parent_path(), "--stats");
+  void reportWarnings() {
+    for (; reportedWarnings_ < ctx_->warnings.size(); ++reportedWarnings_)
+      std::fprintf(stderr, "meso: warning: %s\n", ctx_->warnings[reportedWarnings_].c_str());
+  }
 
-  PrepareTimes prep;
-  RenderContext ctx = prepareRenderContext(scene, prep, false);
-  FrameGeometryStats geometry;
-  if (!animated) geometry = prepareFrame(ctx, scene.camera, prep);
-  size_t reportedWarnings = 0;
-  const auto reportWarnings = [&] {
-    for (; reportedWarnings < ctx.warnings.size(); ++reportedWarnings)
-      std::fprintf(stderr, "meso: warning: %s\n", ctx.warnings[reportedWarnings].c_str());
-  };
-  reportWarnings();
-  size_t maxMicropolygons = geometry.micropolygons, maxTriangles = ctx.numTriangles();
-  double geometryMibPerMillion = 0.0;  // of the frame with the most micropolygons
-  const auto noteGeometry = [&] {
-    if (geometry.micropolygons == 0 || geometry.micropolygons < maxMicropolygons) return;
-    geometryMibPerMillion = static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) /
-                            (1024.0 * 1024.0) /
-                            (static_cast<double>(geometry.micropolygons) * 1e-6);
-  };
-  noteGeometry();
-  RenderCounters counters;
-  nlohmann::json perFrame = nlohmann::json::array();
-  double renderSeconds = 0.0, writeSeconds = 0.0;
-  int rendered = 0, skipped = 0;
-  // The last frame rendered stays staged until the stats are written: a run that cannot write its
-  // stats leaves that frame under no final name.
-  StagedFiles lastFrame;
-  for (int f : frames) {
-    const std::filesystem::path exr = frameOutput(output, f, animated), png = pngBeside(exr);
-    if (animated) {
+  void noteFrameGeometry(const FrameGeometryStats& geometry) {
+    geometry_ = geometry;
+    reportWarnings();
+    stats_.maxTriangles = std::max(stats_.maxTriangles, ctx_->numTriangles());
+    if (geometry.micropolygons == 0 || geometry.micropolygons < stats_.maxMicropolygons) return;
+    stats_.maxMicropolygons = geometry.micropolygons;
+    stats_.geometryMibPerMillion =
+        static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) / (1024.0 * 1024.0) /
+        (static_cast<double>(geometry.micropolygons) * 1e-6);
+  }
+
+  // Renders frame f and stages its EXR and PNG (committed at once without --stats, else with the
+  // stats: a run that cannot write its stats leaves its last frame under no final name).
+  void renderFrameOf(int f) {
+    const std::filesystem::path exr = frameOutput(output_, f, animated_), png = pngBeside(exr);
+    if (animated_) {
       checkOutputFile(exr, "-o");
       checkOutputFile(png, "-o (its PNG preview)");
+      if (!o_.overwrite && std::filesystem::exists(exr) && std::filesystem::exists(png)) {
+        ++stats_.skipped;
+        return;
+      }
+      noteFrameGeometry(
+          prepareFrame(*ctx_, path_->frame(f, scene_.path.frames, scene_.camera), prep_));
     }
-    if (animated && !o.overwrite && std::filesystem::exists(exr) && std::filesystem::exists(png)) {
-      ++skipped;
-      continue;
-    }
-    if (path) {
-      geometry = prepareFrame(ctx, path->frame(f, scene.path.frames, scene.camera), prep);
-      reportWarnings();
-      maxMicropolygons = std::max(maxMicropolygons, geometry.micropolygons);
-      noteGeometry();
-      maxTriangles = std::max(maxTriangles, ctx.numTriangles());
-    }
-    phase.reset();
-    const int64_t raysBefore = counters.rays.load();
-    RenderOptions ro{scene.camera.spp, scene.render.seed, !o.quiet,
-                     o.falseColour,    &gInterrupted,     !o.noBumpFilter};
+    Timer phase;
+    const int64_t raysBefore = counters_.rays.load();
+    const RenderOptions ro{scene_.camera.spp, scene_.render.seed,    !o_.quiet,
+                           o_.falseColour,    &interruptRequested(), !o_.noBumpFilter};
     Image film;
     try {
-      film = renderFrame(ctx, ro, counters);
+      film = renderFrame(*ctx_, ro, counters_);
     } catch (const Interrupted&) {
-      lastFrame.commit();  // complete frames are kept
+      lastFrame_.commit();  // complete frames are kept
       throw RenderInterrupted();
     }
     const double r = phase.seconds();
     phase.reset();
-    lastFrame.commit();
-    lastFrame.stage(exr, encodeExr(film));
-    lastFrame.stage(png, encodePngPreview(film));
-    if (o.statsFile.empty()) lastFrame.commit();
+    lastFrame_.commit();
+    lastFrame_.stage(exr, encodeExr(film));
+    lastFrame_.stage(png, encodePngPreview(film));
+    if (o_.statsFile.empty()) lastFrame_.commit();
     const double w = phase.seconds();
-    renderSeconds += r;
-    writeSeconds += w;
-    ++rendered;
-    perFrame.push_back({{"frame", f},
-                        {"output", exr.string()},
-                        {"rays", counters.rays.load() - raysBefore},
-                        {"triangles", ctx.numTriangles()},
-                        {"micropolygons", geometry.micropolygons},
-                        {"micropolygons_off_screen", geometry.offScreenMicropolygons},
-                        {"faces_diced", geometry.facesDiced},
-                        {"dicing_coarsened_by", geometry.coarsening},
-                        {"geometry_rebuilt", geometry.rebuilt},
-                        {"seconds",
-                         {{"tessellate", geometry.tessellateSeconds},
-                          {"bvh", geometry.bvhSeconds},
-                          {"render", r},
-                          {"write", w}}}});
-    if (!o.quiet)
+    stats_.renderSeconds += r, stats_.writeSeconds += w, ++stats_.rendered;
+    stats_.perFrame.push_back(frameJson(f, exr, counters_.rays.load() - raysBefore,
+                                        ctx_->numTriangles(), geometry_, r, w));
+    if (!o_.quiet)
       std::fprintf(stderr, "meso: wrote %s and %s (%dx%d, %d spp, %.2f s)\n", exr.string().c_str(),
-                   png.string().c_str(), film.width, film.height, scene.camera.spp, r + w);
-    if (gInterrupted.load()) {
-      lastFrame.commit();
+                   png.string().c_str(), film.width, film.height, scene_.camera.spp, r + w);
+    if (interruptRequested().load()) {
+      lastFrame_.commit();
       throw RenderInterrupted();
     }
   }
-  if (counters.nonFinite.load() > 0)
-    std::fprintf(stderr,
-                 "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in "
-                 "meso: please report "
-                 "the scene)\n",
-                 static_cast<long long>(counters.nonFinite.load()));
-  if (!o.quiet && skipped > 0)
-    std::fprintf(
-        stderr,
-        "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n",
-        skipped);
-  const auto assemble = [&] {
-    if (!o.video.empty())
-      assembleVideo(ffmpeg, o.video, output, scene.path.fps, frames.empty() ? 0 : frames.front());
-  };
-  if (o.statsFile.empty()) assemble();
 
-  if (!o.statsFile.empty()) {
-    const double peak = peakRssMib();
-    nlohmann::json stats = {
-        {"seconds",
-         {{"parse", parseSeconds + prep.load},
-          {"tessellate", prep.tessellate},
-          {"bvh", prep.bvh},
-          {"render", renderSeconds},
-          {"write", writeSeconds},
-          {"total", total.seconds()}}},
-        {"peak_rss_mib", peak},
-        {"rays", counters.rays.load()},
-        {"non_finite_values", counters.nonFinite.load()},
-        {"triangles", maxTriangles},
-        {"micropolygons", maxMicropolygons},
-        {"tessellate_seconds", prep.tessellate},
-        {"bvh_seconds", prep.bvh},
-        {"peak_mib_per_million_micropolygons",
-         maxMicropolygons > 0
-             ? nlohmann::json(peak / (static_cast<double>(maxMicropolygons) * 1e-6))
-             : nlohmann::json(nullptr)},
-        {"geometry_mib_per_million_micropolygons",
-         maxMicropolygons > 0 ? nlohmann::json(geometryMibPerMillion) : nlohmann::json(nullptr)},
-        {"warnings", ctx.warnings},
-        {"tables_built", prep.tablesBuilt},
-        {"tables_from_cache", prep.tablesFromCache},
-        {"tables_seconds", prep.tables},
-        {"frames_rendered", rendered},
-        {"frames_skipped", skipped},
-        {"frames", perFrame},
-        {"settings", settingsJson(scene, output)}};
-    stats["settings"]["threads_used"] = threads;
-    StagedFiles statsFile;
-    statsFile.stage(o.statsFile, stats.dump(2) + "\n");
-    lastFrame.commit();
-    statsFile.commit();
-    assemble();
+  void finish() {
+    if (counters_.nonFinite.load() > 0)
+      std::fprintf(stderr,
+                   "meso: warning: %lld NaN or infinite film values were written as 0 (a bug in "
+                   "meso: please report the scene)\n",
+                   static_cast<long long>(counters_.nonFinite.load()));
+    if (!o_.quiet && stats_.skipped > 0)
+      std::fprintf(
+          stderr,
+          "meso: skipped %d frame(s) already complete on disk (use --overwrite to redo them)\n",
+          stats_.skipped);
+    if (!o_.statsFile.empty()) {
+      stats_.totalSeconds = total_.seconds();
+      const nlohmann::json stats =
+          statsJson(scene_, output_, stats_, prep_, counters_, ctx_->warnings);
+      StagedFiles statsFile;
+      statsFile.stage(o_.statsFile, stats.dump(2) + "\n");
+      lastFrame_.commit();
+      statsFile.commit();
+    }
+    if (!o_.video.empty())
+      assembleVideo(ffmpeg_, o_.video, output_, scene_.path.fps,
+                    frames_.empty() ? 0 : frames_.front());
   }
-}
+
+  const RenderCommandOptions& o_;
+  Timer total_;
+  Scene scene_;
+  std::filesystem::path output_;
+  std::string ffmpeg_;
+  bool animated_ = false;
+  std::vector<int> frames_;
+  std::optional<CameraPath> path_;
+  PrepareTimes prep_;
+  std::optional<RenderContext> ctx_;  // after plan()
+  FrameGeometryStats geometry_;
+  size_t reportedWarnings_ = 0;
+  RenderCounters counters_;
+  RenderRunStats stats_;
+  StagedFiles lastFrame_;  // the last frame rendered, staged until the stats are written
+};
+
+}  // namespace
+
+void runRender(const RenderCommandOptions& o) { RenderRun(o).run(); }
 
 }  // namespace meso::app

@@ -1,9 +1,11 @@
 // `meso render`: options as parsed by the CLI, and the command itself.
 #pragma once
 
+#include "interrupt.h"
+
+#include "meso/scene/choices.h"
+
 #include <cstdint>
-#include <exception>
-#include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -18,13 +20,13 @@ struct RenderCommandOptions {
   std::optional<int> spp;
   std::optional<int> threads;
   std::optional<uint64_t> seed;
-  std::optional<std::string> algorithm;
+  std::optional<Algorithm> algorithm;
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
   std::optional<float> dicingRate;
   std::optional<std::string> dicingMetric;
   std::optional<int64_t> maxMicropolygons;
-  std::optional<std::string> normals;
+  std::optional<ShadingNormals> normals;
   std::optional<float> transitionD, transitionEps;
   std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   bool falseColour = false;
@@ -36,14 +38,6 @@ struct RenderCommandOptions {
   std::string shard;            // "i/n": render frames f with f % n == i
   bool overwrite = false;       // re-render frames already complete on disk
   std::filesystem::path video;  // assemble the frames' PNGs with ffmpeg
-};
-
-// Set by SIGINT/SIGTERM: the frame in progress stops, nothing partial is written, status 130.
-void installInterruptHandler();
-// True once SIGINT or SIGTERM arrived (for commands that poll it in their long loops).
-const std::atomic<bool>& interruptRequested();
-struct RenderInterrupted : std::exception {
-  const char* what() const noexcept override { return "interrupted"; }
 };
 
 // Renders and writes the EXR, its PNG preview and (optionally) the stats JSON. Throws meso::Error.

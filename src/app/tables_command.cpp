@@ -33,7 +33,7 @@ void runTables(const TablesCommandOptions& o) {
       for (size_t i = 0; i < relief.levels.size(); ++i) {
         const LevelTables& t = relief.tables(i, static_cast<int>(k));
         std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
-                    relief.metrics[k].lengthPerU, material.relief[i].source.c_str(),
+                    relief.metrics[k].lengthPerU, choiceName(material.relief[i].source),
                     relief.levels[i].amplitude, relief.levels[i].scale, relief.levels[i].freqPerU,
                     t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
         if (o.noPlots) continue;

@@ -11,7 +11,7 @@
 namespace meso {
 
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
-  if (d.source == "noise")
+  if (d.source == ReliefSource::Noise)
     return std::make_unique<FractalNoise>(d.octaves, d.lacunarity, d.gain, d.seed);
   try {
     return std::make_unique<HeightTable>(HeightTable::load(d.height, d.periodic));
@@ -79,8 +79,7 @@ TableSettings tableSettings(const TableResolution& q) {
   t.histogram.meshResolution = q.meshResolution;
   t.brdf.thetaL = q.brdfThetaL;
   t.brdf.phi = q.brdfPhi;
-  t.variant = q.variant == "separable" ? RedistributionVariant::Separable
-                                       : RedistributionVariant::Conditional;
+  t.variant = q.variant;
   return t;
 }
 

@@ -9,14 +9,6 @@
 
 namespace meso {
 
-Algorithm parseAlgorithm(const std::string& name) {
-  if (name == "brdf") return Algorithm::Brdf;
-  if (name == "bump") return Algorithm::Bump;
-  if (name == "redistribution") return Algorithm::Redistribution;
-  if (name == "displacement") return Algorithm::Displacement;
-  return Algorithm::Auto;
-}
-
 namespace {
 
 bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::Displacement; }
@@ -55,8 +47,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                     nullptr,
                     {},
                     {},
-                    parseAlgorithm(scene.render.algorithm),
-                    scene.render.normals == "facet",
+                    scene.render.algorithm,
+                    scene.render.normals == ShadingNormals::Facet,
                     scene.render.shadows};
   ctx.reliefs.resize(scene.materials.size());
   for (const Object& object : scene.objects) {

@@ -16,7 +16,7 @@ struct Rendered {
   std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
 };
 
-Rendered renderWith(const Scene& base, const std::string& algorithm, float dicing, int spp,
+Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, int spp,
                     const std::atomic<bool>* cancel, bool objects) {
   Scene scene = base;
   scene.render.algorithm = algorithm;
@@ -62,16 +62,16 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   std::snprintf(dicing, sizeof dicing, "%g px and %g px", o.referenceDicing,
                 2.0f * o.referenceDicing);
   announce(std::string("reference: displacement at ") + dicing);
-  images.push_back(
-      renderWith(scene, "displacement", o.referenceDicing, o.referenceSpp, o.cancel, true));
+  images.push_back(renderWith(scene, Algorithm::Displacement, o.referenceDicing, o.referenceSpp,
+                              o.cancel, true));
   report.renderers.push_back("reference");
-  images.push_back(
-      renderWith(scene, "displacement", 2.0f * o.referenceDicing, o.referenceSpp, o.cancel, false));
+  images.push_back(renderWith(scene, Algorithm::Displacement, 2.0f * o.referenceDicing,
+                              o.referenceSpp, o.cancel, false));
   report.renderers.push_back("coarse reference");
-  for (const std::string& a : o.algorithms) {
-    announce(a);
+  for (Algorithm a : o.algorithms) {
+    announce(choiceName(a));
     images.push_back(renderWith(scene, a, 0.0f, 0, o.cancel, false));
-    report.renderers.push_back(a);
+    report.renderers.push_back(choiceName(a));
   }
   const Image& ref = images[0].image;
   const std::vector<int>& object = images[0].object;

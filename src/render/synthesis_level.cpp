@@ -83,9 +83,16 @@ uint64_t ScaledSlopeNdf::fingerprint() const {
 std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, float finestScale,
                              float finestAmplitude, float* principalAngle) {
   if (principalAngle) *principalAngle = 0.0f;
-  if (decl.type == "beckmann") return std::make_unique<BeckmannNdf>(decl.alpha.x, decl.alpha.y);
-  if (decl.type == "blinn-phong") return std::make_unique<BlinnPhongNdf>(decl.exponent);
-  if (decl.type == "tabulated") return tabulatedFromImage(decl);
+  switch (decl.type) {
+    case NdfType::Beckmann:
+      return std::make_unique<BeckmannNdf>(decl.alpha.x, decl.alpha.y);
+    case NdfType::BlinnPhong:
+      return std::make_unique<BlinnPhongNdf>(decl.exponent);
+    case NdfType::Tabulated:
+      return tabulatedFromImage(decl);
+    case NdfType::Relief:
+      break;
+  }
   if (!finest)
     throw Error(decl.loc, "materials.ndf.type",
                 "\"relief\" needs a relief level to estimate the NDF from");
@@ -128,7 +135,7 @@ std::unique_ptr<SynthesisLevel> buildSynthesisLevel(const NdfDecl& decl, std::un
   level->cosAngle = std::cos(radians(decl.angle) + principalAngle);
   level->sinAngle = std::sin(radians(decl.angle) + principalAngle);
   level->lambert = decl.lambert;
-  if (decl.type == "relief" && finest) {
+  if (decl.type == NdfType::Relief && finest) {
     level->index = std::make_unique<IndexTexture>(*finest, level->sampler->table(), 256,
                                                   finestAmplitude * finestScale);
     level->indexScale = finestScale;

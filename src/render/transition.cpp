@@ -15,8 +15,8 @@ void validateTransitionSettings(const TransitionSettings& s, const char* where) 
       throw Error(std::string(where) + ": transition settings must be finite numbers");
   if (s.D < 0.0f) throw Error(std::string(where) + ": D must be >= 0");
   if (s.eps < 0.0f) throw Error(std::string(where) + ": eps must be >= 0");
-  if (!(s.e1 < s.e2 && s.e2 < 0.0f && 0.0f < s.e3 && s.e3 < s.e4))
-    throw Error(std::string(where) + ": thresholds must satisfy e1 < e2 < 0 < e3 < e4, got " +
+  if (!thresholdsOrdered(s.e1, s.e2, s.e3, s.e4))
+    throw Error(std::string(where) + ": thresholds must satisfy " + kThresholdOrder + ", got " +
                 std::to_string(s.e1) + ", " + std::to_string(s.e2) + ", " + std::to_string(s.e3) +
                 ", " + std::to_string(s.e4));
 }

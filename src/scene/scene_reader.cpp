@@ -4,201 +4,18 @@
 
 #include "meso/core/input_file.h"
 
+#include "table_reader.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <fstream>
-#include <map>
 #include <optional>
-#include <set>
-#include <sstream>
 
 namespace meso {
 namespace {
-
-std::string describe(const toml::node& n) {
-  switch (n.type()) {
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return std::to_string(n.as_integer()->get());
-    case toml::node_type::floating_point: {
-      std::ostringstream s;
-      s << n.as_floating_point()->get();
-      return s.str();
-    }
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::table:
-      return "a table";
-    default:
-      return "a date or time";
-  }
-}
-
-// Reads the keys of one TOML table, checking types and ranges, and rejects keys it was not asked
-// for.
-class TableReader {
- public:
-  TableReader(const toml::table& table, std::string prefix, const std::string& file)
-      : table_(table), prefix_(std::move(prefix)), file_(file) {}
-
-  [[noreturn]] void fail(const toml::node& n, const std::string& key,
-                         const std::string& what) const {
-    throw Error(loc(n), prefix_ + key, what);
-  }
-  FileLoc loc(const toml::node& n) const {
-    return {file_, static_cast<int>(n.source().begin.line),
-            static_cast<int>(n.source().begin.column)};
-  }
-  std::string dotted(const std::string& key) const { return prefix_ + key; }
-
-  const toml::node* get(const std::string& key) {
-    allowed_.insert(key);
-    return table_.get(key);
-  }
-
-  double number(const std::string& key, double fallback, double lo, double hi, bool openLo = false,
-                bool openHi = false) {
-    const toml::node* n = get(key);
-    return n ? checkedNumber(*n, key, lo, hi, openLo, openHi) : fallback;
-  }
-
-  double checkedNumber(const toml::node& n, const std::string& key, double lo, double hi,
-                       bool openLo, bool openHi) const {
-    if (!n.is_number()) fail(n, key, "expected a number, got " + describe(n));
-    const double v =
-        n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
-    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + describe(n));
-    if ((openLo ? v <= lo : v < lo) || (openHi ? v >= hi : v > hi)) {
-      std::ostringstream s;
-      s << "expected a number in " << (openLo ? "(" : "[") << lo << ", " << hi
-        << (openHi ? ")" : "]") << ", got " << describe(n);
-      fail(n, key, s.str());
-    }
-    return v;
-  }
-
-  int64_t integer(const std::string& key, int64_t fallback, int64_t lo, int64_t hi) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    if (!n->is_integer()) fail(*n, key, "expected an integer, got " + describe(*n));
-    const int64_t v = n->as_integer()->get();
-    if (v < lo || v > hi)
-      fail(*n, key,
-           "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-               std::to_string(v));
-    return v;
-  }
-
-  bool boolean(const std::string& key, bool fallback) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    if (!n->is_boolean()) fail(*n, key, "expected true or false, got " + describe(*n));
-    return n->as_boolean()->get();
-  }
-
-  std::optional<std::string> string(const std::string& key) {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    if (!n->is_string()) fail(*n, key, "expected a string, got " + describe(*n));
-    return n->as_string()->get();
-  }
-
-  std::string choice(const std::string& key, const std::string& fallback,
-                     const std::vector<std::string>& allowed) {
-    const std::optional<std::string> v = string(key);
-    if (!v) return fallback;
-    for (const std::string& a : allowed)
-      if (*v == a) return *v;
-    std::string list;
-    for (const std::string& a : allowed) list += (list.empty() ? "" : " | ") + a;
-    fail(*get(key), key, "expected one of " + list + ", got \"" + *v + "\"");
-  }
-
-  // An array of exactly `size` numbers, each within [lo, hi].
-  std::vector<double> numbers(const toml::node& n, const std::string& key, size_t size, double lo,
-                              double hi) const {
-    const toml::array* a = n.as_array();
-    if (!a || a->size() != size)
-      fail(n, key,
-           "expected an array of " + std::to_string(size) + " numbers, got " +
-               (a ? "an array of " + std::to_string(a->size()) : describe(n)));
-    std::vector<double> out;
-    for (const toml::node& e : *a) out.push_back(checkedNumber(e, key, lo, hi, false, false));
-    return out;
-  }
-
-  Vec3 vec3(const std::string& key, Vec3 fallback, double lo = -1e30, double hi = 1e30) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    const std::vector<double> v = numbers(*n, key, 3, lo, hi);
-    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
-  }
-
-  // A number (grey) or [r, g, b], each >= 0.
-  Vec3 colour(const std::string& key, Vec3 fallback, double hi = 1e6) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    if (n->is_number())
-      return Vec3(static_cast<float>(checkedNumber(*n, key, 0.0, hi, false, false)));
-    if (!n->is_array())
-      fail(*n, key, "expected a number or an array [r, g, b] of numbers >= 0, got " + describe(*n));
-    const std::vector<double> v = numbers(*n, key, 3, 0.0, hi);
-    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
-  }
-
-  const toml::table* subtable(const std::string& key) {
-    const toml::node* n = get(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(*n, key, "expected a table, got " + describe(*n));
-    return n->as_table();
-  }
-
-  // The tables of an array of tables ([[key]]).
-  std::vector<const toml::table*> tableArray(const std::string& key) {
-    const toml::node* n = get(key);
-    std::vector<const toml::table*> out;
-    if (!n) return out;
-    const toml::array* a = n->as_array();
-    if (!a)
-      fail(*n, key, "expected an array of tables ([[" + dotted(key) + "]]), got " + describe(*n));
-    for (const toml::node& e : *a) {
-      if (!e.is_table()) fail(e, key, "expected a table, got " + describe(e));
-      out.push_back(e.as_table());
-    }
-    return out;
-  }
-
-  // Rejects every key that no reader asked for, naming the allowed ones.
-  void finish() const {
-    for (auto&& [k, v] : table_) {
-      const std::string key(k.str());
-      if (allowed_.count(key)) continue;
-      std::string list;
-      for (const std::string& a : allowed_) list += (list.empty() ? "" : ", ") + a;
-      const FileLoc at{file_, static_cast<int>(k.source().begin.line),
-                       static_cast<int>(k.source().begin.column)};
-      throw Error(at.line > 0 ? at : loc(v), prefix_ + key,
-                  "unknown key (allowed here: " + list + ")");
-    }
-  }
-
-  const std::string& file() const { return file_; }
-  const std::string& prefix() const { return prefix_; }
-
- private:
-  const toml::table& table_;
-  std::string prefix_;
-  const std::string& file_;
-  std::set<std::string> allowed_;
-};
 
 std::filesystem::path readablePath(TableReader& r, const std::string& key,
                                    const std::filesystem::path& base) {
@@ -246,8 +63,7 @@ void readCamera(TableReader& r, CameraSettings& c) {
 
 Light readLight(TableReader& r) {
   Light l;
-  const std::string type = r.choice("type", "directional", {"directional", "point"});
-  l.type = type == "point" ? LightType::Point : LightType::Directional;
+  l.type = r.choice("type", l.type);
   if (l.type == LightType::Directional) {
     l.direction = r.vec3("direction", l.direction);
     if (glm::length(l.direction) < 1e-12f)
@@ -272,11 +88,11 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t,
     throw Error(d.loc, r.prefix() + "height",
                 "expected exactly one of `height` (an image file) or `noise` (a table)");
   if (hasHeight) {
-    d.source = "image";
+    d.source = ReliefSource::Image;
     d.height = readablePath(r, "height", base);
     d.periodic = r.choice("wrap", "periodic", {"periodic", "clamp"}) == "periodic";
   } else {
-    d.source = "noise";
+    d.source = ReliefSource::Noise;
     TableReader n(*r.subtable("noise"), r.prefix() + "noise.", r.file());
     d.octaves = static_cast<int>(n.integer("octaves", d.octaves, 1, 16));
     d.lacunarity = static_cast<float>(n.number("lacunarity", d.lacunarity, 1.0, 16.0));
@@ -298,7 +114,7 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
   d.present = true;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
-  d.type = r.choice("type", d.type, {"beckmann", "blinn-phong", "tabulated", "relief"});
+  d.type = r.choice("type", d.type);
   if (const toml::node* a = r.get("alpha")) {
     if (a->is_array()) {
       const std::vector<double> v = r.numbers(*a, "alpha", 2, 1e-4, 10.0);
@@ -309,7 +125,7 @@ NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::pat
   }
   d.angle = static_cast<float>(r.number("angle", d.angle, -360.0, 360.0));
   d.exponent = static_cast<float>(r.number("exponent", d.exponent, 0.0, 1e6, true));
-  if (d.type == "tabulated") {
+  if (d.type == NdfType::Tabulated) {
     if (!r.get("image"))
       throw Error(d.loc, r.prefix() + "image",
                   "a tabulated NDF needs `image` (an NDF over n.x, n.y)");
@@ -348,7 +164,7 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   if (const toml::table* t = r.subtable("ndf")) {
     TableReader nr(*t, r.prefix() + "ndf.", r.file());
     m.ndf = readNdf(nr, *t, base);
-    if (m.ndf.type == "relief" && m.relief.empty())
+    if (m.ndf.type == NdfType::Relief && m.relief.empty())
       throw Error(m.ndf.loc, r.prefix() + "ndf.type",
                   "\"relief\" estimates the NDF from the material's finest relief level, "
                   "but the material has no [[materials.relief]]");
@@ -387,11 +203,7 @@ Object readObject(TableReader& r, const std::vector<Material>& materials,
                 "every object needs a mesh file (OBJ, PLY or OFF)");
   o.loc = r.loc(*mesh);
   o.mesh = readablePath(r, "mesh", base);
-  const std::string scheme =
-      r.choice("scheme", "catmull-clark", {"catmull-clark", "loop", "bilinear"});
-  o.scheme = scheme == "loop"       ? SubdivisionScheme::Loop
-             : scheme == "bilinear" ? SubdivisionScheme::Bilinear
-                                    : SubdivisionScheme::CatmullClark;
+  o.scheme = r.choice("scheme", o.scheme);
   if (const std::optional<std::string> name = r.string("material")) {
     auto it = std::find_if(materials.begin(), materials.end(),
                            [&](const Material& m) { return m.name == *name; });
@@ -408,8 +220,7 @@ Object readObject(TableReader& r, const std::vector<Material>& materials,
 }
 
 void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& base) {
-  s.algorithm = r.choice("algorithm", s.algorithm,
-                         {"auto", "brdf", "bump", "redistribution", "displacement"});
+  s.algorithm = r.choice("algorithm", s.algorithm);
   s.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 1, 64));
@@ -418,17 +229,16 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.transition.eps = static_cast<float>(r.number("eps", s.transition.eps, 0.0, 1e6));
   if (const toml::node* n = r.get("thresholds")) {
     const std::vector<double> v = r.numbers(*n, "thresholds", 4, -1e6, 1e6);
-    if (!(v[0] < v[1] && v[1] < 0.0 && 0.0 < v[2] && v[2] < v[3]))
-      r.fail(*n, "thresholds", "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4");
-    s.transition.e1 = static_cast<float>(v[0]);
-    s.transition.e2 = static_cast<float>(v[1]);
-    s.transition.e3 = static_cast<float>(v[2]);
-    s.transition.e4 = static_cast<float>(v[3]);
+    const float e1 = static_cast<float>(v[0]), e2 = static_cast<float>(v[1]),
+                e3 = static_cast<float>(v[2]), e4 = static_cast<float>(v[3]);
+    if (!thresholdsOrdered(e1, e2, e3, e4))
+      r.fail(*n, "thresholds", std::string("expected [e1, e2, e3, e4] with ") + kThresholdOrder);
+    s.transition.e1 = e1, s.transition.e2 = e2, s.transition.e3 = e3, s.transition.e4 = e4;
   }
   s.dicingRate = static_cast<float>(r.number("dicing_rate", s.dicingRate, 0.01, 1000.0));
   s.dicingMetric = r.choice("dicing_metric", s.dicingMetric, {"isotropic", "projected"});
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
-  s.normals = r.choice("normals", s.normals, {"bump", "facet"});
+  s.normals = r.choice("normals", s.normals);
   s.shadows = r.boolean("shadows", s.shadows);
   if (const std::optional<std::string> c = r.string("cache_dir"))
     s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
@@ -444,7 +254,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));
     q.brdfThetaL = static_cast<int>(tr.integer("brdf_theta_l", q.brdfThetaL, 2, 512));
     q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));
-    q.variant = tr.choice("variant", q.variant, {"conditional", "separable"});
+    q.variant = tr.choice("variant", q.variant);
     q.metricStep = static_cast<float>(tr.number("metric_step", q.metricStep, 0.01, 4.0));
     tr.finish();
   }

@@ -50,11 +50,22 @@ std::vector<std::string> dataLines(const fs::path& file) {
     if (l.empty() || l[0] != '#') result.push_back(l);
   return result;
 }
+// The reference's comment lines: the plot's ("# pareto_front:", "# default_hybrid:") left out.
+bool plotComment(const std::string& l) {
+  return l.rfind("# pareto_front:", 0) == 0 || l.rfind("# default_hybrid:", 0) == 0;
+}
 std::vector<std::string> commentLines(const fs::path& file) {
   std::vector<std::string> result;
   for (const std::string& l : lines(file))
-    if (!l.empty() && l[0] == '#') result.push_back(l);
+    if (!l.empty() && l[0] == '#' && !plotComment(l)) result.push_back(l);
   return result;
+}
+// The value of the plot comment "# KEY: VALUE", or "" (and a failure) if there is none.
+std::string plotLine(const fs::path& file, const std::string& key) {
+  for (const std::string& l : lines(file))
+    if (l.rfind("# " + key + ": ", 0) == 0) return l.substr(key.size() + 4);
+  ADD_FAILURE() << "no # " << key << " line in " << file;
+  return "";
 }
 
 // The number after "key " in text, up to the next ',' or ' '.
@@ -131,7 +142,21 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(byName["hybrid_D2_r2_spp1"][4], "2");
   EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][8]),
             0.0);  // one sample per pixel is not converged
-  EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png"));
+  // The plot's inputs are in the CSV: the Pareto front (names by time, none dominated) and the
+  // scene's own hybrid; tools/plot_trade.py draws trade.png from them.
+  EXPECT_EQ(plotLine(dir_ / "trade/trade.csv", "default_hybrid"), "hybrid_D2_r1_spp4");
+  const std::vector<std::string> front =
+      split(plotLine(dir_ / "trade/trade.csv", "pareto_front"), ';');
+  ASSERT_FALSE(front.empty());
+  double lastSeconds = 0.0, lastRmse = 1e30;
+  for (const std::string& name : front) {
+    ASSERT_TRUE(byName.count(name)) << name;
+    EXPECT_NE(name.rfind("reference", 0), 0u) << name;
+    EXPECT_GE(std::stod(byName[name][5]), lastSeconds) << name;
+    EXPECT_LT(std::stod(byName[name][9]), lastRmse) << name;
+    lastSeconds = std::stod(byName[name][5]), lastRmse = std::stod(byName[name][9]);
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png")) << r.output;
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
   EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos)
       << r.output;

@@ -118,7 +118,7 @@ class ExtremesTest : public meso::testing::TempDirTest {
     m.kd = Vec3(0.8f);
     m.ks = Vec3(0.2f);
     ReliefLevelDecl d;
-    d.source = "noise";
+    d.source = ReliefSource::Noise;
     d.octaves = 2;
     d.amplitude = 0.01f;
     d.scale = 4.0f;
@@ -128,7 +128,7 @@ class ExtremesTest : public meso::testing::TempDirTest {
     o.mesh = write("mesh.obj", obj);
     o.scheme = scheme;
     s.objects = {o};
-    s.render.algorithm = algorithm;
+    s.render.algorithm = *parseChoice<Algorithm>(algorithm);
     s.render.cacheDir = cacheDir();
     s.render.tessellationRate = 2;
     s.render.dicingRate = 2.0f;

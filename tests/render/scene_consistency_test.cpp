@@ -33,7 +33,7 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
   Scene s = smallScene();
   s.render.dicingRate = 0.5f;
   SceneConsistencyOptions o;
-  o.algorithms = {"displacement", "bump"};
+  o.algorithms = {Algorithm::Displacement, Algorithm::Bump};
   o.bands = 3;
   o.referenceDicing = 0.5f;
   const SceneConsistencyReport r = sceneConsistency(s, o);

@@ -26,7 +26,7 @@ Scene zoomScene(const std::string& ndfType, float distance) {
   m.ks = Vec3(0.6f);
   m.phong = 30.0f;
   m.ndf.present = true;
-  m.ndf.type = ndfType;
+  m.ndf.type = *parseChoice<NdfType>(ndfType);
   m.ndf.alpha = Vec2(0.25f);
   m.ndf.exponent = 30.0f;
   m.ndf.scale = 16.0f;
@@ -117,13 +117,13 @@ TEST(SynthesisRender, MeanIntensityHoldsFromFarToDeepZoom) {
 TEST(SynthesisRender, IndexTextureContinuesTheReliefsOwnNormals) {
   Material m;
   ReliefLevelDecl d;
-  d.source = "noise";
+  d.source = ReliefSource::Noise;
   d.octaves = 3;
   d.amplitude = 0.01f;
   d.scale = 4.0f;
   m.relief = {d};
   m.ndf.present = true;
-  m.ndf.type = "relief";
+  m.ndf.type = NdfType::Relief;
   m.ndf.octaves = 8;
   const TableCache none{fs::path()};
   const MaterialRelief r = buildMaterialRelief(m, none, nullptr);
@@ -180,7 +180,7 @@ namespace {
 TEST(SynthesisRender, FilteredBumpReachesSynthesis) {
   Scene s = zoomScene("beckmann", 0.05f);
   s.materials[0].relief = {testing::noiseLevel(0.002f, 2.0f, 2)};
-  s.render.algorithm = "bump";
+  s.render.algorithm = Algorithm::Bump;
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(s, times);
   RenderCounters counters;

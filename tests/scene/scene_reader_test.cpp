@@ -115,10 +115,10 @@ normals = "facet"
   EXPECT_EQ(s.materials[0].kd, Vec3(0.2f, 0.3f, 0.4f));
   EXPECT_FLOAT_EQ(s.materials[0].phong, 64.0f);
   ASSERT_EQ(s.materials[0].relief.size(), 2u);
-  EXPECT_EQ(s.materials[0].relief[0].source, "image");
+  EXPECT_EQ(s.materials[0].relief[0].source, ReliefSource::Image);
   EXPECT_EQ(s.materials[0].relief[0].height, dir_ / "bumps.png");
   EXPECT_FLOAT_EQ(s.materials[0].relief[0].scale, 4.0f);
-  EXPECT_EQ(s.materials[0].relief[1].source, "noise");
+  EXPECT_EQ(s.materials[0].relief[1].source, ReliefSource::Noise);
   EXPECT_EQ(s.materials[0].relief[1].octaves, 3);
   EXPECT_EQ(s.materials[0].relief[1].seed, 9u);
   EXPECT_FALSE(s.materials[0].relief[1].periodic);
@@ -127,7 +127,7 @@ normals = "facet"
   EXPECT_EQ(s.objects[0].mesh, dir_ / "quad.obj");
   EXPECT_EQ(s.objects[0].scheme, SubdivisionScheme::Bilinear);
   EXPECT_EQ(s.objects[0].material, 1);
-  EXPECT_EQ(s.render.algorithm, "bump");
+  EXPECT_EQ(s.render.algorithm, Algorithm::Bump);
   EXPECT_EQ(s.render.seed, 42u);
   EXPECT_EQ(s.render.threads, 2);
   EXPECT_EQ(s.render.tessellationRate, 5);
@@ -135,7 +135,7 @@ normals = "facet"
   EXPECT_FLOAT_EQ(s.render.transition.e4, 2.0f);
   EXPECT_FLOAT_EQ(s.render.dicingRate, 0.5f);
   EXPECT_EQ(s.render.dicingMetric, "projected");
-  EXPECT_EQ(s.render.normals, "facet");
+  EXPECT_EQ(s.render.normals, ShadingNormals::Facet);
 }
 
 TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
@@ -144,7 +144,7 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
   EXPECT_EQ(s.camera.width, 640);
   EXPECT_EQ(s.camera.spp, 4);
   EXPECT_EQ(s.materials.size(), 1u);
-  EXPECT_EQ(s.render.algorithm, "auto");
+  EXPECT_EQ(s.render.algorithm, Algorithm::Auto);
   EXPECT_EQ(s.render.dicingMetric, "isotropic");
   // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2,
   // 0).
@@ -242,7 +242,7 @@ TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
   EXPECT_EQ(t.meshResolution, 64);
   EXPECT_EQ(t.brdfThetaL, 12);
   EXPECT_EQ(t.brdfPhi, 10);
-  EXPECT_EQ(t.variant, "separable");
+  EXPECT_EQ(t.variant, RedistributionVariant::Separable);
   EXPECT_EQ(parse(kObject).render.tables.thetaNBins, 96);
   EXPECT_NE(
       errorOf(std::string(kObject) + "[render.tables]\ntheta_v_bins = 1\n")
@@ -261,7 +261,7 @@ TEST_F(SceneReaderTest, NdfDeclarations) {
       std::string(kObject));
   const NdfDecl& n = s.materials[0].ndf;
   EXPECT_TRUE(n.present);
-  EXPECT_EQ(n.type, "beckmann");
+  EXPECT_EQ(n.type, NdfType::Beckmann);
   EXPECT_FLOAT_EQ(n.alpha.x, 0.2f);
   EXPECT_FLOAT_EQ(n.alpha.y, 0.05f);
   EXPECT_FLOAT_EQ(n.angle, 30.0f);

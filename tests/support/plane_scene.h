@@ -51,7 +51,7 @@ inline std::filesystem::path writePlaneObj(const std::string& tag, float half, f
 
 inline ReliefLevelDecl noiseLevel(float amplitude, float scale, int octaves = 2) {
   ReliefLevelDecl d;
-  d.source = "noise";
+  d.source = ReliefSource::Noise;
   d.octaves = octaves;
   d.amplitude = amplitude;
   d.scale = scale;
@@ -73,7 +73,7 @@ inline Scene planeScene(const std::filesystem::path& obj, const std::string& alg
   o.mesh = obj;
   o.scheme = SubdivisionScheme::Bilinear;
   s.objects = {o};
-  s.render.algorithm = algorithm;
+  s.render.algorithm = *parseChoice<Algorithm>(algorithm);
   s.render.cacheDir =
       ProcessTemporaries::add(std::filesystem::temp_directory_path() /
                               ("meso_" + tag + "_cache_" + std::to_string(::getpid())));

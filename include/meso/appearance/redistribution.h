@@ -5,18 +5,12 @@
 
 #include "meso/appearance/piecewise_cdf.h"
 #include "meso/appearance/visible_normal_histogram.h"
+#include "meso/scene/choices.h"  // RedistributionVariant
 
 #include <array>
 #include <vector>
 
 namespace meso {
-
-enum class RedistributionVariant {
-  Separable,    // theta_N and phi mapped by their marginals, independently (the paper's maps)
-  Conditional,  // phi by its marginal first, then theta_N by its distribution at that phi,
-                // interpolated linearly between phi-bin centres so the map is continuous
-                // (meso's default: see TableSettings)
-};
 
 class Redistribution {
  public:

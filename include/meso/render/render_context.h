@@ -17,10 +17,6 @@
 
 namespace meso {
 
-// render.algorithm, parsed once so the per-sample path compares no strings.
-enum class Algorithm { Auto, Brdf, Bump, Redistribution, Displacement };
-Algorithm parseAlgorithm(const std::string& name);
-
 struct PreparedObject {
   LimitSurface surface;
   TessellatedMesh mesh;  // of the current frame
@@ -63,7 +59,7 @@ struct RenderContext {
   std::vector<MaterialRelief> reliefs;  // per material; empty levels for materials no object uses
   std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
   Algorithm algorithm = Algorithm::Auto;
-  bool facetNormals = false;  // render.normals = "facet"
+  bool facetNormals = false;  // render.normals = facet
   bool shadows = false;       // render.shadows: shadow rays and tabulated self-shadowing
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }

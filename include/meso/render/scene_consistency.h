@@ -14,7 +14,8 @@
 namespace meso {
 
 struct SceneConsistencyOptions {
-  std::vector<std::string> algorithms{"bump", "redistribution", "brdf", "auto"};
+  std::vector<Algorithm> algorithms{Algorithm::Bump, Algorithm::Redistribution, Algorithm::Brdf,
+                                    Algorithm::Auto};
   int bands = 6;                  // bands of image rows, top to bottom
   float referenceDicing = 0.25f;  // dicing rate of the displacement reference, pixels
   int referenceSpp = 0;           // 0: the scene's spp

@@ -4,6 +4,7 @@
 #include "meso/core/error.h"
 #include "meso/core/math.h"
 #include "meso/geometry/control_mesh.h"
+#include "meso/scene/choices.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -23,8 +24,6 @@ struct CameraSettings {
   int spp = 4;  // samples per pixel; rounded up to a square number of strata by the renderer
 };
 
-enum class LightType { Directional, Point };
-
 struct Light {
   LightType type = LightType::Directional;
   Vec3 direction{0.0f, 0.0f, -1.0f};  // directional: the direction the light travels (normalized)
@@ -41,10 +40,10 @@ inline constexpr int kMaxMaterialReliefLevels = 8;
 struct ReliefLevelDecl {
   FileLoc loc;
   std::filesystem::path height;  // image file, empty for procedural noise
-  std::string source = "image";  // "image" or "noise"
-  float amplitude = 0.0f;        // world units
-  float scale = 1.0f;            // tiling scale S: the height table repeats every 1/S in u and v
-  float freq = 0.0f;             // highest frequency, cycles per unit of u (0: measured or known)
+  ReliefSource source = ReliefSource::Image;
+  float amplitude = 0.0f;  // world units
+  float scale = 1.0f;      // tiling scale S: the height table repeats every 1/S in u and v
+  float freq = 0.0f;       // highest frequency, cycles per unit of u (0: measured or known)
   // The height value that stays on the surface: displacement is amplitude * (h - midlevel). Empty:
   // the height source's mean, so smooth-surface renderers draw the relief's mean plane.
   std::optional<float> midlevel;
@@ -60,11 +59,11 @@ struct ReliefLevelDecl {
 struct NdfDecl {
   bool present = false;
   FileLoc loc;
-  std::string type = "beckmann";  // beckmann | blinn-phong | tabulated | relief
-  Vec2 alpha{0.3f};               // beckmann roughness (alpha_x, alpha_y); equal for isotropic
-  float angle = 0.0f;             // degrees: the alpha_x axis, measured from P_u towards P_v
-  float exponent = 40.0f;         // blinn-phong
-  std::filesystem::path image;    // tabulated: NDF over (n.x, n.y) of the hemisphere
+  NdfType type = NdfType::Beckmann;
+  Vec2 alpha{0.3f};             // beckmann roughness (alpha_x, alpha_y); equal for isotropic
+  float angle = 0.0f;           // degrees: the alpha_x axis, measured from P_u towards P_v
+  float exponent = 40.0f;       // blinn-phong
+  std::filesystem::path image;  // tabulated: NDF over (n.x, n.y) of the hemisphere
   float scale = 0.0f;  // turbulence cycles per unit of u at octave 0 (0: from the relief or 16)
   int octaves = 8;     // most turbulence octaves
   float lacunarity = 2.0f;
@@ -102,26 +101,32 @@ struct TransitionSettings {
   float e4 = 1.0f;
 };
 
+// The one check of the thresholds' order, kThresholdOrder (scene reader, CLI and trade alike).
+inline constexpr const char* kThresholdOrder = "e1 < e2 < 0 < e3 < e4";
+inline bool thresholdsOrdered(float e1, float e2, float e3, float e4) {
+  return e1 < e2 && e2 < 0.0f && 0.0f < e3 && e3 < e4;
+}
+
 // [render.tables]: resolutions of the appearance tables (DESIGN.md section 4). Part of the cache
 // key.
 struct TableResolution {
-  int thetaVBins = 16;                  // view slices of the visible-normal histogram and the BRDF
-  int thetaNBins = 96;                  // normal polar bins
-  int phiBins = 32;                     // normal azimuth bins
-  int phiVBins = 16;                    // view azimuth slices (1: isotropic tables, the paper's)
-  int azimuths = 32;                    // view azimuths traced per slice
-  int raysPerView = 2048;               // rays per (theta_V, phi_V)
-  int meshResolution = 192;             // quads per tile side of the traced relief
-  int brdfThetaL = 16;                  // BRDF nodes over theta_L
-  int brdfPhi = 16;                     // BRDF nodes over |phi_{V-L}|
-  std::string variant = "conditional";  // redistribution maps: conditional | separable
+  int thetaVBins = 16;       // view slices of the visible-normal histogram and the BRDF
+  int thetaNBins = 96;       // normal polar bins
+  int phiBins = 32;          // normal azimuth bins
+  int phiVBins = 16;         // view azimuth slices (1: isotropic tables, the paper's)
+  int azimuths = 32;         // view azimuths traced per slice
+  int raysPerView = 2048;    // rays per (theta_V, phi_V)
+  int meshResolution = 192;  // quads per tile side of the traced relief
+  int brdfThetaL = 16;       // BRDF nodes over theta_L
+  int brdfPhi = 16;          // BRDF nodes over |phi_{V-L}|
+  RedistributionVariant variant = RedistributionVariant::Conditional;  // redistribution maps
   // Spacing of the metric classes (docs/metric.md) in octaves of length per unit of u: a surface
   // whose |P_u x P_v| varies gets one table set per step over its range.
   float metricStep = 0.25f;
 };
 
 struct RenderSettings {
-  std::string algorithm = "auto";  // auto | brdf | bump | redistribution | displacement
+  Algorithm algorithm = Algorithm::Auto;
   uint64_t seed = 0;
   int threads = 0;           // 0: all cores
   int tessellationRate = 8;  // uniform Bfr rate (segments per base-face edge)
@@ -130,8 +135,8 @@ struct RenderSettings {
   float dicingRate = 1.0f;                 // micropolygon edge length in pixels where displaced
   std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
   int64_t maxMicropolygons =
-      80000000;                  // per frame (about 8 GiB); more coarsens dicing with a warning
-  std::string normals = "bump";  // shading normal on displaced geometry: bump | facet
+      80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
+  ShadingNormals normals = ShadingNormals::Bump;  // shading normal on displaced geometry
   // Macro shadows (occlusion rays towards each light) and the relief's self-shadowing in the
   // tables and in T (DESIGN.md section 6, docs/shadows.md). false: exactly the unshadowed images.
   bool shadows = true;

@@ -1,5 +1,5 @@
 // Reference renders of `meso trade`, cached on disk (see reference_cache.h).
-#include "reference_cache.h"
+#include "meso/trade/reference_cache.h"
 
 #include "meso/appearance/table_cache.h"
 #include "meso/core/atomic_file.h"
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <iterator>
 
-namespace meso::app {
+namespace meso::trade {
 namespace {
 
 namespace fs = std::filesystem;
@@ -62,7 +62,7 @@ uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cam
   // What the command line may override, and what shapes a full-displacement image.
   const RenderSettings& r = scene.render;
   h.value(dicingRate).value(spp).value(r.seed).value(r.tessellationRate).value(r.background);
-  h.string(r.dicingMetric).string(r.normals).value(r.maxMicropolygons);
+  h.string(r.dicingMetric).string(choiceName(r.normals)).value(r.maxMicropolygons);
   h.value(cameras.size());
   for (const CameraSettings& c : cameras) hashCamera(h, c);
   return h.digest();
@@ -143,4 +143,4 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   writeFileAtomically(file, out);
 }
 
-}  // namespace meso::app
+}  // namespace meso::trade

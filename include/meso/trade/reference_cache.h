@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace meso::app {
+namespace meso::trade {
 
 // One reference level as rendered: beauty R, G, B and depth Z (row-major, interleaved, 4 floats a
 // pixel) per frame, and what rendering it cost.
@@ -51,4 +51,4 @@ class ReferenceCache {
   std::filesystem::path folder_;
 };
 
-}  // namespace meso::app
+}  // namespace meso::trade

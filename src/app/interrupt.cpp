@@ -1,0 +1,53 @@
+// SIGINT/SIGTERM handling with a watchdog (see interrupt.h).
+#include "interrupt.h"
+
+#include "meso/core/atomic_file.h"
+
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include <semaphore.h>
+#include <unistd.h>
+
+namespace meso::app {
+namespace {
+
+std::atomic<bool> gInterrupted{false};
+sem_t* gWake = nullptr;
+// How long a command has to stop by itself after SIGINT/SIGTERM before the watchdog ends it.
+constexpr int kInterruptGraceMs = 100;
+
+extern "C" void onInterrupt(int) {
+  gInterrupted.store(true);
+  if (gWake) sem_post(gWake);
+}
+
+}  // namespace
+
+const std::atomic<bool>& interruptRequested() { return gInterrupted; }
+
+void installInterruptHandler() {
+  // Commands poll interruptRequested() in their long loops and stop cleanly; a loop that does not
+  // (inside a library, OpenSubdiv, table building) is stopped by this watchdog, woken by the
+  // handler through a semaphore (sem_post is async-signal-safe): after a grace period it removes
+  // every temporary and exits with 130. Final names only ever hold complete files, so nothing
+  // partial remains either way.
+  static sem_t wake;
+  sem_init(&wake, 0, 0);
+  gWake = &wake;
+  std::thread([] {
+    while (sem_wait(gWake) != 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(kInterruptGraceMs));
+    removeTemporaries();
+    static const char message[] =
+        "meso: interrupted; complete outputs are kept, nothing partial was written\n";
+    (void)!::write(2, message, sizeof message - 1);
+    ::_exit(130);
+  }).detach();
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+}
+
+}  // namespace meso::app

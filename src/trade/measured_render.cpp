@@ -1,0 +1,84 @@
+// Renders one configuration of `meso trade` and measures it (see measured_render.h).
+#include "meso/trade/measured_render.h"
+
+#include "meso/core/error.h"
+#include "meso/core/timer.h"
+#include "meso/render/integrator.h"
+#include "meso/render/render_context.h"
+#include "meso/trade/peak_rss.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace meso::trade {
+namespace {
+
+std::vector<float> depthOf(const Image& film) {
+  const int z = film.channelIndex("depth.Z");
+  if (z < 0) throw Error("trade: the film has no depth.Z channel");
+  std::vector<float> depth(static_cast<size_t>(film.width) * film.height);
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x)
+      depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
+  return depth;
+}
+
+void noteGeometry(MeasuredRender& out, const FrameGeometryStats& geometry) {
+  out.micropolygons = std::max(out.micropolygons, geometry.micropolygons);
+  out.geometryMib =
+      std::max(out.geometryMib, static_cast<double>(geometry.meshBytes + geometry.embreePeakBytes) /
+                                    (1024.0 * 1024.0));
+  out.coarsening = std::max(out.coarsening, geometry.coarsening);
+}
+
+void resetPeakOrWarn(bool* warned) {
+  if (resetPeakRss() || (warned && *warned)) return;
+  std::fprintf(stderr,
+               "meso: warning: cannot reset the peak RSS (/proc/self/clear_refs); peak_rss_mib is "
+               "the process-wide peak so far\n");
+  if (warned) *warned = true;
+}
+
+}  // namespace
+
+RgbImage beautyOf(const Image& film) {
+  const int r = film.channelIndex("R"), g = film.channelIndex("G"), b = film.channelIndex("B");
+  if (r < 0 || g < 0 || b < 0) throw Error("trade: the film has no R, G, B channels");
+  RgbImage out{film.width, film.height,
+               std::vector<float>(static_cast<size_t>(film.width) * film.height * 3)};
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      float* p = &out.rgb[(static_cast<size_t>(y) * film.width + x) * 3];
+      p[0] = film.at(x, y, r), p[1] = film.at(x, y, g), p[2] = film.at(x, y, b);
+    }
+  return out;
+}
+
+MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
+                              const std::vector<CameraSettings>& cameras,
+                              const MeasureOptions& options) {
+  const Scene scene = sceneFor(base, c);
+  MeasuredRender out;
+  resetPeakOrWarn(options.warnedRss);
+  PrepareTimes prep;
+  RenderContext ctx = prepareRenderContext(scene, prep, false);
+  RenderCounters counters;
+  for (const CameraSettings& cam : cameras) {
+    if (options.cancel && options.cancel->load()) throw Interrupted();
+    Timer timer;
+    const FrameGeometryStats geometry = prepareFrame(ctx, cam, prep);
+    const RenderOptions ro{c.spp, scene.render.seed, false, false, options.cancel, true};
+    Image film = renderFrame(ctx, ro, counters);
+    out.seconds += timer.seconds();
+    noteGeometry(out, geometry);
+    out.beauty.push_back(beautyOf(film));
+    if (c.kind == Kind::Reference) out.depth.push_back(depthOf(film));
+    if (options.keepFilms) out.films.push_back(std::move(film));
+  }
+  out.peakRssMib = peakRssMib();
+  for (const std::string& w : ctx.warnings)
+    std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());
+  return out;
+}
+
+}  // namespace meso::trade

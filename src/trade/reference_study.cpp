@@ -1,0 +1,244 @@
+// The reference of `meso trade`, refined until it converges (see reference_study.h).
+#include "meso/trade/reference_study.h"
+
+#include "meso/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+namespace meso::trade {
+namespace {
+
+ReferenceRender toCache(const MeasuredRender& r) {
+  ReferenceRender out;
+  out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.micropolygons = r.micropolygons;
+  for (size_t f = 0; f < r.beauty.size(); ++f) {
+    out.width = r.beauty[f].width, out.height = r.beauty[f].height;
+    const std::vector<float>& rgb = r.beauty[f].rgb;
+    std::vector<float> rgbz(r.depth[f].size() * 4);
+    for (size_t i = 0; i < r.depth[f].size(); ++i)
+      for (int c = 0; c < 4; ++c) rgbz[4 * i + c] = c < 3 ? rgb[3 * i + c] : r.depth[f][i];
+    out.frames.push_back(std::move(rgbz));
+  }
+  return out;
+}
+
+MeasuredRender fromCache(const ReferenceRender& r) {
+  MeasuredRender out;
+  out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.micropolygons = r.micropolygons;
+  for (const std::vector<float>& rgbz : r.frames) {
+    const size_t n = rgbz.size() / 4;
+    RgbImage beauty{r.width, r.height, std::vector<float>(n * 3)};
+    std::vector<float> depth(n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) beauty.rgb[3 * i + c] = rgbz[4 * i + c];
+      depth[i] = rgbz[4 * i + 3];
+    }
+    out.beauty.push_back(std::move(beauty));
+    out.depth.push_back(std::move(depth));
+  }
+  return out;
+}
+
+constexpr int kDepthBands = 5;
+
+// One frame's change from b to a over `hits` (sorted near to far): per depth band in percent of
+// a's band sum added to bandPct; returns the rmse in percent of a's mean.
+double frameChange(const std::vector<float>& a, const std::vector<float>& b,
+                   const std::vector<size_t>& hits, std::vector<double>& bandPct) {
+  double sumA = 0.0, squares = 0.0;
+  for (int band = 0; band < kDepthBands; ++band) {
+    double bandA = 0.0, bandB = 0.0;
+    for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands;
+         ++k)
+      for (int c = 0; c < 3; ++c) {
+        const double va = a[3 * hits[k] + c], vb = b[3 * hits[k] + c];
+        bandA += va, bandB += vb, squares += (va - vb) * (va - vb);
+      }
+    sumA += bandA;
+    bandPct[band] += bandA > 0.0 ? 100.0 * (bandA - bandB) / bandA : 0.0;
+  }
+  const double n = 3.0 * static_cast<double>(hits.size());
+  return sumA > 0.0 ? 100.0 * std::sqrt(squares / n) / (sumA / n) : 0.0;
+}
+
+// The change from `previous` to `level` over the pixels where both hit a surface (the background
+// would dilute it), per depth band (quantiles of the level's depth: equal pixel counts, near to
+// far) and as an rmse, in percent of the level's mean there, averaged over the frames.
+void measureChange(ReferenceLevel& level, const MeasuredRender& previous) {
+  const MeasuredRender& now = level.render;
+  std::vector<double> bandPct(kDepthBands, 0.0);
+  double rmsePct = 0.0;
+  for (size_t f = 0; f < now.beauty.size(); ++f) {
+    const std::vector<float>& za = now.depth[f];
+    const std::vector<float>& zb = previous.depth[f];
+    std::vector<size_t> hits;
+    for (size_t i = 0; i < za.size(); ++i)
+      if (za[i] > 0.0f && zb[i] > 0.0f) hits.push_back(i);
+    if (hits.empty()) continue;
+    std::sort(hits.begin(), hits.end(), [&](size_t i, size_t j) { return za[i] < za[j]; });
+    rmsePct += frameChange(now.beauty[f].rgb, previous.beauty[f].rgb, hits, bandPct);
+  }
+  const double frames = static_cast<double>(now.beauty.size());
+  level.bandChangePct.clear();
+  level.meanChangePct = 0.0;
+  for (double pct : bandPct) {
+    level.bandChangePct.push_back(pct / frames);
+    if (std::abs(pct / frames) > std::abs(level.meanChangePct)) level.meanChangePct = pct / frames;
+  }
+  level.rmseChangePct = rmsePct / frames;
+}
+
+ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
+                              const std::vector<CameraSettings>& cams, const ReferenceCache& cache,
+                              const MeasureOptions& measure, bool quiet) {
+  ReferenceLevel level;
+  level.dicingRate = rate, level.spp = spp;
+  const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
+  const uint64_t key = referenceKey(sceneFor(scene, c), cams, rate, spp);
+  std::string warning;
+  if (std::optional<ReferenceRender> cached = cache.load(key, &warning)) {
+    if (cached->frames.size() == cams.size()) {
+      level.render = fromCache(*cached);
+      level.fromCache = true;
+      if (!quiet)
+        std::fprintf(stderr, "meso: trade: reference %g px, %d spp from cache %s\n", rate, spp,
+                     cache.fileFor(key).string().c_str());
+      return level;
+    }
+  }
+  if (!warning.empty()) std::fprintf(stderr, "meso: warning: %s\n", warning.c_str());
+  MeasureOptions noFilms = measure;
+  noFilms.keepFilms = false;
+  level.render = renderMeasured(scene, c, cams, noFilms);
+  try {
+    if (level.render.coarsening <= 1.0f) cache.store(key, toCache(level.render));
+  } catch (const Error& e) {  // a cache that cannot be written costs time, not the result
+    std::fprintf(stderr, "meso: warning: reference not cached: %s\n", e.what());
+  }
+  return level;
+}
+
+// Why the study should stop after level k (not converged), or nothing: refine further.
+std::optional<std::string> budgetSpent(const ReferenceLevel& level, int k, float rate,
+                                       const ReferenceBudget& b) {
+  if (k >= b.maxRefinements)
+    return "--reference-max-refinements " + std::to_string(b.maxRefinements) + " reached";
+  // Halving the dicing rate gives up to 4x the micropolygons (fewer where texels cap it).
+  const double next = 4.0 * static_cast<double>(level.render.micropolygons);
+  if (next <= static_cast<double>(b.maxMicropolygons)) return std::nullopt;
+  char why[160];
+  std::snprintf(why, sizeof why,
+                "the next level (%g px) would need about %.3g micropolygons, over "
+                "--reference-max-micropolygons %lld",
+                rate / 2.0f, next, b.maxMicropolygons);
+  return std::string(why);
+}
+
+// What remains if the changes keep shrinking as they did over the last two levels (a geometric
+// series); negative when there are fewer than three levels or the changes did not shrink.
+double remainingEstimatePct(const ReferenceStudy& s) {
+  const size_t n = s.levels.size();
+  if (n < 3) return -1.0;
+  const double last = std::abs(s.levels[n - 1].meanChangePct),
+               before = std::abs(s.levels[n - 2].meanChangePct);
+  if (!(before > 0.0) || !(last < before)) return -1.0;
+  const double q = last / before;
+  return last * q / (1.0 - q);
+}
+
+// "0.5 px 64 spp -> 0.25 px 128 spp (mean +1.2%, rmse 0.9%) -> ..."
+std::string referenceLevels(const ReferenceStudy& s) {
+  std::string text;
+  char buf[160];
+  for (size_t k = 0; k < s.levels.size(); ++k) {
+    const ReferenceLevel& l = s.levels[k];
+    if (k == 0)
+      std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
+    else
+      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)",
+                    l.dicingRate, l.spp, l.meanChangePct, l.rmseChangePct);
+    text += buf;
+  }
+  return text;
+}
+
+}  // namespace
+
+ReferenceStudy convergeReference(const Scene& base, const ReferenceBudget& budget,
+                                 const std::vector<CameraSettings>& cams,
+                                 const ReferenceCache& cache, const MeasureOptions& measure,
+                                 bool quiet) {
+  Scene scene = base;
+  scene.render.maxMicropolygons =
+      std::max<int64_t>(scene.render.maxMicropolygons, budget.maxMicropolygons);
+  ReferenceStudy study;
+  study.tolerance = budget.tolerance;
+  study.rmseTolerance = budget.rmseTolerance;
+  float rate = budget.dicingRate;
+  int spp = budget.spp;
+  for (int k = 0;; ++k) {
+    study.levels.push_back(referenceLevel(scene, rate, spp, cams, cache, measure, quiet));
+    ReferenceLevel& level = study.levels.back();
+    if (!quiet)
+      std::fprintf(stderr,
+                   "meso: trade: reference level %d: %g px, %d spp, %zu micropolygons, %.3g s%s\n",
+                   k, rate, spp, level.render.micropolygons, level.render.seconds,
+                   level.fromCache ? " (cached)" : "");
+    if (level.render.coarsening > 1.0f) {
+      study.stop = "the micropolygon cap coarsened level " + std::to_string(k);
+      if (study.levels.size() > 1) study.levels.pop_back();  // the finest level diced as asked
+      return study;
+    }
+    if (k > 0) {
+      measureChange(level, study.levels[k - 1].render);
+      if (std::abs(level.meanChangePct) < budget.tolerance &&
+          level.rmseChangePct < budget.rmseTolerance) {
+        study.converged = true;
+        study.stop = "converged";
+        return study;
+      }
+    }
+    if (std::optional<std::string> why = budgetSpent(level, k, rate, budget)) {
+      study.stop = *why;
+      return study;
+    }
+    rate /= 2.0f;
+    spp = std::min(spp * 2, 65536);
+  }
+}
+
+std::string referenceVerdict(const ReferenceStudy& s) {
+  char buf[512];
+  if (s.converged) {
+    std::snprintf(buf, sizeof buf,
+                  "reference converged (the mean of every depth band changed by less than %g%%, "
+                  "the rmse is below %g%% of the mean): %s",
+                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str());
+    return buf;
+  }
+  const ReferenceLevel& last = s.levels.back();
+  const double rest = remainingEstimatePct(s);
+  char estimate[160] = "";
+  if (rest >= 0.0)
+    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off",
+                  rest);
+  if (s.levels.size() < 2)
+    std::snprintf(buf, sizeof buf,
+                  "reference NOT converged: only one level (%s), %s; its error is unknown",
+                  referenceLevels(s).c_str(), s.stop.c_str());
+  else
+    std::snprintf(buf, sizeof buf,
+                  "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the "
+                  "last refinement still changed the mean of a depth band by %+.2f%% and the "
+                  "rmse by %.2f%% of the mean%s",
+                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(),
+                  last.meanChangePct, last.rmseChangePct, estimate);
+  return buf;
+}
+
+}  // namespace meso::trade

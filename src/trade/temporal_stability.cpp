@@ -1,0 +1,95 @@
+// Frame-to-frame change in the transition bands (see temporal_stability.h).
+#include "meso/trade/temporal_stability.h"
+
+#include "meso/core/error.h"
+#include "meso/trade/configuration.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace meso::trade {
+namespace {
+
+double meanAbsChange(const RgbImage& a, const RgbImage& b, int x, int y) {
+  const float *pa = a.at(x, y), *pb = b.at(x, y);
+  return (std::abs(pa[0] - pb[0]) + std::abs(pa[1] - pb[1]) + std::abs(pa[2] - pb[2])) / 3.0;
+}
+
+void add(TemporalBand& band, double dh, double dr) {
+  ++band.pixels, band.hybridChange += dh, band.referenceChange += dr;
+}
+
+// Adds one frame pair: bands 0..3 are e1..e4, 4 any of them, 5 every surface pixel.
+void addFramePair(std::vector<TemporalBand>& bands, const MeasuredRender& hybrid,
+                  const MeasuredRender& reference, size_t f, float halfWidth) {
+  const Image& film = hybrid.films[f];
+  const int tc = film.channelIndex("T.Y"), zc = film.channelIndex("depth.Z");
+  if (tc < 0 || zc < 0) throw Error("trade: the film has no T.Y or depth.Z channel");
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      if (film.at(x, y, zc) <= 0.0f) continue;  // no surface
+      const float T = film.at(x, y, tc);
+      const double dh = meanAbsChange(hybrid.beauty[f + 1], hybrid.beauty[f], x, y);
+      const double dr = meanAbsChange(reference.beauty[f + 1], reference.beauty[f], x, y);
+      bool any = false;
+      for (size_t k = 0; k < 4; ++k)
+        if (std::abs(T - bands[k].threshold) <= halfWidth) add(bands[k], dh, dr), any = true;
+      if (any) add(bands[4], dh, dr);
+      add(bands[5], dh, dr);
+    }
+}
+
+double ratio(const TemporalBand& b) {
+  return b.referenceChange > 0.0 ? b.hybridChange / b.referenceChange : 0.0;
+}
+
+std::string thresholdText(const TemporalBand& b) {
+  return b.name != "any" && b.name != "all" ? formatNumber(b.threshold) : "";
+}
+
+}  // namespace
+
+std::vector<TemporalBand> temporalBands(const MeasuredRender& hybrid,
+                                        const MeasuredRender& reference,
+                                        const TransitionSettings& t, float halfWidth) {
+  std::vector<TemporalBand> bands = {{"e1", t.e1}, {"e2", t.e2},  {"e3", t.e3},
+                                     {"e4", t.e4}, {"any", 0.0f}, {"all", 0.0f}};
+  for (size_t f = 0; f + 1 < hybrid.films.size(); ++f)
+    addFramePair(bands, hybrid, reference, f, halfWidth);
+  for (TemporalBand& b : bands)
+    if (b.pixels > 0)
+      b.hybridChange /= static_cast<double>(b.pixels),
+          b.referenceChange /= static_cast<double>(b.pixels);
+  return bands;
+}
+
+std::string temporalCsv(const std::vector<TemporalBand>& bands, float halfWidth) {
+  std::string s =
+      "band,threshold,half_width,pixels,hybrid_mean_abs_change,reference_mean_abs_change,ratio\n";
+  char line[256];
+  for (const TemporalBand& b : bands) {
+    std::snprintf(line, sizeof line, "%s,%s,%g,%zu,%.6g,%.6g,%.4g\n", b.name.c_str(),
+                  thresholdText(b).c_str(), halfWidth, b.pixels, b.hybridChange, b.referenceChange,
+                  ratio(b));
+    s += line;
+  }
+  return s;
+}
+
+std::string temporalTable(const std::vector<TemporalBand>& bands, float halfWidth) {
+  char line[256];
+  std::snprintf(
+      line, sizeof line,
+      "temporal stability: mean |beauty(f+1) - beauty(f)| in bands |T - e| <= %g of the hybrid\n"
+      "  %-5s %9s %10s %12s %12s %8s\n",
+      halfWidth, "band", "threshold", "pixels", "hybrid", "reference", "ratio");
+  std::string s = line;
+  for (const TemporalBand& b : bands) {
+    std::snprintf(line, sizeof line, "  %-5s %9s %10zu %12.5g %12.5g %8.3g\n", b.name.c_str(),
+                  thresholdText(b).c_str(), b.pixels, b.hybridChange, b.referenceChange, ratio(b));
+    s += line;
+  }
+  return s;
+}
+
+}  // namespace meso::trade
