@@ -26,7 +26,7 @@ const std::filesystem::path kScenes = MESO_SCENES_DIR;
 enum class Mode { Hybrid, Bump, Displacement, TraceOnly };
 
 struct Case {
-  Case(const std::string& name, int width, int height, const char* algorithm)
+  Case(const std::string& name, int width, int height, Algorithm algorithm)
       : scene(loadScene(kScenes / (name + ".toml"))) {
     scene.camera.width = width;
     scene.camera.height = height;
@@ -40,9 +40,10 @@ struct Case {
 };
 
 // One prepared case per (scene, resolution, geometry): trace-only shares the hybrid's geometry.
-Case& prepared(const std::string& name, int width, int height, const char* algorithm) {
+Case& prepared(const std::string& name, int width, int height, Algorithm algorithm) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
-  const std::string key = name + "/" + std::to_string(width) + "/" + algorithm;
+  const std::string key =
+      name + "/" + std::to_string(width) + "/" + std::to_string(static_cast<int>(algorithm));
   auto& c = cases[key];
   if (!c) {
     c = std::make_unique<Case>(name, width, height, algorithm);
@@ -52,9 +53,9 @@ Case& prepared(const std::string& name, int width, int height, const char* algor
 }
 
 void BM_Frame(benchmark::State& state, const std::string& name, int width, int height, Mode mode) {
-  const char* algorithm = mode == Mode::Bump           ? "bump"
-                          : mode == Mode::Displacement ? "displacement"
-                                                       : "auto";
+  const Algorithm algorithm = mode == Mode::Bump           ? Algorithm::Bump
+                              : mode == Mode::Displacement ? Algorithm::Displacement
+                                                           : Algorithm::Auto;
   Case& c = prepared(name, width, height, algorithm);
   RenderOptions o;
   o.spp = c.scene.camera.spp;
