@@ -2,6 +2,8 @@
 // rays from the visible hits of the periodic tile (DESIGN.md section 6).
 #include "meso/appearance/shadowing_table.h"
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/core/rng.h"
 
 #include <tbb/parallel_for.h>
@@ -11,31 +13,6 @@
 
 namespace meso {
 namespace {
-
-struct Axis {
-  int i0;
-  int i1;
-  float w;
-};
-
-Axis locate(float x, float lo, float hi, int n) {
-  float s = std::isfinite(x) ? (x - lo) / (hi - lo) * static_cast<float>(n - 1) : 0.0f;
-  s = std::clamp(s, 0.0f, static_cast<float>(n - 1));
-  const int i0 = std::min(static_cast<int>(s), std::max(n - 2, 0));
-  return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
-}
-
-float wrapAngle(float a) {
-  if (!std::isfinite(a)) return 0.0f;
-  a = std::fmod(a, 2.0f * kPi);
-  if (a > kPi) a -= 2.0f * kPi;
-  if (a < -kPi) a += 2.0f * kPi;
-  return a;
-}
-
-Vec3 polar(float theta, float phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
 
 // A surface-frame direction into tile coordinates through the shape (histogram_builder.cpp).
 Vec3 toTile(const Vec3& w, const MetricShape& s) {
@@ -62,7 +39,7 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
     for (int r = 0; r < side * side; ++r) {
       const float phiV =
           phiLo + phiWidth * (static_cast<float>(a) + 0.5f) / static_cast<float>(azimuths);
-      const Vec3 eye = toTile(polar(thetaV, phiV), shape);
+      const Vec3 eye = toTile(polarDirection(thetaV, phiV), shape);
       const Vec2 xy((static_cast<float>(r % side) + rng.uniform()) / side,
                     (static_cast<float>(r / side) + rng.uniform()) / side);
       Vec3 p;
@@ -123,7 +100,7 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
         const float phiVL = phiLo0 + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
         double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
         for (const auto& [hit, phiV] : hits) {
-          const Vec3 L = polar(thetaL, phiV - phiVL), V = polar(thetaV, phiV);
+          const Vec3 L = polarDirection(thetaL, phiV - phiVL), V = polarDirection(thetaV, phiV);
           const float wd = std::max(glm::dot(L, hit.n), 0.0f);
           const Vec3 H = glm::normalize(L + V);
           const float ws = std::pow(std::max(glm::dot(H, hit.n), 0.0f), phong);
@@ -156,32 +133,17 @@ ShadowingTable::Value ShadowingTable::entry(int slice, int i, int j) const {
 ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL,
                                              float phiVL) const {
   if (data_.empty()) return {};
-  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  int m0 = 0, m1 = 0;
-  float wm = 0.0f;
-  if (phiV_ > 1) {
-    float s = (std::isfinite(phiV) ? phiV : 0.0f) / (2.0f * kPi) * static_cast<float>(phiV_) - 0.5f;
-    s -= static_cast<float>(phiV_) * std::floor(s / static_cast<float>(phiV_));
-    m0 = std::min(static_cast<int>(s), phiV_ - 1), m1 = (m0 + 1) % phiV_;
-    wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
-  }
+  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  const TableAxis m = locateViewAzimuth(phiV, phiV_);
   // The same offset theta_L - theta_V in both theta_V slices: along the hot-spot ridge.
   const float tv =
       std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
-  const Axis b = locate(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
+  const TableAxis b = locateOnAxis(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
   const float p = wrapAngle(phiVL);
-  const Axis c = phiV_ > 1 ? locate(p, -kPi, kPi, nPhi_) : locate(std::abs(p), 0.0f, kPi, nPhi_);
-  Value out{0.0f, 0.0f};
-  for (int corner = 0; corner < 16; ++corner) {
-    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? wm : 1.0f - wm) *
-                    ((corner & 4) ? b.w : 1.0f - b.w) * ((corner & 8) ? c.w : 1.0f - c.w);
-    if (w == 0.0f) continue;
-    const int k = ((corner & 1) ? a.i1 : a.i0) * phiV_ + ((corner & 2) ? m1 : m0);
-    const Value e = entry(k, (corner & 4) ? b.i1 : b.i0, (corner & 8) ? c.i1 : c.i0);
-    out.diffuse += w * e.diffuse;
-    out.specular += w * e.specular;
-  }
-  return out;
+  const TableAxis c =
+      phiV_ > 1 ? locateOnAxis(p, -kPi, kPi, nPhi_) : locateOnAxis(std::abs(p), 0.0f, kPi, nPhi_);
+  return interpolateTable<Value>(a, m, phiV_, b, c,
+                                 [this](int k, int i, int j) { return entry(k, i, j); });
 }
 
 std::vector<float> ShadowingTable::toData() const {
