@@ -2,14 +2,19 @@
 #include "meso/appearance/periodic_tile.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
 namespace meso {
 namespace {
 
-// Quads per side of the blocks whose highest point lets horizon() skip them.
-constexpr int kBlock = 16;
+// x - floor(x), without a libm call (floor is one on baseline x86-64, and horizon() is hot).
+double wrapToTile(double x) {
+  const double f = x - static_cast<double>(static_cast<int64_t>(x));
+  return f < 0.0 ? f + 1.0 : f;
+}
 
 // The horizontal distance along u from o to its (maxTiles - 1)-th crossing of a tile side: the
 // last place where occluded() looks whether its ray has risen above the relief.
@@ -56,17 +61,25 @@ PeriodicTile::PeriodicTile(const PeriodicRelief& relief, int n) : n_(n) {
       zMin_ = std::min(zMin_, z);
       zMax_ = std::max(zMax_, z);
     }
-  blocks_ = (n + kBlock - 1) / kBlock;
-  cellMax_.resize(static_cast<size_t>(n) * n);
-  blockMax_.assign(static_cast<size_t>(blocks_) * blocks_, zMin_);
+  std::vector<float> quads(static_cast<size_t>(n) * n);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const float* h = &heights_[static_cast<size_t>(j) * (n + 1) + i];
-      const float top = std::max({h[0], h[1], h[n + 1], h[n + 2]});
-      cellMax_[static_cast<size_t>(j) * n + i] = top;
-      float& block = blockMax_[static_cast<size_t>(j / kBlock) * blocks_ + i / kBlock];
-      block = std::max(block, top);
+      quads[static_cast<size_t>(j) * n + i] = std::max({h[0], h[1], h[n + 1], h[n + 2]});
     }
+  maxLevels_.push_back(std::move(quads));
+  for (int side = n; side > 1;) {
+    const std::vector<float>& fine = maxLevels_.back();
+    const int coarse = (side + 1) / 2;
+    std::vector<float> level(static_cast<size_t>(coarse) * coarse, zMin_);
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) {
+        float& m = level[static_cast<size_t>(j / 2) * coarse + i / 2];
+        m = std::max(m, fine[static_cast<size_t>(j) * side + i]);
+      }
+    maxLevels_.push_back(std::move(level));
+    side = coarse;
+  }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
@@ -125,25 +138,33 @@ float PeriodicTile::horizon(const Vec3& origin, Vec2 u, std::span<const float> s
   while (k < slopes.size() && slopes[k] <= found) ++k;
   // Distances r in quads; a point at height z and distance r is at slope n (z - z0) / r.
   const double n = n_, z0 = origin.z, top = n * (static_cast<double>(zMax_) - z0);
-  const double rCap = capDistance(origin, u, maxTiles) * n;
-  if (!(rCap > 0.0)) return z0 > zMax_ ? 0.0f : std::numeric_limits<float>::infinity();
+  // occluded() gives up at its (maxTiles - 1)-th tile side. Within r (in tiles) the line crosses
+  // fewer than 2 + r (|u.x| + |u.y|) sides, so that side is no nearer than this bound, which
+  // stands for it until the march gets there.
   const double ux = u.x, uy = u.y;
-  double X = (origin.x - std::floor(origin.x)) * n, Y = (origin.y - std::floor(origin.y)) * n;
+  double rCap = std::max(maxTiles - 3, 0) / (std::abs(ux) + std::abs(uy)) * n;
+  bool exactCap = false;
+  if (!(rCap > 0.0)) {
+    rCap = capDistance(origin, u, maxTiles) * n, exactCap = true;
+    if (!(rCap > 0.0)) return z0 > zMax_ ? 0.0f : std::numeric_limits<float>::infinity();
+  }
+  const double invUx = ux != 0.0 ? 1.0 / ux : 0.0, invUy = uy != 0.0 ? 1.0 / uy : 0.0;
+  double X = wrapToTile(origin.x) * n, Y = wrapToTile(origin.y) * n;
   int i = std::clamp(static_cast<int>(X), 0, n_ - 1),
       j = std::clamp(static_cast<int>(Y), 0, n_ - 1);
   double r = 0.0;
   // Moves to where the line leaves the box [x0, x1] x [y0, y1] (in quads), into the next quad.
   const auto leave = [&](int x0, int x1, int y0, int y1) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    const double tx = ux > 0.0 ? (x1 - X) / ux : ux < 0.0 ? (x0 - X) / ux : kInf;
-    const double ty = uy > 0.0 ? (y1 - Y) / uy : uy < 0.0 ? (y0 - Y) / uy : kInf;
+    const double tx = ux > 0.0 ? (x1 - X) * invUx : ux < 0.0 ? (x0 - X) * invUx : kInf;
+    const double ty = uy > 0.0 ? (y1 - Y) * invUy : uy < 0.0 ? (y0 - Y) * invUy : kInf;
     const double t = std::max(std::min(tx, ty), 0.0);
     if (tx <= ty) {
       X = ux > 0.0 ? x1 : x0, Y += t * uy;
-      i = ux > 0.0 ? x1 : x0 - 1, j = static_cast<int>(std::floor(Y));
+      i = ux > 0.0 ? x1 : x0 - 1, j = Y < 0.0 ? -1 : static_cast<int>(Y);
     } else {
       Y = uy > 0.0 ? y1 : y0, X += t * ux;
-      j = uy > 0.0 ? y1 : y0 - 1, i = static_cast<int>(std::floor(X));
+      j = uy > 0.0 ? y1 : y0 - 1, i = X < 0.0 ? -1 : static_cast<int>(X);
     }
     if (i >= n_) i -= n_, X -= n;  // into the next periodic copy
     if (i < 0) i += n_, X += n;
@@ -152,35 +173,51 @@ float PeriodicTile::horizon(const Vec3& origin, Vec2 u, std::span<const float> s
     r += t;
     return t;
   };
-  while (k < slopes.size() && r < rCap && !(top < slopes[k] * r)) {
-    const int bi = i / kBlock, bj = j / kBlock;
-    const int x0 = bi * kBlock, y0 = bj * kBlock;
-    if (n * (blockMax_[static_cast<size_t>(bj) * blocks_ + bi] - z0) < slopes[k] * r) {
-      leave(x0, std::min(x0 + kBlock, n_), y0, std::min(y0 + kBlock, n_));
-      continue;  // nothing in the block reaches the lowest slope still above the horizon
+  const int levels = static_cast<int>(maxLevels_.size());
+  int level = 0;
+  const auto below = [&](int l) {
+    const int side = (n_ + (1 << l) - 1) >> l;
+    const float m = maxLevels_[l][static_cast<size_t>(j >> l) * side + (i >> l)];
+    return n * (m - z0) < slopes[k] * r;
+  };
+  while (k < slopes.size() && !(top < slopes[k] * r)) {
+    if (r >= rCap) {
+      if (exactCap) break;
+      rCap = capDistance(origin, u, maxTiles) * n, exactCap = true;
+      continue;
     }
-    do {
-      const int ci = i, cj = j;
-      const double fx0 = X - ci, fy0 = Y - cj, r0 = r;
-      const double t = leave(ci, ci + 1, cj, cj + 1);
-      if (!(t > 0.0) || n * (cellMax_[static_cast<size_t>(cj) * n_ + ci] - z0) < slopes[k] * r0)
-        continue;
-      // The height along the line is linear on each triangle, so the slope peaks where the line
-      // crosses the quad's diagonal or leaves the quad.
-      const double fx1 = fx0 + t * ux, fy1 = fy0 + t * uy;
-      const double g0 = fx0 - fy0, g1 = fx1 - fy1;
-      if ((g0 < 0.0) != (g1 < 0.0) && g0 != g1) {
-        const double a = g0 / (g0 - g1);
-        if (r0 + a * t > 0.0)
-          raise(n * (cellHeight(ci, cj, fx0 + a * t * ux, fy0 + a * t * uy) - z0) / (r0 + a * t));
-      }
-      raise(n * (cellHeight(ci, cj, fx1, fy1) - z0) / (r0 + t));
-    } while (k < slopes.size() && r < rCap && i / kBlock == bi && j / kBlock == bj);
+    // The coarsest block around (i, j) below the lowest slope still above the horizon is skipped.
+    if (below(level)) {
+      while (level + 1 < levels && below(level + 1)) ++level;
+      const int x0 = (i >> level) << level, y0 = (j >> level) << level;
+      leave(x0, std::min(x0 + (1 << level), n_), y0, std::min(y0 + (1 << level), n_));
+      continue;
+    }
+    if (level > 0) {
+      --level;
+      continue;
+    }
+    const int ci = i, cj = j;
+    const double fx0 = X - ci, fy0 = Y - cj, r0 = r;
+    const double t = leave(ci, ci + 1, cj, cj + 1);
+    if (!(t > 0.0)) continue;
+    // The height along the line is linear on each triangle, so the slope peaks where the line
+    // crosses the quad's diagonal or leaves the quad.
+    const double fx1 = fx0 + t * ux, fy1 = fy0 + t * uy;
+    const double g0 = fx0 - fy0, g1 = fx1 - fy1;
+    if ((g0 < 0.0) != (g1 < 0.0) && g0 != g1) {
+      const double a = g0 / (g0 - g1);
+      if (r0 + a * t > 0.0)
+        raise(n * (cellHeight(ci, cj, fx0 + a * t * ux, fy0 + a * t * uy) - z0) / (r0 + a * t));
+    }
+    raise(n * (cellHeight(ci, cj, fx1, fy1) - z0) / (r0 + t));
   }
-  raise(top / rCap);  // still below the relief's top where occluded() stops: blocked
+  // Still below the relief's top where occluded() stops: blocked. (Stopped before: the lights
+  // left are above top / r > top / rCap.)
+  if (exactCap && r >= rCap) raise(top / rCap);
   // The largest float not above the horizon: a float slope is above it exactly when above this.
   const float result = static_cast<float>(found);
-  return result > found ? std::nextafter(result, -std::numeric_limits<float>::infinity()) : result;
+  return result > found ? std::bit_cast<float>(std::bit_cast<uint32_t>(result) - 1u) : result;
 }
 
 bool PeriodicTile::traceHit(Vec3 o, const Vec3& d, Vec3& hitP) const {

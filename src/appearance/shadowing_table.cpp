@@ -60,6 +60,30 @@ struct NodeSums {
   double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
 };
 
+// x[q] = x[q]^e for x in [0, 1]: by repeated squaring when e is a whole number (Phong exponents
+// usually are; std::pow's value to a few float roundings, in loops the compiler vectorizes:
+// std::pow was a third of the table's cost), else std::pow. No cutoff for small values: where a
+// node's highlight is tiny its S_spec still interpolates with the neighbours' that are not.
+void raiseToPower(std::span<float> x, float e) {
+  const bool whole = e >= 1.0f && e <= 65536.0f && e == std::floor(e);
+  if (!whole) {
+    for (float& v : x) v = std::pow(v, e);
+    return;
+  }
+  constexpr int kMax = 64;
+  float base[kMax], acc[kMax];
+  for (size_t q0 = 0; q0 < x.size(); q0 += kMax) {
+    const int m = static_cast<int>(std::min(x.size() - q0, static_cast<size_t>(kMax)));
+    for (int q = 0; q < m; ++q) base[q] = x[q0 + q], acc[q] = 1.0f;
+    for (unsigned bits = static_cast<unsigned>(e); bits != 0; bits >>= 1) {
+      if (bits & 1u)
+        for (int q = 0; q < m; ++q) acc[q] *= base[q];
+      for (int q = 0; q < m; ++q) base[q] *= base[q];
+    }
+    for (int q = 0; q < m; ++q) x[q0 + q] = acc[q];
+  }
+}
+
 // Adds every visible hit's reflected light at the nodes thetaL (ascending, in (0, pi/2]) x phiVL
 // into sums[i * phiVL.size() + j], lit or not. A hit's lights at one azimuth share their
 // horizontal tile direction: one horizon march (PeriodicTile::horizon) decides all of them,
@@ -69,24 +93,34 @@ void sumSlice(const std::vector<std::pair<Hit, float>>& hits, const PeriodicTile
               const std::vector<float>& phiVL, float phong, bool withShadowRays,
               std::vector<NodeSums>& sums) {
   const int nL = static_cast<int>(thetaL.size()), nPhi = static_cast<int>(phiVL.size());
-  std::vector<float> slopes(nL), wd(nL), ws(nL);
+  std::vector<float> sinL(nL), cosL(nL), cotL(nL), slopes(nL), lDotN(nL), ws(nL), lvB(nPhi);
   std::vector<int> node(nL);
-  std::vector<Vec3> lights(nL);
+  for (int i = 0; i < nL; ++i)
+    sinL[i] = std::sin(thetaL[i]), cosL[i] = std::cos(thetaL[i]), cotL[i] = cosL[i] / sinL[i];
+  const float sinV = std::sin(thetaV), cosV = std::cos(thetaV);
+  for (int j = 0; j < nPhi; ++j) lvB[j] = sinV * std::cos(phiVL[j]);  // L.V = sinL B + cosL cosV
   for (const auto& [hit, phiV] : hits) {
-    const Vec3 V = polarDirection(thetaV, phiV);
+    const Vec3& n = hit.n;
+    const float vDotN = glm::dot(polarDirection(thetaV, phiV), n);
     for (int j = 0; j < nPhi; ++j) {
-      const float phiL = phiV - phiVL[j];
+      const float phiL = phiV - phiVL[j], cosPhi = std::cos(phiL), sinPhi = std::sin(phiL);
+      const float lnA = cosPhi * n.x + sinPhi * n.y;  // L.n = sinL lnA + cosL n.z
       // toTile is linear in the horizontal part: every theta_L has this tile direction.
-      const Vec2 h(std::cos(phiL) / shape.a - shape.b * std::sin(phiL), shape.a * std::sin(phiL));
+      const Vec2 h(cosPhi / shape.a - shape.b * sinPhi, shape.a * sinPhi);
       const float hLength = glm::length(h);
+      for (int i = 0; i < nL; ++i) {
+        const float lDotV = sinL[i] * lvB[j] + cosL[i] * cosV;
+        lDotN[i] = sinL[i] * lnA + cosL[i] * n.z;
+        ws[i] = std::max((lDotN[i] + vDotN) / std::sqrt(std::max(2.0f + 2.0f * lDotV, 1e-30f)),
+                         0.0f);  // H.n, raised to the highlight below
+      }
+      raiseToPower(ws, phong);
       int count = 0;
       for (int i = nL - 1; i >= 0; --i) {  // descending theta_L: ascending slopes
-        const Vec3 L = polarDirection(thetaL[i], phiV - phiVL[j]);
-        const float d = std::max(glm::dot(L, hit.n), 0.0f);
-        const float s = std::pow(std::max(glm::dot(glm::normalize(L + V), hit.n), 0.0f), phong);
-        if (d <= 0.0f && !(s > 1e-6f)) continue;  // reflects nothing: lit or not does not matter
-        slopes[count] = std::cos(thetaL[i]) / (std::sin(thetaL[i]) * hLength);
-        wd[count] = d, ws[count] = s, node[count] = i, lights[count] = L;
+        const float d = std::max(lDotN[i], 0.0f);
+        if (d <= 0.0f && !(ws[i] > 1e-6f)) continue;  // reflects nothing: lit or not is moot
+        slopes[count] = cotL[i] / hLength;
+        node[count] = i;
         ++count;
       }
       if (count == 0) continue;
@@ -96,12 +130,17 @@ void sumSlice(const std::vector<std::pair<Hit, float>>& hits, const PeriodicTile
               : tile.horizon(hit.p, h / hLength, std::span<const float>(slopes.data(), count),
                              kShadowMaxTiles);
       for (int q = 0; q < count; ++q) {
-        const bool lit = withShadowRays
-                             ? !tile.occluded(hit.p, toTile(lights[q], shape), kShadowMaxTiles)
-                             : slopes[q] > horizon;
-        NodeSums& sum = sums[static_cast<size_t>(node[q]) * nPhi + j];
-        sum.d += wd[q], sum.s += ws[q];
-        if (lit) sum.dLit += wd[q], sum.sLit += ws[q];
+        const int i = node[q];
+        const bool lit =
+            withShadowRays
+                ? !tile.occluded(hit.p,
+                                 toTile({sinL[i] * cosPhi, sinL[i] * sinPhi, cosL[i]}, shape),
+                                 kShadowMaxTiles)
+                : slopes[q] > horizon;
+        const float d = std::max(lDotN[i], 0.0f);
+        NodeSums& sum = sums[static_cast<size_t>(i) * nPhi + j];
+        sum.d += d, sum.s += ws[i];
+        if (lit) sum.dLit += d, sum.sLit += ws[i];
       }
     }
   }

@@ -40,11 +40,11 @@ class PeriodicTile {
   float cellHeight(int i, int j, double fx, double fy) const;
 
   RayScene scene_;
-  int n_ = 0;                    // quads per tile side
-  std::vector<float> heights_;   // (n + 1)^2 vertex heights, row-major in y
-  std::vector<float> cellMax_;   // n^2: highest vertex of each quad
-  std::vector<float> blockMax_;  // highest vertex of each block of kBlock x kBlock quads
-  int blocks_ = 0;               // blocks per tile side
+  int n_ = 0;                   // quads per tile side
+  std::vector<float> heights_;  // (n + 1)^2 vertex heights, row-major in y
+  // maxLevels_[l]: the highest vertex of each block of 2^l x 2^l quads, ceil(n / 2^l) blocks a
+  // side (l = 0: the quads), up to one block for the tile.
+  std::vector<std::vector<float>> maxLevels_;
   float zMin_ = 0.0f;
   float zMax_ = 0.0f;
 };
