@@ -4,6 +4,7 @@
 #include "meso/appearance/shadowing_table.h"
 
 #include "meso/core/rng.h"
+#include "support/waves.h"
 
 #include <gtest/gtest.h>
 
@@ -15,35 +16,9 @@ namespace meso {
 namespace {
 
 // Random periodic waves with integer frequencies up to 8 per tile: soft or steep by amplitude.
-struct Waves : PeriodicRelief {
-  struct Wave {
-    float a;
-    int fx, fy;
-    float phase;
-  };
-  std::vector<Wave> waves;
-  uint64_t seed;
-  Waves(uint64_t s, float amplitude) : seed(s) {
-    Rng rng(s);
-    for (int i = 0; i < 8; ++i)
-      waves.push_back({amplitude * (0.5f + rng.uniform()), static_cast<int>(rng.uniform() * 9),
-                       static_cast<int>(rng.uniform() * 9) - 4, 2 * kPi * rng.uniform()});
-  }
-  float height(float x, float y) const override {
-    float h = 0;
-    for (const Wave& w : waves) h += w.a * std::sin(2 * kPi * (w.fx * x + w.fy * y) + w.phase);
-    return h;
-  }
-  Vec2 gradient(float x, float y) const override {
-    Vec2 g(0.0f);
-    for (const Wave& w : waves) {
-      const float c = w.a * 2 * kPi * std::cos(2 * kPi * (w.fx * x + w.fy * y) + w.phase);
-      g += Vec2(c * w.fx, c * w.fy);
-    }
-    return g;
-  }
-  uint64_t fingerprint() const override { return seed; }
-};
+Waves randomWaves(uint64_t seed, float amplitude) {
+  return meso::randomWaves(seed, amplitude, 8, 0, 9, -4, 9);
+}
 
 Vec3 toTile(const Vec3& w, const MetricShape& s) {
   return glm::normalize(Vec3(w.x / s.a - s.b * w.y, s.a * w.y, w.z));
@@ -131,14 +106,14 @@ void expectHorizonAtTheCriticalElevation(const PeriodicRelief& relief, const cha
 }
 
 TEST(ShadowingTable, HorizonDecidesLikeAShadowRayOnASoftRelief) {
-  const Waves soft(3, 0.004f);
+  const Waves soft = randomWaves(3, 0.004f);
   expectHorizonDecidesLikeShadowRays(soft, {}, "soft");
   expectHorizonDecidesLikeShadowRays(soft, {1.6f, 0.4f}, "soft, sheared");
   expectHorizonAtTheCriticalElevation(soft, "soft");
 }
 
 TEST(ShadowingTable, HorizonDecidesLikeAShadowRayOnASteepRelief) {
-  const Waves steep(4, 0.03f);
+  const Waves steep = randomWaves(4, 0.03f);
   expectHorizonDecidesLikeShadowRays(steep, {}, "steep");
   expectHorizonDecidesLikeShadowRays(steep, {0.7f, -0.5f}, "steep, sheared");
   expectHorizonAtTheCriticalElevation(steep, "steep");
@@ -181,7 +156,7 @@ void expectTableEqualsShadowRayTable(const PeriodicRelief& relief, const MetricS
 }
 
 TEST(ShadowingTable, EqualsTheShadowRayTable) {
-  const Waves steep(4, 0.03f);
+  const Waves steep = randomWaves(4, 0.03f);
   expectTableEqualsShadowRayTable(steep, {}, 1);
   expectTableEqualsShadowRayTable(steep, {1.3f, 0.3f}, 4);
 }
