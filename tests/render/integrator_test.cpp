@@ -154,5 +154,28 @@ TEST(Integrator, OneAndTwoThreadsGiveBitIdenticalImages) {
             std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(float)));
 }
 
+// RenderOptions::traceOnly (tools/bench_frame's baseline): the same camera rays and closest hits
+// as a full render, so depth.Z is identical bit for bit, and nothing shaded: the beauty is black.
+TEST(Integrator, TraceOnlyFindsTheSameHitsAndShadesNothing) {
+  const Scene scene = torusScene();
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderCounters counters;
+  RenderOptions full{5, 3, false};
+  RenderOptions trace = full;
+  trace.traceOnly = true;
+  const Image a = renderFrame(ctx, full, counters), b = renderFrame(ctx, trace, counters);
+  const int depth = a.channelIndex("depth.Z"), red = a.channelIndex("R");
+  ASSERT_GE(depth, 0);
+  int hits = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      EXPECT_EQ(a.at(x, y, depth), b.at(x, y, depth)) << x << ", " << y;
+      EXPECT_EQ(b.at(x, y, red), 0.0f);
+      hits += a.at(x, y, depth) > 0.0f;
+    }
+  EXPECT_GT(hits, a.width * a.height / 10);  // the torus is in view
+}
+
 }  // namespace
 }  // namespace meso
