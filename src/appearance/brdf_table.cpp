@@ -1,6 +1,8 @@
 // Becker & Max 1993, Figure 2 and eq. (1).
 #include "meso/appearance/brdf_table.h"
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/core/math.h"
 
 #include <algorithm>
@@ -10,33 +12,6 @@
 
 namespace meso {
 namespace {
-
-struct Axis {
-  int i0;
-  int i1;
-  float w;
-};
-
-Axis locate(float x, float lo, float hi, int n) {
-  float s = std::isfinite(x) ? (x - lo) / (hi - lo) * static_cast<float>(n - 1) : 0.0f;
-  s = std::clamp(s, 0.0f, static_cast<float>(n - 1));
-  const int i0 = std::min(static_cast<int>(s), std::max(n - 2, 0));
-  return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
-}
-
-// An angle in [-pi, pi] (pi stays pi, so the last node of a signed axis is reachable).
-float wrapAngle(float a) {
-  if (!std::isfinite(a)) return 0.0f;
-  a = std::fmod(a, 2.0f * kPi);
-  if (a > kPi) a -= 2.0f * kPi;
-  if (a < -kPi) a += 2.0f * kPi;
-  return a;
-}
-
-Vec3 direction(float theta, float phi) {
-  const float s = std::sin(theta);
-  return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
-}
 
 // Sums f(V, L, N) * mass over the visible normals of each view slice, for every table entry.
 // V has azimuth 0 (the histogram's phi axis is phi_N - phi_V) and L azimuth -phi_{V-L}; perNormal
@@ -52,13 +27,13 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
   const size_t half = data.size() / 2;
   // Slices are independent: parallel, and the same bits for any thread count.
   tbb::parallel_for(0, distr.numSlices(), [&](int k) {
-    const Vec3 V = direction(distr.sliceThetaV(k), 0.0f);
+    const Vec3 V = polarDirection(distr.sliceThetaV(k), 0.0f);
     const float phiV = h.phiV > 1 ? distr.slicePhiV(k) : 0.0f;
     for (int i = 0; i < res.thetaL; ++i)
       for (int j = 0; j < nPhi; ++j) {
         const float tl = 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res.thetaL - 1);
         const float pvl = phiLo + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
-        const Vec3 L = direction(tl, -pvl);
+        const Vec3 L = polarDirection(tl, -pvl);
         double diff = 0.0, spec = 0.0;
         for (int a = 0; a < h.thetaN; ++a)
           for (int b = 0; b < h.phi; ++b) {
@@ -156,45 +131,21 @@ BrdfTable::Value BrdfTable::entry(int k, int i, int j) const {
 }
 
 BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) const {
-  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  const Axis b = locate(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
-  const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
-  const Axis c = locate(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
   if (phiV_ > 1) return lookup(thetaV, 0.0f, thetaL, phiVL);
-  Value out;
-  for (int corner = 0; corner < 8; ++corner) {
-    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? b.w : 1.0f - b.w) *
-                    ((corner & 4) ? c.w : 1.0f - c.w);
-    if (w == 0.0f) continue;
-    const Value e =
-        entry((corner & 1) ? a.i1 : a.i0, (corner & 2) ? b.i1 : b.i0, (corner & 4) ? c.i1 : c.i0);
-    out.diffuse += w * e.diffuse;
-    out.specular += w * e.specular;
-  }
-  return out;
+  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
+  const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
+  const TableAxis c = locateOnAxis(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
+  return interpolateTable<Value>(a, TableAxis{}, b, c, layout());
 }
 
 BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float phiVL) const {
   if (phiV_ == 1) return lookup(thetaV, thetaL, phiVL);
-  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  // View azimuth: periodic, between the two slice centres 2 pi (m + 1/2) / phiV around phiV.
-  float s = (std::isfinite(phiV) ? phiV : 0.0f) / (2.0f * kPi) * static_cast<float>(phiV_) - 0.5f;
-  s -= static_cast<float>(phiV_) * std::floor(s / static_cast<float>(phiV_));
-  const int m0 = std::min(static_cast<int>(s), phiV_ - 1), m1 = (m0 + 1) % phiV_;
-  const float wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
-  const Axis b = locate(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
-  const Axis c = locate(wrapAngle(phiVL), -kPi, kPi, nPhi_);
-  Value out;
-  for (int corner = 0; corner < 16; ++corner) {
-    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? wm : 1.0f - wm) *
-                    ((corner & 4) ? b.w : 1.0f - b.w) * ((corner & 8) ? c.w : 1.0f - c.w);
-    if (w == 0.0f) continue;
-    const int k = ((corner & 1) ? a.i1 : a.i0) * phiV_ + ((corner & 2) ? m1 : m0);
-    const Value e = entry(k, (corner & 4) ? b.i1 : b.i0, (corner & 8) ? c.i1 : c.i0);
-    out.diffuse += w * e.diffuse;
-    out.specular += w * e.specular;
-  }
-  return out;
+  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  const TableAxis m = locateViewAzimuth(phiV, phiV_);
+  const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
+  const TableAxis c = locateOnAxis(wrapAngle(phiVL), -kPi, kPi, nPhi_);
+  return interpolateTable<Value>(a, m, b, c, layout());
 }
 
 }  // namespace meso

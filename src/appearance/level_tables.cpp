@@ -39,8 +39,9 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
                             const TableCache& cache, std::vector<std::string>* warnings) {
   const ShadowingResolution& r = s.shadowing;
   Hasher hash;
+  // v6: decided by horizon marches (ShadowingTable::trace), equal to v5's shadow rays to rounding.
   hash.value(levelKey)
-      .string("shadows-v5")
+      .string("shadows-v6")
       .value(r.thetaL)
       .value(r.phi)
       .value(r.raysPerSlice)

@@ -48,6 +48,27 @@ Redistribution::Redistribution(const VisibleNormalHistogram& distr, Redistributi
     }
     appendCumulative(phiMarginal, phiCdfs_);
   }
+  guidesOf(thetaCdfs_, r.thetaN + 1, thetaGuides_);
+  guidesOf(phiCdfs_, r.phi + 1, phiGuides_);
+  thetaCosines_ = BinCosines(0.0f, layout_.thetaNWidth(), static_cast<size_t>(r.thetaN));
+}
+
+void Redistribution::guidesOf(const std::vector<float>& cdfs, int edges,
+                              std::vector<uint16_t>& out) {
+  const size_t len = static_cast<size_t>(edges);
+  out.reserve(cdfs.size() / len * (kCdfGuideSize + 1));
+  for (size_t at = 0; at + len <= cdfs.size(); at += len)
+    appendGuide(std::span<const float>(cdfs.data() + at, len), out);
+}
+
+const uint16_t* Redistribution::thetaGuide(int k, int phiBin) const {
+  const size_t c = variant_ == RedistributionVariant::Conditional ? 1 + phiBin : 0;
+  return thetaGuides_.data() +
+         (static_cast<size_t>(k) * thetaCdfsPerSlice_ + c) * (kCdfGuideSize + 1);
+}
+
+const uint16_t* Redistribution::phiGuide(int k) const {
+  return phiGuides_.data() + static_cast<size_t>(k) * (kCdfGuideSize + 1);
 }
 
 Redistribution::SliceMix Redistribution::locate(float thetaV, float phiV) const {
@@ -78,7 +99,7 @@ Redistribution::SliceMix Redistribution::locate(float thetaV, float phiV) const 
 
 CdfMix Redistribution::phiCdfAt(const SliceMix& m) const {
   CdfMix mix;
-  for (int i = 0; i < m.count; ++i) mix.add(phiCdf(m.slice[i]), m.w[i]);
+  for (int i = 0; i < m.count; ++i) mix.add(phiCdf(m.slice[i]), m.w[i], phiGuide(m.slice[i]));
   return mix;
 }
 
@@ -98,7 +119,8 @@ int Redistribution::phiBinOf(float phi) const { return layout_.phiBin(phi); }
 CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   CdfMix mix;
   if (variant_ == RedistributionVariant::Separable) {
-    for (int i = 0; i < m.count; ++i) mix.add(thetaCdf(m.slice[i], 0), m.w[i]);
+    for (int i = 0; i < m.count; ++i)
+      mix.add(thetaCdf(m.slice[i], 0), m.w[i], thetaGuide(m.slice[i], 0));
     return mix;
   }
   const int n = layout_.resolution().phi;
@@ -115,8 +137,8 @@ CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   const float b = std::clamp((s - base - 0.5f) / kPhiBlend + 0.5f, 0.0f, 1.0f);
   const int j0 = ((static_cast<int>(base) % n) + n) % n, j1 = (j0 + 1) % n;
   for (int i = 0; i < m.count; ++i) {
-    mix.add(thetaCdf(m.slice[i], j0), m.w[i] * (1.0f - b));
-    mix.add(thetaCdf(m.slice[i], j1), m.w[i] * b);
+    mix.add(thetaCdf(m.slice[i], j0), m.w[i] * (1.0f - b), thetaGuide(m.slice[i], j0));
+    mix.add(thetaCdf(m.slice[i], j1), m.w[i] * b, thetaGuide(m.slice[i], j1));
   }
   return mix;
 }
@@ -127,8 +149,8 @@ NormalAngles Redistribution::mapBetween(const SliceMix& from, const SliceMix& to
   NormalAngles r;
   const float p = cdfForward(phiCdfAt(from), -kPi, pw, wrapPi(n.phi));
   r.phi = cdfInverse(phiCdfAt(to), -kPi, pw, p);
-  const float q = cdfForward(thetaCdfAt(from, n.phi), 0.0f, tw, n.thetaN, kTheta);
-  r.thetaN = cdfInverse(thetaCdfAt(to, r.phi), 0.0f, tw, q, kTheta);
+  const float q = cdfForward(thetaCdfAt(from, n.phi), 0.0f, tw, n.thetaN, kTheta, &thetaCosines_);
+  r.thetaN = cdfInverse(thetaCdfAt(to, r.phi), 0.0f, tw, q, kTheta, &thetaCosines_);
   return r;
 }
 

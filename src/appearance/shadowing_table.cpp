@@ -2,40 +2,18 @@
 // rays from the visible hits of the periodic tile (DESIGN.md section 6).
 #include "meso/appearance/shadowing_table.h"
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/core/rng.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 namespace meso {
 namespace {
-
-struct Axis {
-  int i0;
-  int i1;
-  float w;
-};
-
-Axis locate(float x, float lo, float hi, int n) {
-  float s = std::isfinite(x) ? (x - lo) / (hi - lo) * static_cast<float>(n - 1) : 0.0f;
-  s = std::clamp(s, 0.0f, static_cast<float>(n - 1));
-  const int i0 = std::min(static_cast<int>(s), std::max(n - 2, 0));
-  return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
-}
-
-float wrapAngle(float a) {
-  if (!std::isfinite(a)) return 0.0f;
-  a = std::fmod(a, 2.0f * kPi);
-  if (a > kPi) a -= 2.0f * kPi;
-  if (a < -kPi) a += 2.0f * kPi;
-  return a;
-}
-
-Vec3 polar(float theta, float phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
 
 // A surface-frame direction into tile coordinates through the shape (histogram_builder.cpp).
 Vec3 toTile(const Vec3& w, const MetricShape& s) {
@@ -62,7 +40,7 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
     for (int r = 0; r < side * side; ++r) {
       const float phiV =
           phiLo + phiWidth * (static_cast<float>(a) + 0.5f) / static_cast<float>(azimuths);
-      const Vec3 eye = toTile(polar(thetaV, phiV), shape);
+      const Vec3 eye = toTile(polarDirection(thetaV, phiV), shape);
       const Vec2 xy((static_cast<float>(r % side) + rng.uniform()) / side,
                     (static_cast<float>(r / side) + rng.uniform()) / side);
       Vec3 p;
@@ -77,12 +55,116 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
   return hits;
 }
 
+// The light's sums at one (theta_L, phi_{V-L}) node over the visible hits of a slice.
+struct NodeSums {
+  double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
+};
+
+// x[q] = x[q]^e for x in [0, 1]: by repeated squaring when e is a whole number (Phong exponents
+// usually are; std::pow's value to a few float roundings, in loops the compiler vectorizes:
+// std::pow was a third of the table's cost), else std::pow. No cutoff for small values: where a
+// node's highlight is tiny its S_spec still interpolates with the neighbours' that are not.
+void raiseToPower(std::span<float> x, float e) {
+  const bool whole = e >= 1.0f && e <= 65536.0f && e == std::floor(e);
+  if (!whole) {
+    for (float& v : x) v = std::pow(v, e);
+    return;
+  }
+  constexpr int kMax = 64;
+  float base[kMax], acc[kMax];
+  for (size_t q0 = 0; q0 < x.size(); q0 += kMax) {
+    const int m = static_cast<int>(std::min(x.size() - q0, static_cast<size_t>(kMax)));
+    for (int q = 0; q < m; ++q) base[q] = x[q0 + q], acc[q] = 1.0f;
+    for (unsigned bits = static_cast<unsigned>(e); bits != 0; bits >>= 1) {
+      if (bits & 1u)
+        for (int q = 0; q < m; ++q) acc[q] *= base[q];
+      for (int q = 0; q < m; ++q) base[q] *= base[q];
+    }
+    for (int q = 0; q < m; ++q) x[q0 + q] = acc[q];
+  }
+}
+
+// Adds every visible hit's reflected light at the nodes thetaL (ascending, in (0, pi/2]) x phiVL
+// into sums[i * phiVL.size() + j], lit or not. A hit's lights at one azimuth share their
+// horizontal tile direction: one horizon march (PeriodicTile::horizon) decides all of them,
+// unless withShadowRays asks for a ray per node (the reference).
+void sumSlice(const std::vector<std::pair<Hit, float>>& hits, const PeriodicTile& tile,
+              const MetricShape& shape, float thetaV, const std::vector<float>& thetaL,
+              const std::vector<float>& phiVL, float phong, bool withShadowRays,
+              std::vector<NodeSums>& sums) {
+  const int nL = static_cast<int>(thetaL.size()), nPhi = static_cast<int>(phiVL.size());
+  std::vector<float> sinL(nL), cosL(nL), cotL(nL), slopes(nL), lDotN(nL), ws(nL), lvB(nPhi);
+  std::vector<int> node(nL);
+  for (int i = 0; i < nL; ++i)
+    sinL[i] = std::sin(thetaL[i]), cosL[i] = std::cos(thetaL[i]), cotL[i] = cosL[i] / sinL[i];
+  const float sinV = std::sin(thetaV), cosV = std::cos(thetaV);
+  for (int j = 0; j < nPhi; ++j) lvB[j] = sinV * std::cos(phiVL[j]);  // L.V = sinL B + cosL cosV
+  for (const auto& [hit, phiV] : hits) {
+    const Vec3& n = hit.n;
+    const float vDotN = glm::dot(polarDirection(thetaV, phiV), n);
+    for (int j = 0; j < nPhi; ++j) {
+      const float phiL = phiV - phiVL[j], cosPhi = std::cos(phiL), sinPhi = std::sin(phiL);
+      const float lnA = cosPhi * n.x + sinPhi * n.y;  // L.n = sinL lnA + cosL n.z
+      // toTile is linear in the horizontal part: every theta_L has this tile direction.
+      const Vec2 h(cosPhi / shape.a - shape.b * sinPhi, shape.a * sinPhi);
+      const float hLength = glm::length(h);
+      for (int i = 0; i < nL; ++i) {
+        const float lDotV = sinL[i] * lvB[j] + cosL[i] * cosV;
+        lDotN[i] = sinL[i] * lnA + cosL[i] * n.z;
+        ws[i] = std::max((lDotN[i] + vDotN) / std::sqrt(std::max(2.0f + 2.0f * lDotV, 1e-30f)),
+                         0.0f);  // H.n, raised to the highlight below
+      }
+      raiseToPower(ws, phong);
+      int count = 0;
+      for (int i = nL - 1; i >= 0; --i) {  // descending theta_L: ascending slopes
+        const float d = std::max(lDotN[i], 0.0f);
+        if (d <= 0.0f && !(ws[i] > 1e-6f)) continue;  // reflects nothing: lit or not is moot
+        slopes[count] = cotL[i] / hLength;
+        node[count] = i;
+        ++count;
+      }
+      if (count == 0) continue;
+      const float horizon =
+          withShadowRays
+              ? 0.0f
+              : tile.horizon(hit.p, h / hLength, std::span<const float>(slopes.data(), count),
+                             kShadowMaxTiles);
+      for (int q = 0; q < count; ++q) {
+        const int i = node[q];
+        const bool lit =
+            withShadowRays
+                ? !tile.occluded(hit.p,
+                                 toTile({sinL[i] * cosPhi, sinL[i] * sinPhi, cosL[i]}, shape),
+                                 kShadowMaxTiles)
+                : slopes[q] > horizon;
+        const float d = std::max(lDotN[i], 0.0f);
+        NodeSums& sum = sums[static_cast<size_t>(i) * nPhi + j];
+        sum.d += d, sum.s += ws[i];
+        if (lit) sum.dLit += d, sum.sLit += ws[i];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const PeriodicTile& tile,
                                      const VisibleNormalHistogram& layout,
                                      const HistogramSettings& hs, ShadowingResolution res,
                                      float phong, uint64_t seed) {
+  return traceWith(relief, tile, layout, hs, res, phong, seed, false);
+}
+
+ShadowingTable ShadowingTable::traceWithShadowRays(
+    const PeriodicRelief& relief, const PeriodicTile& tile, const VisibleNormalHistogram& layout,
+    const HistogramSettings& hs, ShadowingResolution res, float phong, uint64_t seed) {
+  return traceWith(relief, tile, layout, hs, res, phong, seed, true);
+}
+
+ShadowingTable ShadowingTable::traceWith(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                         const VisibleNormalHistogram& layout,
+                                         const HistogramSettings& hs, ShadowingResolution res,
+                                         float phong, uint64_t seed, bool withShadowRays) {
   ShadowingTable t;
   const HistogramResolution& h = layout.resolution();
   t.res_ = res;
@@ -95,7 +177,8 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
   const int slices = nV * t.phiV_;
   t.data_.assign(2 * static_cast<size_t>(slices) * t.numDelta() * t.nPhi_, 1.0f);
   const size_t half = t.data_.size() / 2;
-  const float phiLo0 = t.phiV_ > 1 ? -kPi : 0.0f;
+  std::vector<float> phiVL(t.nPhi_);
+  for (int j = 0; j < t.nPhi_; ++j) phiVL[j] = t.phi(j);
   tbb::parallel_for(0, slices, [&](int k) {
     Rng rng(seed, static_cast<uint64_t>(k));
     const float phiWidth = 2.0f * kPi / static_cast<float>(t.phiV_);
@@ -107,37 +190,25 @@ ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const Periodi
     const int rays = t.phiV_ > 1 ? res.raysPerSlice : 32 * res.raysPerSlice;
     const auto hits =
         visibleHits(relief, tile, hs.shape, thetaV, phiLo, phiWidth, azimuths, rays, rng);
-    float previous = -1.0f;
+    // The distinct lights: theta_L = 0 is never shadowed (a height field), and nodes clamped at
+    // the horizon repeat the last one.
+    std::vector<float> thetaL;
+    std::vector<int> light(t.numDelta(), -1);
     for (int i = 0; i < t.numDelta(); ++i) {
-      const float thetaL = std::clamp(thetaV + t.delta(i), 0.0f, 0.5f * kPi);
-      if (thetaL <= 0.0f) continue;  // theta_L = 0: a height field never shadows itself
-      if (thetaL == previous) {      // clamped at the horizon: the previous node's light
-        for (int j = 0; j < t.nPhi_; ++j) {
-          t.data_[t.index(k, i, j)] = t.data_[t.index(k, i - 1, j)];
-          t.data_[half + t.index(k, i, j)] = t.data_[half + t.index(k, i - 1, j)];
-        }
-        continue;
-      }
-      previous = thetaL;
-      for (int j = 0; j < t.nPhi_; ++j) {
-        const float phiVL = phiLo0 + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
-        double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
-        for (const auto& [hit, phiV] : hits) {
-          const Vec3 L = polar(thetaL, phiV - phiVL), V = polar(thetaV, phiV);
-          const float wd = std::max(glm::dot(L, hit.n), 0.0f);
-          const Vec3 H = glm::normalize(L + V);
-          const float ws = std::pow(std::max(glm::dot(H, hit.n), 0.0f), phong);
-          if (wd <= 0.0f && !(ws > 1e-6f))
-            continue;  // reflects nothing: lit or not does not matter
-          const bool lit = !tile.occluded(hit.p, toTile(L, hs.shape), kShadowMaxTiles);
-          d += wd, s += ws;
-          if (lit) dLit += wd, sLit += ws;
-        }
-        const size_t idx = t.index(k, i, j);
-        t.data_[idx] = d > 0.0 ? static_cast<float>(dLit / d) : 1.0f;
-        t.data_[half + idx] = s > 0.0 ? static_cast<float>(sLit / s) : 1.0f;
-      }
+      const float tl = std::clamp(thetaV + t.delta(i), 0.0f, 0.5f * kPi);
+      if (tl <= 0.0f) continue;
+      if (thetaL.empty() || tl != thetaL.back()) thetaL.push_back(tl);
+      light[i] = static_cast<int>(thetaL.size()) - 1;
     }
+    std::vector<NodeSums> sums(thetaL.size() * t.nPhi_);
+    sumSlice(hits, tile, hs.shape, thetaV, thetaL, phiVL, phong, withShadowRays, sums);
+    for (int i = 0; i < t.numDelta(); ++i)
+      for (int j = 0; light[i] >= 0 && j < t.nPhi_; ++j) {
+        const NodeSums& sum = sums[static_cast<size_t>(light[i]) * t.nPhi_ + j];
+        const size_t idx = t.index(k, i, j);
+        t.data_[idx] = sum.d > 0.0 ? static_cast<float>(sum.dLit / sum.d) : 1.0f;
+        t.data_[half + idx] = sum.s > 0.0 ? static_cast<float>(sum.sLit / sum.s) : 1.0f;
+      }
   });
   return t;
 }
@@ -156,32 +227,16 @@ ShadowingTable::Value ShadowingTable::entry(int slice, int i, int j) const {
 ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL,
                                              float phiVL) const {
   if (data_.empty()) return {};
-  const Axis a = locate(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  int m0 = 0, m1 = 0;
-  float wm = 0.0f;
-  if (phiV_ > 1) {
-    float s = (std::isfinite(phiV) ? phiV : 0.0f) / (2.0f * kPi) * static_cast<float>(phiV_) - 0.5f;
-    s -= static_cast<float>(phiV_) * std::floor(s / static_cast<float>(phiV_));
-    m0 = std::min(static_cast<int>(s), phiV_ - 1), m1 = (m0 + 1) % phiV_;
-    wm = std::clamp(s - static_cast<float>(m0), 0.0f, 1.0f);
-  }
+  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  const TableAxis m = locateViewAzimuth(phiV, phiV_);
   // The same offset theta_L - theta_V in both theta_V slices: along the hot-spot ridge.
   const float tv =
       std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
-  const Axis b = locate(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
+  const TableAxis b = locateOnAxis(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
   const float p = wrapAngle(phiVL);
-  const Axis c = phiV_ > 1 ? locate(p, -kPi, kPi, nPhi_) : locate(std::abs(p), 0.0f, kPi, nPhi_);
-  Value out{0.0f, 0.0f};
-  for (int corner = 0; corner < 16; ++corner) {
-    const float w = ((corner & 1) ? a.w : 1.0f - a.w) * ((corner & 2) ? wm : 1.0f - wm) *
-                    ((corner & 4) ? b.w : 1.0f - b.w) * ((corner & 8) ? c.w : 1.0f - c.w);
-    if (w == 0.0f) continue;
-    const int k = ((corner & 1) ? a.i1 : a.i0) * phiV_ + ((corner & 2) ? m1 : m0);
-    const Value e = entry(k, (corner & 4) ? b.i1 : b.i0, (corner & 8) ? c.i1 : c.i0);
-    out.diffuse += w * e.diffuse;
-    out.specular += w * e.specular;
-  }
-  return out;
+  const TableAxis c =
+      phiV_ > 1 ? locateOnAxis(p, -kPi, kPi, nPhi_) : locateOnAxis(std::abs(p), 0.0f, kPi, nPhi_);
+  return interpolateTable<Value>(a, m, b, c, layout());
 }
 
 std::vector<float> ShadowingTable::toData() const {

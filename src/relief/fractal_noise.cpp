@@ -74,14 +74,15 @@ inline Cell cellAt(Vec2 p, double frequency, int period, uint64_t salt) {
 }  // namespace
 
 FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(options) {
-  if (options.octaves < 1 || options.octaves > 24 || !(options.lacunarity > 0.0f) ||
+  if (options.octaves < 1 || options.octaves > 24 || options.firstOctave < 0 ||
+      options.firstOctave >= options.octaves || !(options.lacunarity > 0.0f) ||
       !std::isfinite(options.gain) || !(options.baseFrequency > 0.0f) ||
       !std::isfinite(options.lacunarity * options.baseFrequency))
     throw Error(
-        "fractal noise: need 1..24 octaves and positive finite lacunarity and base frequency "
-        "(got " +
-        std::to_string(options.octaves) + " octaves, lacunarity " +
-        std::to_string(options.lacunarity) + ", base frequency " +
+        "fractal noise: need 1..24 octaves, a first octave below them and positive finite "
+        "lacunarity and base frequency (got " +
+        std::to_string(options.octaves) + " octaves from " + std::to_string(options.firstOctave) +
+        ", lacunarity " + std::to_string(options.lacunarity) + ", base frequency " +
         std::to_string(options.baseFrequency) + ")");
   double f = options.baseFrequency, a = 1.0;
   for (int o = 0; o < options.octaves; ++o) {
@@ -91,7 +92,7 @@ FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(option
     oct.weight = static_cast<float>(a);
     oct.salt = mix64(options.seed ^ mix64(static_cast<uint64_t>(o) +
                                           0x9e3779b97f4a7c15ull));  // per seed and octave
-    octaves_.push_back(oct);
+    if (o >= options.firstOctave) octaves_.push_back(oct);
     f *= options.lacunarity;
     a *= options.gain;
   }
@@ -157,6 +158,7 @@ float FractalNoise::highestFrequency() const {
 uint64_t FractalNoise::fingerprint() const {
   Hasher h;
   h.string("FractalNoise/2").value(options_.seed);  // /2: the lattice hash of this version
+  if (options_.firstOctave > 0) h.value(options_.firstOctave);  // whole sums keep their keys
   for (const Octave& o : octaves_) h.value(o.frequency).value(o.period).value(o.weight);
   return h.digest();
 }

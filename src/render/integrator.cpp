@@ -140,6 +140,14 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
     const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
     const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
     const float filmX = static_cast<float>(x) + fx, filmY = static_cast<float>(y) + fy;
+    if (options.traceOnly) {  // no shading: no renderer to count either
+      RayHit hit;
+      if (ctx.rays->intersect(ctx.camera.generateRay(filmX, filmY), hit)) {
+        sum.depth += hit.t;
+        sum.hits += 1;
+      }
+      continue;
+    }
     traceSample(ctx, ctx.camera.generateRay(filmX, filmY), filmX, filmY, footprintScale, sum,
                 shares);
   }

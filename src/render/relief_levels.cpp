@@ -11,8 +11,15 @@
 namespace meso {
 
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
-  if (d.source == ReliefSource::Noise)
-    return std::make_unique<FractalNoise>(d.octaves, d.lacunarity, d.gain, d.seed);
+  if (d.source == ReliefSource::Noise) {
+    FractalNoiseOptions o;
+    o.octaves = std::max(d.octaves, 1);
+    o.lacunarity = d.lacunarity;
+    o.gain = d.gain;
+    o.seed = d.seed;
+    o.firstOctave = d.firstOctave;
+    return std::make_unique<FractalNoise>(o);
+  }
   try {
     return std::make_unique<HeightTable>(HeightTable::load(d.height, d.periodic));
   } catch (const Error& e) {

@@ -27,54 +27,77 @@ TileAngles tileAngles(const TileMap& m, const Vec3& V) {
   return a;
 }
 
-// theta_L and phi_V - phi_L of a tile-space light direction lt (unit), or false below the horizon.
-bool lightAngles(const TileAngles& a, const Vec3& lt, float& thetaL, float& phiVL) {
+// theta_L and phi_V - phi_L of a tile-space light direction lt (unit).
+void lightAngles(const TileAngles& a, const Vec3& lt, float& thetaL, float& phiVL) {
   const Vec3 l = toFrame(a.f, lt);
   thetaL = std::acos(std::min(l.z, 1.0f));
   phiVL = -std::atan2(l.y, l.x);
-  return true;
+}
+
+bool blocked(const LightShadows* macro, size_t i) {
+  return macro && (*macro)[i].diffuse <= 0.0f && (*macro)[i].specular <= 0.0f;
+}
+
+// The levels' factor for one light at its angles, times `start`: start * S_0 * S_1 ..., each S the
+// two metric classes' tables mixed by w and clamped to [0, 1].
+LightShadow levelsFactor(const ShadowingLevels& levels, LightShadow start, float thetaV, float phiV,
+                         float thetaL, float phiVL) {
+  for (size_t k = 0; k < levels.count; ++k) {
+    const ShadowingTable& s0 = *levels.s0[k];
+    const ShadowingTable& s1 = *levels.s1[k];
+    if (s0.empty()) continue;
+    ShadowingTable::Value v = s0.lookup(thetaV, phiV, thetaL, phiVL);
+    if (levels.w > 0.0f && &s1 != &s0 && !s1.empty()) {
+      const ShadowingTable::Value v1 = s1.lookup(thetaV, phiV, thetaL, phiVL);
+      v.diffuse += levels.w * (v1.diffuse - v.diffuse);
+      v.specular += levels.w * (v1.specular - v.specular);
+    }
+    start.diffuse *= std::clamp(v.diffuse, 0.0f, 1.0f);
+    start.specular *= std::clamp(v.specular, 0.0f, 1.0f);
+  }
+  return start;
 }
 
 }  // namespace
 
 LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
-                             const Vec3& V, const ShadowingTable& s0, const ShadowingTable& s1,
-                             float w) {
+                             const Vec3& V, const ShadowingLevels& levels,
+                             const LightShadows* macro) {
   LightShadows out;
-  if (s0.empty()) return out;
+  bool any = false;
+  for (size_t k = 0; k < levels.count; ++k) any = any || !levels.s0[k]->empty();
+  if (!any) return out;
   const TileAngles a = tileAngles(m, V);
   const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
   for (size_t i = 0; i < n; ++i) {
+    if (blocked(macro, i)) continue;
     const Vec3 lt = m.toTile(sampleLight(lights[i], P).L);
     const float len = glm::length(lt);
     if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
     float thetaL, phiVL;
     lightAngles(a, lt / len, thetaL, phiVL);
-    ShadowingTable::Value v = s0.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
-    if (w > 0.0f && &s1 != &s0 && !s1.empty()) {
-      const ShadowingTable::Value v1 = s1.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
-      v.diffuse += w * (v1.diffuse - v.diffuse);
-      v.specular += w * (v1.specular - v.specular);
-    }
-    out.light[i] = {std::clamp(v.diffuse, 0.0f, 1.0f), std::clamp(v.specular, 0.0f, 1.0f)};
+    out.light[i] = levelsFactor(levels, {}, a.f.thetaV, a.phiV, thetaL, phiVL);
   }
   return out;
 }
 
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
-                       float w, const LightShadows& shadows) {
+                       float w, const LightShadows& macro, const ShadowingLevels& levels) {
   Vec3 I = material.ka;
   const TileAngles a = tileAngles(m, V);
   for (size_t i = 0; i < lights.size(); ++i) {
-    const LightShadow sh = shadows[i];
-    if (sh.diffuse <= 0.0f && sh.specular <= 0.0f) continue;
+    if (blocked(&macro, i)) continue;
     const LightSample s = sampleLight(lights[i], P);
     const Vec3 lt = m.toTile(s.L);
     const float len = glm::length(lt);
     if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
     float thetaL, phiVL;
     lightAngles(a, lt / len, thetaL, phiVL);
+    const LightShadow sh = i < static_cast<size_t>(kMaxShadowedLights)
+                               ? levelsFactor(levels, macro[i], a.f.thetaV, a.phiV, thetaL, phiVL)
+                               : macro[i];
+    if (sh.diffuse <= 0.0f && sh.specular <= 0.0f) continue;
     BrdfTable::Value v = t0.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
     if (w > 0.0f && &t1 != &t0) {
       const BrdfTable::Value v1 = t1.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);

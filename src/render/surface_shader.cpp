@@ -47,11 +47,21 @@ TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
   return makeTileMap(f.Pu, f.Pv, f.N, areaLengthPerU(f.Pu, f.Pv));
 }
 
-// Level i's self-shadowing factor per light on frame f (docs/shadows.md).
-LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f) {
+// The self-shadowing tables of levels first .. last - 1 at the surface's metric.
+ShadowingLevels shadowingLevels(const LevelContext& c, size_t first, size_t last) {
+  ShadowingLevels s;
+  s.w = c.metric.w;
+  for (size_t k = first; k < last; ++k)
+    s.add(c.relief.tables(k, c.metric.k0).shadowing, c.relief.tables(k, c.metric.k1).shadowing);
+  return s;
+}
+
+// Level i's self-shadowing factor per light on frame f (docs/shadows.md); lights that `macro`
+// blocks are skipped.
+LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f,
+                            const LightShadows* macro) {
   return reliefShadowing(c.ctx.scene->lights, c.sp.P, brdfTileMap(c, f), c.V,
-                         c.relief.tables(i, c.metric.k0).shadowing,
-                         c.relief.tables(i, c.metric.k1).shadowing, c.metric.w);
+                         shadowingLevels(c, i, i + 1), macro);
 }
 
 // The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
@@ -64,9 +74,8 @@ Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped,
   const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
   if (!shadows)
     return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w);
-  LightShadows s = *shadows;
-  for (size_t k = i; k < c.relief.levels.size(); ++k) s *= levelShadowing(c, k, shaped);
-  return shadeBrdfShadowed(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w, s);
+  return shadeBrdfShadowed(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w,
+                           *shadows, shadowingLevels(c, i, c.relief.levels.size()));
 }
 
 // The level's redistributed normal on frame f. Each class's map is exact in distribution; near the
@@ -151,7 +160,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
     next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
     LightShadows below;
     if (shadows) {
-      below = levelShadowing(c, i, f);
+      below = levelShadowing(c, i, f, shadows);
       for (LightShadow& s : below.light)
         s = {s.diffuse + disp * (1.0f - s.diffuse), s.specular + disp * (1.0f - s.specular)};
       below *= *shadows;
@@ -236,7 +245,7 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
     const LevelFrame before = f;
     const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
     if (algorithm == Algorithm::Redistribution && c.shadows)
-      shadows *= levelShadowing(c, i, before);
+      shadows *= levelShadowing(c, i, before, &shadows);
     f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump)
                                                  : nBump;
   }

@@ -78,8 +78,10 @@ Light readLight(TableReader& r) {
   return l;
 }
 
-ReliefLevelDecl readRelief(TableReader& r, const toml::table& t,
-                           const std::filesystem::path& base) {
+// One [[materials.relief]] table: one level, or with split_octaves = true one level per octave of
+// its noise (heights that add up to the whole fBm exactly; each level gets its own T).
+std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
+                                        const std::filesystem::path& base) {
   ReliefLevelDecl d;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
@@ -105,8 +107,25 @@ ReliefLevelDecl readRelief(TableReader& r, const toml::table& t,
   d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e6, true));
   d.freq = static_cast<float>(r.number("freq", d.freq, 0.0, 1e6));
   if (r.get("midlevel")) d.midlevel = static_cast<float>(r.number("midlevel", 0.0, -1e6, 1e6));
+  const bool split = r.boolean("split_octaves", false);
   r.finish();
-  return d;
+  if (!split) return {d};
+  const auto refuse = [&](const char* key, const char* why) {
+    throw Error(d.loc, r.prefix() + key, why);
+  };
+  if (d.source != ReliefSource::Noise)
+    refuse("split_octaves",
+           "split_octaves splits a noise relief; split a height image with `meso bands`");
+  if (d.midlevel)
+    refuse("midlevel", "split_octaves gives each octave its own mean as midlevel: drop midlevel");
+  if (d.freq > 0.0f) refuse("freq", "split_octaves knows each octave's frequency: drop freq");
+  std::vector<ReliefLevelDecl> out;
+  for (int o = 0; o < d.octaves; ++o) {
+    out.push_back(d);
+    out.back().firstOctave = o;
+    out.back().octaves = o + 1;
+  }
+  return out;
 }
 
 NdfDecl readNdf(TableReader& r, const toml::table& t, const std::filesystem::path& base) {
@@ -159,8 +178,13 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
                     " relief levels per material (got " + std::to_string(levels.size()) + ")");
   for (const toml::table* t : levels) {
     TableReader rr(*t, r.prefix() + "relief.", r.file());
-    m.relief.push_back(readRelief(rr, *t, base));
+    for (ReliefLevelDecl& d : readRelief(rr, *t, base)) m.relief.push_back(std::move(d));
   }
+  if (m.relief.size() > static_cast<size_t>(kMaxMaterialReliefLevels))
+    throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
+                "at most " + std::to_string(kMaxMaterialReliefLevels) +
+                    " relief levels per material, counting each octave of split_octaves (got " +
+                    std::to_string(m.relief.size()) + ")");
   if (const toml::table* t = r.subtable("ndf")) {
     TableReader nr(*t, r.prefix() + "ndf.", r.file());
     m.ndf = readNdf(nr, *t, base);

@@ -1,10 +1,12 @@
 // Fractal gradient noise: analytic gradients, tiling, determinism.
 #include "meso/relief/fractal_noise.h"
+#include "meso/core/error.h"
 #include "meso/core/rng.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -97,6 +99,51 @@ TEST(FractalNoise, FiniteAndBounded) {
     EXPECT_TRUE(std::isfinite(h) && std::isfinite(g.x) && std::isfinite(g.y)) << x;
     EXPECT_LT(std::abs(h), 2.0f);
   }
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// relief.split_octaves: the octaves of one fBm as separate sources add up to it, heights and
+// gradients, up to the order of the float sums; each part has its octave's frequency, and its own
+// fingerprint (so its tables are cached apart).
+TEST(FractalNoise, OctaveRangesSumToTheWholeNoise) {
+  FractalNoiseOptions whole;
+  whole.octaves = 5;
+  whole.seed = 13;
+  const FractalNoise all(whole);
+  std::vector<FractalNoise> parts;
+  for (int o = 0; o < whole.octaves; ++o) {
+    FractalNoiseOptions part = whole;
+    part.firstOctave = o;
+    part.octaves = o + 1;
+    parts.emplace_back(part);
+    EXPECT_FLOAT_EQ(parts.back().highestFrequency(), 4.0f * std::exp2(static_cast<float>(o)));
+    EXPECT_NE(parts.back().fingerprint(), all.fingerprint());
+  }
+  FractalNoiseOptions first = whole;
+  first.octaves = 1;
+  EXPECT_NE(parts[0].fingerprint(), parts[1].fingerprint());
+  Rng rng(3);
+  double worstH = 0.0, worstG = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec2 p(rng.uniform(), rng.uniform());
+    float h = 0.0f;
+    Vec2 g(0.0f);
+    for (const FractalNoise& n : parts) h += n.height(p), g += n.gradient(p);
+    worstH = std::max(worstH, static_cast<double>(std::abs(h - all.height(p))));
+    worstG = std::max(worstG, static_cast<double>(glm::length(g - all.gradient(p))));
+  }
+  EXPECT_LT(worstH, 1e-6);
+  EXPECT_LT(worstG, 1e-4);  // gradients grow with frequency: up to 4 * 2^4 * 2 pi
+  // Octave 0 alone is the one-octave noise of the same seed.
+  EXPECT_FLOAT_EQ(parts[0].height(Vec2(0.3f, 0.7f)), FractalNoise(first).height(Vec2(0.3f, 0.7f)));
+  FractalNoiseOptions bad = whole;
+  bad.firstOctave = 5;
+  EXPECT_THROW(FractalNoise{bad}, Error);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "meso/render/consistency.h"
 
 #include "meso/core/rng.h"
+#include "support/waves.h"
 
 #include <gtest/gtest.h>
 
@@ -15,35 +16,9 @@ namespace meso {
 namespace {
 
 // A sum of random periodic sinusoids (integer frequencies 1..3 so it tiles).
-struct RandomWaves : PeriodicRelief {
-  struct Wave {
-    float a;
-    int fx, fy;
-    float phase;
-  };
-  std::vector<Wave> waves;
-  uint64_t seed;
-  RandomWaves(uint64_t s, float amplitude) : seed(s) {
-    Rng rng(s);
-    for (int i = 0; i < 6; ++i)
-      waves.push_back({amplitude * (0.5f + rng.uniform()), 1 + static_cast<int>(rng.uniform() * 3),
-                       static_cast<int>(rng.uniform() * 4) - 1, 2 * kPi * rng.uniform()});
-  }
-  float height(float x, float y) const override {
-    float h = 0;
-    for (const Wave& w : waves) h += w.a * std::sin(2 * kPi * (w.fx * x + w.fy * y) + w.phase);
-    return h;
-  }
-  Vec2 gradient(float x, float y) const override {
-    Vec2 g(0.0f);
-    for (const Wave& w : waves) {
-      const float c = w.a * 2 * kPi * std::cos(2 * kPi * (w.fx * x + w.fy * y) + w.phase);
-      g += Vec2(c * w.fx, c * w.fy);
-    }
-    return g;
-  }
-  uint64_t fingerprint() const override { return seed; }
-};
+Waves randomWaves(uint64_t seed, float amplitude) {
+  return meso::randomWaves(seed, amplitude, 6, 1, 3, -1, 4);
+}
 
 // Egg-crate bumps: |sin| products, sharper ridges than sinusoids.
 struct EggCrate : PeriodicRelief {
@@ -122,7 +97,7 @@ TEST(Consistency, EggCrateAgreesWithShadows) {
   expectConsistentShadows(EggCrate(0.25f), "egg crate", 70.0f, 90.0f);
 }
 
-TEST(Consistency, RandomWavesAgree) { expectConsistent(RandomWaves(5, 0.03f), "random waves"); }
+TEST(Consistency, RandomWavesAgree) { expectConsistent(randomWaves(5, 0.03f), "random waves"); }
 TEST(Consistency, EggCrateAgrees) { expectConsistent(EggCrate(0.25f), "egg crate"); }
 
 }  // namespace

@@ -227,6 +227,34 @@ TEST_F(SceneReaderTest, EnumsReferencesAndDuplicatesAreChecked) {
             std::string::npos);
 }
 
+// split_octaves: one level per octave of the noise, in order, each with its octave range; wrong
+// uses are errors at their key.
+TEST_F(SceneReaderTest, SplitOctavesMakesOneLevelPerOctave) {
+  const std::string head = "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n";
+  const Scene s = parse(head +
+                        "  noise = { octaves = 3, seed = 5 }\n  amplitude = 0.1\n"
+                        "  split_octaves = true\n" +
+                        kObject);
+  ASSERT_EQ(s.materials[0].relief.size(), 3u);
+  for (int o = 0; o < 3; ++o) {
+    EXPECT_EQ(s.materials[0].relief[o].firstOctave, o);
+    EXPECT_EQ(s.materials[0].relief[o].octaves, o + 1);
+    EXPECT_EQ(s.materials[0].relief[o].seed, 5u);
+    EXPECT_FLOAT_EQ(s.materials[0].relief[o].amplitude, 0.1f);
+  }
+  EXPECT_EQ(parse(head + "  noise = { octaves = 3 }\n" + kObject).materials[0].relief.size(), 1u);
+  EXPECT_NE(errorOf(head + "  noise = { octaves = 3 }\n  midlevel = 0.5\n  split_octaves = true\n" +
+                    kObject)
+                .find("materials.relief.midlevel: split_octaves gives each octave its own mean"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "  noise = { octaves = 9 }\n  split_octaves = true\n" + kObject)
+                .find("counting each octave of split_octaves (got 9)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "  noise = { octaves = 2 }\n  split_octaves = 1\n" + kObject)
+                .find("split_octaves"),
+            std::string::npos);
+}
+
 TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
   const Scene s =
       parse(std::string(kObject) +

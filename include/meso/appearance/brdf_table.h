@@ -2,6 +2,8 @@
 // built from visible-normal distributions, looked up trilinearly.
 #pragma once
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/appearance/visible_normal_histogram.h"
 
 #include <cstdint>
@@ -70,6 +72,9 @@ class BrdfTable {
                             int phiV = 1);
 
  private:
+  TableLayout layout() const {
+    return {data_.data(), data_.data() + data_.size() / 2, phiV_, res_.thetaL, nPhi_};
+  }
   // k is a view slice: iThetaV * phiV + iPhiV.
   size_t index(int k, int i, int j) const {
     return (static_cast<size_t>(k) * res_.thetaL + i) * nPhi_ + j;

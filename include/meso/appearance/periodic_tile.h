@@ -5,6 +5,9 @@
 #include "meso/appearance/histogram_builder.h"
 #include "meso/geometry/ray_scene.h"
 
+#include <span>
+#include <vector>
+
 namespace meso {
 
 class PeriodicTile {
@@ -22,11 +25,26 @@ class PeriodicTile {
   // zMax is free; one that crosses maxTiles tiles without doing so (the horizon) counts as blocked.
   bool occluded(Vec3 origin, const Vec3& direction, int maxTiles = 64) const;
 
+  // The horizon of the traced surface seen from `origin` towards the unit horizontal tile direction
+  // u, as far as the light slopes `slopes` (tan of each light's elevation in tile coordinates,
+  // ascending) need it: for each slope e there, occluded(origin, normalize(Vec3(u, e)), maxTiles)
+  // is false exactly when e > the result (up to float rounding at e = the horizon). The relief is
+  // a height field, so one march over the same triangles as the tracer, with early termination,
+  // stands for a shadow ray per slope.
+  float horizon(const Vec3& origin, Vec2 u, std::span<const float> slopes, int maxTiles) const;
+
   float zMin() const { return zMin_; }
   float zMax() const { return zMax_; }
 
  private:
+  float cellHeight(int i, int j, double fx, double fy) const;
+
   RayScene scene_;
+  int n_ = 0;                   // quads per tile side
+  std::vector<float> heights_;  // (n + 1)^2 vertex heights, row-major in y
+  // maxLevels_[l]: the highest vertex of each block of 2^l x 2^l quads, ceil(n / 2^l) blocks a
+  // side (l = 0: the quads), up to one block for the tile.
+  std::vector<std::vector<float>> maxLevels_;
   float zMin_ = 0.0f;
   float zMax_ = 0.0f;
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -28,15 +29,34 @@ float cdfForward(std::span<const float> a, std::span<const float> b, float w, fl
 float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
                  float p, BinShape shape = BinShape::Uniform);
 
+// A guide to one cumulative table's inverse (n + 1 edges): guide[g], g = 0 .. kCdfGuideSize, is the
+// largest edge i < n with C(i) < g / kCdfGuideSize (0 when there is none), so the inverse at p in
+// [g, g + 1] / kCdfGuideSize lies in bins guide[g] .. guide[g + 1]. With the guides of a mixture's
+// tables, cdfInverse brackets its search instead of bisecting all edges (the pixel loop's
+// redistribution does two inverses of up to eight tables per normal).
+inline constexpr int kCdfGuideSize = 64;
+void appendGuide(std::span<const float> cdf, std::vector<uint16_t>& out);
+
+// The cosines of each bin's edges for BinShape::SolidAngle, bit for bit as the lookups would
+// compute them (cos(lo + i width) and cos of that plus width), so that tables can skip two cosines
+// a lookup.
+struct BinCosines {
+  BinCosines() = default;
+  BinCosines(float lo, float width, size_t bins);
+  std::vector<float> lower, upper;
+};
+
 // A mixture sum_k w_k C_k of up to eight cumulative tables of one length (weights >= 0, summing to
 // 1): a monotone CDF again, so conditional maps can be interpolated between slices and bins.
 struct CdfMix {
   std::array<std::span<const float>, 8> cdf{};
   std::array<float, 8> w{};
+  std::array<const uint16_t*, 8> guide{};  // each table's guide (appendGuide), or null
   int count = 0;
-  void add(std::span<const float> c, float weight) {
+  void add(std::span<const float> c, float weight, const uint16_t* g = nullptr) {
     if (!(weight > 0.0f) || count == 8) return;  // weights sum to 1: at least one is positive
     cdf[count] = c;
+    guide[count] = g;
     w[count++] = weight;
   }
   float at(size_t i) const {
@@ -47,9 +67,11 @@ struct CdfMix {
   size_t edges() const { return cdf[0].size(); }
 };
 
+// `cosines` (optional, for SolidAngle bins) replaces the edge cosines; the result is the same.
+// cdfInverse uses the mixture's guides when every table has one; the result is the same as without.
 float cdfForward(const CdfMix& mix, float lo, float width, float x,
-                 BinShape shape = BinShape::Uniform);
+                 BinShape shape = BinShape::Uniform, const BinCosines* cosines = nullptr);
 float cdfInverse(const CdfMix& mix, float lo, float width, float p,
-                 BinShape shape = BinShape::Uniform);
+                 BinShape shape = BinShape::Uniform, const BinCosines* cosines = nullptr);
 
 }  // namespace meso

@@ -58,6 +58,13 @@ class Redistribution {
   std::vector<float> thetaCdfs_;
   std::vector<float> phiCdfs_;  // phiCdfs_[k]: phi + 1 edges
   int thetaCdfsPerSlice_;
+  // Each CDF's inverse guide (kCdfGuideSize + 1 entries, in the CDFs' order) and the theta_N bins'
+  // edge cosines: the same maps, without bisections and cosines in the pixel loop.
+  std::vector<uint16_t> thetaGuides_, phiGuides_;
+  BinCosines thetaCosines_;
+  static void guidesOf(const std::vector<float>& cdfs, int edges, std::vector<uint16_t>& out);
+  const uint16_t* thetaGuide(int k, int phiBin) const;
+  const uint16_t* phiGuide(int k) const;
 };
 
 // theta_W = arccot(cot(theta_V) / disp), written as atan2(disp sin theta_V, cos theta_V) so that

@@ -2,6 +2,8 @@
 // section 4.2): S(theta_V, phi_V, theta_L, phi_{V-L}), traced in the periodic tile.
 #pragma once
 
+#include "meso/appearance/table_axis.h"
+
 #include "meso/appearance/histogram_builder.h"
 #include "meso/appearance/periodic_tile.h"
 
@@ -48,6 +50,13 @@ class ShadowingTable {
                               const VisibleNormalHistogram& layout,
                               const HistogramSettings& histogram, ShadowingResolution res,
                               float phong, uint64_t seed);
+  // The same table with one shadow ray (PeriodicTile::occluded) per visible hit and light node
+  // instead of one horizon march per hit and light azimuth: the reference trace() is tested
+  // against, many times slower.
+  static ShadowingTable traceWithShadowRays(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                            const VisibleNormalHistogram& layout,
+                                            const HistogramSettings& histogram,
+                                            ShadowingResolution res, float phong, uint64_t seed);
 
   struct Value {
     float diffuse = 1.0f;
@@ -73,6 +82,13 @@ class ShadowingTable {
                        ShadowingTable& out);
 
  private:
+  TableLayout layout() const {
+    return {data_.data(), data_.data() + data_.size() / 2, phiV_, numDelta(), nPhi_};
+  }
+  static ShadowingTable traceWith(const PeriodicRelief& relief, const PeriodicTile& tile,
+                                  const VisibleNormalHistogram& layout,
+                                  const HistogramSettings& histogram, ShadowingResolution res,
+                                  float phong, uint64_t seed, bool withShadowRays);
   size_t index(int slice, int i, int j) const {
     return (static_cast<size_t>(slice) * numDelta() + i) * nPhi_ + j;
   }

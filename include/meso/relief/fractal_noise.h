@@ -18,6 +18,11 @@ struct FractalNoiseOptions {
   // Round each octave's cell count to an integer >= 1 and wrap the lattice there: that count is the
   // octave's period in lattice cells, so the sum tiles over [0, 1)^2.
   bool periodic = true;
+  // Only octaves firstOctave .. octaves - 1 of that sum (each with the frequency, weight and
+  // lattice hash it has in the whole sum), so that one fBm can be split into band-limited relief
+  // levels whose heights add up to it exactly (Becker & Max 1993 section 4.3;
+  // relief.split_octaves).
+  int firstOctave = 0;
 };
 
 // Sum over octaves o of gain^o * noise(p * f_o), f_o = baseFrequency * lacunarity^o, where noise is

@@ -21,6 +21,10 @@ struct RenderOptions {
   // The bump renderer filters its slopes over each sample's footprint with Schilling's pyramids;
   // false: point-sampled Blinn bump mapping (aliases when the relief is finer than a pixel).
   bool filterBump = true;
+  // Camera rays only: each sample's closest hit is found with Embree and nothing else is done (no
+  // shading, no shadow rays; beauty is black, depth.Z as usual). The cost of tracing exactly the
+  // frame's rays against its geometry: the baseline tools/bench_frame measures renderers against.
+  bool traceOnly = false;
 };
 
 // Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.
@@ -41,7 +45,8 @@ inline constexpr int64_t kShareUnit = 1 << 16;
 
 struct RenderCounters {
   std::atomic<int64_t> rays{0};
-  // Per SampleRenderer, in units of 1 / kShareUnit samples; they sum to rays * kShareUnit.
+  // Per SampleRenderer, in units of 1 / kShareUnit samples; they sum to rays * kShareUnit (none
+  // are counted with RenderOptions::traceOnly).
   std::array<std::atomic<int64_t>, kSampleRenderers> shares{};
   // Film values that came out NaN or infinite and were written as 0 instead: always 0 unless meso
   // has a bug (the renderer's own check; the CLI warns and --stats reports it).

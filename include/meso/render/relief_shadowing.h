@@ -4,27 +4,43 @@
 
 #include "meso/appearance/brdf_table.h"
 #include "meso/appearance/shadowing_table.h"
+#include "meso/render/displacement.h"
 #include "meso/render/shading.h"
 #include "meso/render/tile_map.h"
 #include "meso/scene/scene.h"
 
+#include <array>
 #include <span>
 
 namespace meso {
 
-// Each light's self-shadowing factor of one level at a point whose tile map is `m` (as shadeBrdf
-// takes it: area-preserving), seen from V: the tables of the two metric classes around the
-// surface's own mixed by w (s1 may equal s0). Lights below the macro horizon get {1, 1} (they add
-// nothing anyway); an empty table gives {1, 1}.
+// The self-shadowing tables of a run of relief levels at one point, all looked up through one tile
+// map: per level, the tables of the two metric classes around the surface's own (s1 may equal s0),
+// mixed by w.
+struct ShadowingLevels {
+  std::array<const ShadowingTable*, kMaxReliefLevels> s0{}, s1{};
+  size_t count = 0;
+  float w = 0.0f;
+  void add(const ShadowingTable& a, const ShadowingTable& b) {
+    if (count < s0.size()) s0[count] = &a, s1[count++] = &b;
+  }
+};
+
+// Each light's self-shadowing factor of the levels at a point whose tile map is `m` (as shadeBrdf
+// takes it: area-preserving), seen from V: the product over the levels, in their order. Lights
+// below the macro horizon get {1, 1} (they add nothing anyway); an empty table gives {1, 1}. A
+// light that `macro` (may be null) blocks entirely gets {1, 1} without lookups: its product with
+// the macro shadow is 0 either way. The angles are computed once for all tables.
 LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
-                             const Vec3& V, const ShadowingTable& s0, const ShadowingTable& s1,
-                             float w);
+                             const Vec3& V, const ShadowingLevels& levels,
+                             const LightShadows* macro = nullptr);
 
 // shadeBrdf (level_shading.h, the TileMap overload) with each light's diffuse and specular terms
-// scaled by `shadows`: the same lookups at the same angles, so {1, 1} for every light gives its
-// value up to the order of float sums.
+// scaled by `macro` times the self-shadowing of `levels` (macro first, then each level in order):
+// the BRDF and the shadowing tables looked up at one set of angles per light, so {1, 1} and no
+// levels give shadeBrdf's value up to the order of float sums.
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
-                       float w, const LightShadows& shadows);
+                       float w, const LightShadows& macro, const ShadowingLevels& levels);
 
 }  // namespace meso

@@ -53,6 +53,9 @@ struct ReliefLevelDecl {
   float gain = 0.5f;
   uint64_t seed = 0;
   bool periodic = true;
+  // Octaves firstOctave .. octaves - 1 only: one level of a relief whose `split_octaves` made a
+  // level of each octave (the scene reader expands it; docs/scene-format.md).
+  int firstOctave = 0;
 };
 
 // [materials.ndf]: the finest level, fractal NDF synthesis (Kautz et al. 2001; docs/synthesis.md).
