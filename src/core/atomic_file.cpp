@@ -53,6 +53,25 @@ std::filesystem::path temporarySibling(const std::filesystem::path& target) {
   return tmp;
 }
 
+namespace {
+
+// The nearest existing one of `start` and its ancestors must be a folder (else meso::Error
+// "PREFIX EXPECTED, P is a ..."); nothing above it is looked at.
+void requireNearestIsFolder(const std::filesystem::path& start, const std::string& prefix,
+                            const char* expected) {
+  struct stat st;
+  for (std::filesystem::path p = start; !p.empty(); p = p.parent_path()) {
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode))
+        throw Error(prefix + expected + ", " + p.string() + " is " + fileTypeName(st.st_mode));
+      return;
+    }
+    if (p == p.parent_path()) return;
+  }
+}
+
+}  // namespace
+
 void checkOutputFile(const std::filesystem::path& target, const std::string& what) {
   const std::string prefix = target.string() + ": " + (what.empty() ? "" : what + ": ");
   struct stat st;
@@ -64,31 +83,14 @@ void checkOutputFile(const std::filesystem::path& target, const std::string& wha
   }
   if (errno != ENOENT && errno != ENOTDIR)
     throw Error(prefix + "cannot inspect: " + std::strerror(errno));
-  // Missing: every existing ancestor must be a folder.
-  for (std::filesystem::path p = target.parent_path(); !p.empty(); p = p.parent_path()) {
-    if (::stat(p.c_str(), &st) == 0) {
-      if (!S_ISDIR(st.st_mode))
-        throw Error(prefix + "expected a folder to write into, " + p.string() + " is " +
-                    fileTypeName(st.st_mode));
-      return;
-    }
-    if (p == p.parent_path()) break;
-  }
+  // Missing: its nearest existing ancestor must be a folder.
+  requireNearestIsFolder(target.parent_path(), prefix, "expected a folder to write into");
 }
 
 void createOutputFolder(const std::filesystem::path& folder, const std::string& what) {
   if (folder.empty()) return;
   const std::string prefix = folder.string() + ": " + (what.empty() ? "" : what + ": ");
-  struct stat st;
-  for (std::filesystem::path p = folder; !p.empty(); p = p.parent_path()) {
-    if (::stat(p.c_str(), &st) == 0) {
-      if (!S_ISDIR(st.st_mode))
-        throw Error(prefix + "expected a folder, " + p.string() + " is " +
-                    fileTypeName(st.st_mode));
-      break;
-    }
-    if (p == p.parent_path()) break;
-  }
+  requireNearestIsFolder(folder, prefix, "expected a folder");
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   if (ec) throw Error(prefix + "cannot create the folder: " + ec.message());
