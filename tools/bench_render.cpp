@@ -9,6 +9,7 @@
 #include "meso/core/rng.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/ray_scene.h"
+#include "meso/scene/camera.h"
 
 #include <benchmark/benchmark.h>
 
@@ -115,11 +116,12 @@ struct Bumps : VertexDisplacement {
   float bound() const override { return 0.015f; }
 };
 
-const ScreenMetric& screen() {
-  static const ScreenMetric s =
-      ScreenMetric::lookAt(Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
-  return s;
+const Camera& camera() {
+  static const Camera c(
+      CameraSettings{Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360, 4});
+  return c;
 }
+const ScreenMetric& screen() { return camera().screen(); }
 
 struct DisplacedScene {
   AdaptiveTessellation tessellation;
@@ -169,17 +171,14 @@ BENCHMARK(BM_IncoherentRays);
 // Camera rays through the 640x360 pixel centres; argument: dicing rate x 100 (meso trade's sweep).
 void BM_CameraRaysByDicingRate(benchmark::State& state) {
   const DisplacedScene& s = displaced(static_cast<int>(state.range(0)));
-  const ScreenMetric& m = screen();
-  const float aspect = static_cast<float>(m.width) / static_cast<float>(m.height);
+  const Camera& c = camera();
+  const ScreenMetric& m = c.screen();
   int64_t rays = 0;
   for (auto _ : state) {
     for (int y = 0; y < m.height; ++y)
       for (int x = 0; x < m.width; ++x) {
-        const float sx = (2.0f * (x + 0.5f) / m.width - 1.0f) * m.tanHalfFovY * aspect;
-        const float sy = (1.0f - 2.0f * (y + 0.5f) / m.height) * m.tanHalfFovY;
         RayHit hit;
-        benchmark::DoNotOptimize(s.rays.intersect(
-            Ray{m.eye, glm::normalize(m.forward + sx * m.right + sy * m.up)}, hit));
+        benchmark::DoNotOptimize(s.rays.intersect(c.generateRay(x + 0.5f, y + 0.5f), hit));
       }
     rays += int64_t(m.width) * m.height;
   }

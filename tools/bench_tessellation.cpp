@@ -7,6 +7,7 @@
 #include "meso/core/timer.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/ray_scene.h"
+#include "meso/scene/camera.h"
 
 #include <benchmark/benchmark.h>
 
@@ -48,8 +49,9 @@ struct Ripples : VertexDisplacement {
 
 struct Setup {
   LimitSurface surface{torus(48, 24), SubdivisionScheme::CatmullClark};
-  ScreenMetric screen =
-      ScreenMetric::lookAt(Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  Camera camera{
+      CameraSettings{Vec3(0.0f, 1.6f, 2.4f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360, 4}};
+  ScreenMetric screen = camera.screen();
   Ripples ripples;
   AdaptiveTessellation tessellate() const {
     return tessellateAdaptive(surface, screen, DicingSettings{}, FaceDicing{}, &ripples);
@@ -141,16 +143,12 @@ void BM_CameraRays(benchmark::State& state) {
   scene.addMesh(t.mesh, state.range(0) ? t.grids : std::vector<TriangleGrid>{});
   scene.commit();
   const ScreenMetric& m = s.screen;
-  const float aspect = static_cast<float>(m.width) / static_cast<float>(m.height);
   int64_t rays = 0;
   for (auto _ : state) {
     for (int y = 0; y < m.height; ++y)
       for (int x = 0; x < m.width; ++x) {
-        const float sx = (2.0f * (x + 0.5f) / m.width - 1.0f) * m.tanHalfFovY * aspect;
-        const float sy = (1.0f - 2.0f * (y + 0.5f) / m.height) * m.tanHalfFovY;
         RayHit hit;
-        benchmark::DoNotOptimize(
-            scene.intersect(Ray{m.eye, glm::normalize(m.forward + sx * m.right + sy * m.up)}, hit));
+        benchmark::DoNotOptimize(scene.intersect(s.camera.generateRay(x + 0.5f, y + 0.5f), hit));
       }
     rays += int64_t(m.width) * m.height;
   }

@@ -6,6 +6,16 @@
 namespace meso::app {
 namespace {
 
+// Fractions of all samples per SampleRenderer (render/integrator.h).
+nlohmann::json sampleShares(const RenderCounters& counters) {
+  const double samples = static_cast<double>(counters.rays.load()) * kShareUnit;
+  nlohmann::json shares = nlohmann::json::object();
+  for (int k = 0; k < kSampleRenderers; ++k)
+    shares[kSampleRendererNames[k]] =
+        samples > 0.0 ? static_cast<double>(counters.shares[k].load()) / samples : 0.0;
+  return shares;
+}
+
 nlohmann::json perMillion(double value, size_t micropolygons) {
   return micropolygons > 0 ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
@@ -77,6 +87,7 @@ nlohmann::json statsJson(const Scene& scene, const std::filesystem::path& output
         {"total", run.totalSeconds}}},
       {"peak_rss_mib", peak},
       {"rays", counters.rays.load()},
+      {"sample_shares", sampleShares(counters)},
       {"non_finite_values", counters.nonFinite.load()},
       {"triangles", run.maxTriangles},
       {"micropolygons", mp},

@@ -76,6 +76,8 @@ void plot(const fs::path& csv, const fs::path& png, bool quiet) {
     if (!quiet) std::fprintf(stderr, "meso: wrote %s\n", png.string().c_str());
     return;
   }
+  std::error_code ignored;
+  fs::remove(png, ignored);  // a plot of an earlier run would not match the new CSV
   std::fprintf(stderr,
                "meso: warning: %s not plotted (needs python3 with matplotlib: apt-get install "
                "python3-matplotlib); to plot it: python3 %s %s %s\n",

@@ -1,6 +1,7 @@
 #include "meso/core/atomic_file.h"
 
 #include "meso/core/error.h"
+#include "meso/core/input_file.h"
 
 #include <atomic>
 #include <cerrno>
@@ -31,16 +32,6 @@ void forget(const std::filesystem::path& tmp) {
   temporaries().erase(tmp);
 }
 
-const char* typeName(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISLNK(mode)) return "a symbolic link";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 [[noreturn]] void failErrno(const std::filesystem::path& file, const char* doing, int err) {
   throw Error(file.string() + ": cannot " + doing + ": " + std::strerror(err));
 }
@@ -62,41 +53,44 @@ std::filesystem::path temporarySibling(const std::filesystem::path& target) {
   return tmp;
 }
 
+namespace {
+
+// The nearest existing one of `start` and its ancestors must be a folder (else meso::Error
+// "PREFIX EXPECTED, P is a ..."); nothing above it is looked at.
+void requireNearestIsFolder(const std::filesystem::path& start, const std::string& prefix,
+                            const char* expected) {
+  struct stat st;
+  for (std::filesystem::path p = start; !p.empty(); p = p.parent_path()) {
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode))
+        throw Error(prefix + expected + ", " + p.string() + " is " + fileTypeName(st.st_mode));
+      return;
+    }
+    if (p == p.parent_path()) return;
+  }
+}
+
+}  // namespace
+
 void checkOutputFile(const std::filesystem::path& target, const std::string& what) {
   const std::string prefix = target.string() + ": " + (what.empty() ? "" : what + ": ");
   struct stat st;
   if (::lstat(target.c_str(), &st) == 0) {
     if (!S_ISREG(st.st_mode))
       throw Error(prefix + "expected a regular file to write (or no file), found " +
-                  typeName(st.st_mode));
+                  fileTypeName(st.st_mode));
     return;
   }
   if (errno != ENOENT && errno != ENOTDIR)
     throw Error(prefix + "cannot inspect: " + std::strerror(errno));
-  // Missing: every existing ancestor must be a folder.
-  for (std::filesystem::path p = target.parent_path(); !p.empty(); p = p.parent_path()) {
-    if (::stat(p.c_str(), &st) == 0) {
-      if (!S_ISDIR(st.st_mode))
-        throw Error(prefix + "expected a folder to write into, " + p.string() + " is " +
-                    typeName(st.st_mode));
-      return;
-    }
-    if (p == p.parent_path()) break;
-  }
+  // Missing: its nearest existing ancestor must be a folder.
+  requireNearestIsFolder(target.parent_path(), prefix, "expected a folder to write into");
 }
 
 void createOutputFolder(const std::filesystem::path& folder, const std::string& what) {
   if (folder.empty()) return;
   const std::string prefix = folder.string() + ": " + (what.empty() ? "" : what + ": ");
-  struct stat st;
-  for (std::filesystem::path p = folder; !p.empty(); p = p.parent_path()) {
-    if (::stat(p.c_str(), &st) == 0) {
-      if (!S_ISDIR(st.st_mode))
-        throw Error(prefix + "expected a folder, " + p.string() + " is " + typeName(st.st_mode));
-      break;
-    }
-    if (p == p.parent_path()) break;
-  }
+  requireNearestIsFolder(folder, prefix, "expected a folder");
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   if (ec) throw Error(prefix + "cannot create the folder: " + ec.message());
@@ -133,18 +127,26 @@ void writeBytes(const std::filesystem::path& path, std::string_view bytes,
   if (::close(fd) != 0) failErrno(file, "write (close)", errno);
 }
 
+namespace {
+
+// Renames a complete temporary into place and forgets it; throws meso::Error if it cannot.
+void renameIntoPlace(const std::filesystem::path& tmp, const std::filesystem::path& target) {
+  std::error_code ec;
+  std::filesystem::rename(tmp, target, ec);
+  if (ec)
+    throw Error(target.string() + ": cannot rename the complete file into place: " + ec.message());
+  forget(tmp);
+}
+
+}  // namespace
+
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path&)>& write) {
   checkOutputFile(target, "");
   const std::filesystem::path tmp = temporarySibling(target);
   try {
     write(tmp);
-    std::error_code ec;
-    std::filesystem::rename(tmp, target, ec);
-    if (ec)
-      throw Error(target.string() +
-                  ": cannot rename the complete file into place: " + ec.message());
-    forget(tmp);
+    renameIntoPlace(tmp, target);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
@@ -184,12 +186,7 @@ void StagedFiles::commit() {
   for (const auto& [tmp, target] : staged_) checkOutputFile(target, "");
   while (!staged_.empty()) {
     const auto [tmp, target] = staged_.front();
-    std::error_code ec;
-    std::filesystem::rename(tmp, target, ec);
-    if (ec)
-      throw Error(target.string() +
-                  ": cannot rename the complete file into place: " + ec.message());
-    forget(tmp);
+    renameIntoPlace(tmp, target);
     staged_.erase(staged_.begin());
   }
 }

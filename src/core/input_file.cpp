@@ -10,14 +10,10 @@
 #include <unistd.h>
 
 namespace meso {
-namespace {
 
-std::string prefix(const std::filesystem::path& file, const std::string& what) {
-  return file.string() + ": " + (what.empty() ? "" : what + ": ");
-}
-
-const char* kindOf(mode_t mode) {
+const char* fileTypeName(mode_t mode) {
   if (S_ISDIR(mode)) return "a folder";
+  if (S_ISLNK(mode)) return "a symbolic link";
   if (S_ISFIFO(mode)) return "a FIFO";
   if (S_ISCHR(mode)) return "a character device";
   if (S_ISBLK(mode)) return "a block device";
@@ -25,10 +21,16 @@ const char* kindOf(mode_t mode) {
   return "not a regular file";
 }
 
+namespace {
+
+std::string prefix(const std::filesystem::path& file, const std::string& what) {
+  return file.string() + ": " + (what.empty() ? "" : what + ": ");
+}
+
 uint64_t checkStat(const struct stat& st, const std::filesystem::path& file,
                    const std::string& what, uint64_t maxBytes) {
   if (!S_ISREG(st.st_mode))
-    throw Error(prefix(file, what) + "expected a regular file, found " + kindOf(st.st_mode));
+    throw Error(prefix(file, what) + "expected a regular file, found " + fileTypeName(st.st_mode));
   const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size > maxBytes)
     throw Error(prefix(file, what) + "expected a file of at most " + std::to_string(maxBytes) +

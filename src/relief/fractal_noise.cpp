@@ -46,6 +46,31 @@ inline int64_t wrapCell(int64_t c, int period) {
   return period > 0 && c >= period ? c - period : c;
 }
 
+// The lattice cell of p at one octave: p's position (u, v) in it and the hashed unit gradients of
+// its corners, corner c at (c & 1, c >> 1).
+struct Cell {
+  float u, v;
+  Vec2 g[4];
+  // Corner c's ramp g_c . (p - corner_c).
+  float ramp(int c) const {
+    return glm::dot(g[c], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
+  }
+};
+
+inline Cell cellAt(Vec2 p, double frequency, int period, uint64_t salt) {
+  Cell cell;
+  int64_t ix, iy;
+  lattice(p.x, frequency, period, ix, cell.u);
+  lattice(p.y, frequency, period, iy, cell.v);
+  const std::array<Vec2, 1024>& gradients = gradientTable();
+  for (int c = 0; c < 4; ++c) {
+    const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), period));
+    const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), period));
+    cell.g[c] = gradients[mix64(salt ^ (cx << 32 | cy)) >> 54];
+  }
+  return cell;
+}
+
 }  // namespace
 
 FractalNoise::FractalNoise(const FractalNoiseOptions& options) : options_(options) {
@@ -80,20 +105,10 @@ FractalNoise::FractalNoise(int octaves, float lacunarity, float gain, uint64_t s
 
 // Perlin gradient noise: corner c contributes g_c . (p - corner_c), blended by the quintic fade.
 float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
-  int64_t ix, iy;
-  float u, v;
-  lattice(p.x, o.frequency, o.period, ix, u);
-  lattice(p.y, o.frequency, o.period, iy, v);
-  const std::array<Vec2, 1024>& gradients = gradientTable();
-  float n[4];
-  Vec2 g[4];
-  for (int c = 0; c < 4; ++c) {
-    const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
-    const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
-    const uint64_t h = mix64(o.salt ^ (cx << 32 | cy));
-    g[c] = gradients[h >> 54];
-    n[c] = glm::dot(g[c], Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
-  }
+  const Cell cell = cellAt(p, o.frequency, o.period, o.salt);
+  const Vec2* g = cell.g;
+  const float n[4] = {cell.ramp(0), cell.ramp(1), cell.ramp(2), cell.ramp(3)};
+  const float u = cell.u, v = cell.v;
   const float su = fade(u), sv = fade(v), dsu = fadeDerivative(u), dsv = fadeDerivative(v);
   const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);
   // Product rule on the bilinear blend of the corner ramps (each ramp's own gradient is g[c]).
@@ -106,20 +121,9 @@ float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
 // octave() without the gradient: the same value, bit for bit (the same operations in the same
 // order).
 float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
-  int64_t ix, iy;
-  float u, v;
-  lattice(p.x, o.frequency, o.period, ix, u);
-  lattice(p.y, o.frequency, o.period, iy, v);
-  const std::array<Vec2, 1024>& gradients = gradientTable();
-  float n[4];
-  for (int c = 0; c < 4; ++c) {
-    const uint64_t cx = static_cast<uint64_t>(wrapCell(ix + (c & 1), o.period));
-    const uint64_t cy = static_cast<uint32_t>(wrapCell(iy + (c >> 1), o.period));
-    const uint64_t h = mix64(o.salt ^ (cx << 32 | cy));
-    n[c] = glm::dot(gradients[h >> 54],
-                    Vec2(u - static_cast<float>(c & 1), v - static_cast<float>(c >> 1)));
-  }
-  const float su = fade(u), sv = fade(v);
+  const Cell cell = cellAt(p, o.frequency, o.period, o.salt);
+  const float n[4] = {cell.ramp(0), cell.ramp(1), cell.ramp(2), cell.ramp(3)};
+  const float su = fade(cell.u), sv = fade(cell.v);
   const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);
   return nx0 + sv * (nx1 - nx0);
 }

@@ -44,6 +44,60 @@ double shadowedBrdf(const Material& material, const Light& light, const ViewFram
          S.specular * shadeBrdf(specular, lights, Vec3(0.0f), frame, brdf).x;
 }
 
+// One azimuth of measureConsistency: the view at phiV, the light at phiV - phi.
+ConsistencyRow measureAzimuth(const PeriodicRelief& relief, const PeriodicTile& tile,
+                              const LevelTables& tables, float thetaV, const ConsistencySettings& s,
+                              const Material& material, int a) {
+  Rng rng(s.seed, static_cast<uint64_t>(a));
+  const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
+  const Vec3 V = polar(thetaV, phiV);
+  Light light;
+  light.direction = -polar(s.thetaL, phiV - s.phi);
+  const Light lights[] = {light};
+  const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
+  // The tabulated self-shadowing at this view and light, for redistribution and the BRDF.
+  LightShadows S;
+  const ShadowingTable::Value sv =
+      s.shadows ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi) : ShadowingTable::Value{};
+  S.light[0] = {sv.diffuse, sv.specular};
+  const LightShadows* redistributionShadows = s.shadows ? &S : nullptr;
+  const Vec3 L = -light.direction;
+  const int side =
+      std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
+  ConsistencyRow row;
+  int hits = 0;
+  for (int i = 0; i < side * side; ++i) {
+    // Jittered strata over the tile: the area average of the smooth renderers.
+    const Vec2 xy((static_cast<float>(i % side) + rng.uniform()) / side,
+                  (static_cast<float>(i / side) + rng.uniform()) / side);
+    const Vec3 P(xy, 0.0f);
+    const Vec3 n = blinnNormal(relief, xy);
+    row.bump += shadeLocal(material, lights, P, n, V).x;
+    row.redistribution +=
+        shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n),
+                   V, redistributionShadows)
+            .x;
+    // The displaced relief, projected-area weighted: uniform origins above it along -V; with
+    // shadows a real shadow ray from each hit, lifted off the relief along its normal.
+    Vec3 hit;
+    if (tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
+      const Vec3 nHit = blinnNormal(relief, Vec2(hit));
+      LightShadows visible;
+      if (s.shadows && tile.occluded(hit + 1e-4f * nHit, L)) visible.light[0] = {0.0f, 0.0f};
+      row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V,
+                                     s.shadows ? &visible : nullptr)
+                              .x;
+      ++hits;
+    }
+  }
+  row.bump /= side * side;
+  row.redistribution /= side * side;
+  row.displacement /= std::max(hits, 1);
+  row.brdf = s.shadows ? shadowedBrdf(material, light, frame, tables.brdf, sv)
+                       : shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
+  return row;
+}
+
 }  // namespace
 
 ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTile& tile,
@@ -52,54 +106,7 @@ ConsistencyRow measureConsistency(const PeriodicRelief& relief, const PeriodicTi
   const Material material = materialFor(s);
   std::vector<ConsistencyRow> perAzimuth(s.azimuths);
   tbb::parallel_for(0, s.azimuths, [&](int a) {
-    Rng rng(s.seed, static_cast<uint64_t>(a));
-    const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
-    const Vec3 V = polar(thetaV, phiV);
-    Light light;
-    light.direction = -polar(s.thetaL, phiV - s.phi);
-    const Light lights[] = {light};
-    const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
-    // The tabulated self-shadowing at this view and light, for redistribution and the BRDF.
-    LightShadows S;
-    const ShadowingTable::Value sv = s.shadows
-                                         ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi)
-                                         : ShadowingTable::Value{};
-    S.light[0] = {sv.diffuse, sv.specular};
-    const LightShadows* redistributionShadows = s.shadows ? &S : nullptr;
-    const Vec3 L = -light.direction;
-    const int side =
-        std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
-    ConsistencyRow& row = perAzimuth[a];
-    int hits = 0;
-    for (int i = 0; i < side * side; ++i) {
-      // Jittered strata over the tile: the area average of the smooth renderers.
-      const Vec2 xy((static_cast<float>(i % side) + rng.uniform()) / side,
-                    (static_cast<float>(i / side) + rng.uniform()) / side);
-      const Vec3 P(xy, 0.0f);
-      const Vec3 n = blinnNormal(relief, xy);
-      row.bump += shadeLocal(material, lights, P, n, V).x;
-      row.redistribution +=
-          shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n),
-                     V, redistributionShadows)
-              .x;
-      // The displaced relief, projected-area weighted: uniform origins above it along -V; with
-      // shadows a real shadow ray from each hit, lifted off the relief along its normal.
-      Vec3 hit;
-      if (tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
-        const Vec3 nHit = blinnNormal(relief, Vec2(hit));
-        LightShadows visible;
-        if (s.shadows && tile.occluded(hit + 1e-4f * nHit, L)) visible.light[0] = {0.0f, 0.0f};
-        row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V,
-                                       s.shadows ? &visible : nullptr)
-                                .x;
-        ++hits;
-      }
-    }
-    row.bump /= side * side;
-    row.redistribution /= side * side;
-    row.displacement /= std::max(hits, 1);
-    row.brdf = s.shadows ? shadowedBrdf(material, light, frame, tables.brdf, sv)
-                         : shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
+    perAzimuth[a] = measureAzimuth(relief, tile, tables, thetaV, s, material, a);
   });
   ConsistencyRow total;
   total.thetaV = thetaV;

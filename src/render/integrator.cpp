@@ -4,6 +4,7 @@
 #include "meso/core/rng.h"
 #include "meso/render/shadow_rays.h"
 #include "meso/render/surface_shader.h"
+#include "meso/render/transition.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -33,14 +34,46 @@ struct PixelSum {
   int hits = 0;
 };
 
+using ShareCounts = std::array<int64_t, kSampleRenderers>;
+
+void addShare(ShareCounts& shares, SampleRenderer r, float weight) {
+  shares[static_cast<int>(r)] += static_cast<int64_t>(std::lround(weight * kShareUnit));
+}
+
+// One sample's share of each renderer (see SampleRenderer); they add up to kShareUnit.
+void countSample(const RenderContext& ctx, const PreparedObject& object, float T,
+                 ShareCounts& shares) {
+  if (ctx.reliefs[object.material].levels.empty())
+    return addShare(shares, SampleRenderer::Smooth, 1);
+  switch (ctx.algorithm) {
+    case Algorithm::Brdf:
+      return addShare(shares, SampleRenderer::Brdf, 1.0f);
+    case Algorithm::Bump:
+      return addShare(shares, SampleRenderer::Bump, 1.0f);
+    case Algorithm::Redistribution:
+      return addShare(shares, SampleRenderer::Redistribution, 1.0f);
+    case Algorithm::Displacement:
+      return addShare(shares, SampleRenderer::Displacement, 1.0f);
+    case Algorithm::Auto:
+      break;
+  }
+  const TransitionWeights w = transitionWeights(T, ctx.scene->render.transition);
+  const int64_t brdf = std::lround(w.brdf * kShareUnit);
+  const int64_t disp = std::lround(w.redistribution * w.disp * kShareUnit);
+  shares[static_cast<int>(SampleRenderer::Brdf)] += brdf;
+  shares[static_cast<int>(SampleRenderer::Displacement)] += disp;
+  shares[static_cast<int>(SampleRenderer::Redistribution)] += kShareUnit - brdf - disp;
+}
+
 // Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
 // coordinates, never from the triangle (Chan 2002).
 // footprintScale 0: no footprint (unfiltered bump lookups).
 void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
-                 PixelSum& sum) {
+                 PixelSum& sum, ShareCounts& shares) {
   RayHit hit;
   if (!ctx.rays->intersect(ray, hit)) {
     sum.colour += ctx.scene->render.background;
+    addShare(shares, SampleRenderer::Background, 1.0f);
     return;
   }
   const PreparedObject& object = ctx.objects[hit.mesh];
@@ -88,10 +121,11 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   sum.T += r.T;
   sum.depth += hit.t;
   sum.hits += 1;
+  countSample(ctx, object, r.T, shares);
 }
 
 void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, int y, Image& film,
-                 int64_t& rays, int64_t& nonFinite) {
+                 int64_t& rays, int64_t& nonFinite, ShareCounts& shares) {
   const int spp = options.spp;
   const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
   const int rows = (spp + cols - 1) / cols;
@@ -106,7 +140,7 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
     const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
     const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
     const float filmX = static_cast<float>(x) + fx, filmY = static_cast<float>(y) + fy;
-    if (options.traceOnly) {
+    if (options.traceOnly) {  // no shading: no renderer to count either
       RayHit hit;
       if (ctx.rays->intersect(ctx.camera.generateRay(filmX, filmY), hit)) {
         sum.depth += hit.t;
@@ -114,7 +148,8 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
       }
       continue;
     }
-    traceSample(ctx, ctx.camera.generateRay(filmX, filmY), filmX, filmY, footprintScale, sum);
+    traceSample(ctx, ctx.camera.generateRay(filmX, filmY), filmX, filmY, footprintScale, sum,
+                shares);
   }
   rays += spp;
   const float inv = 1.0f / static_cast<float>(spp);
@@ -158,10 +193,13 @@ Image renderFrame(const RenderContext& ctx, const RenderOptions& options,
           for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
             if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
             int64_t rays = 0, nonFinite = 0;
+            ShareCounts shares{};
             for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
               for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
-                renderPixel(ctx, options, x, y, film, rays, nonFinite);
+                renderPixel(ctx, options, x, y, film, rays, nonFinite, shares);
             counters.rays.fetch_add(rays, std::memory_order_relaxed);
+            for (int k = 0; k < kSampleRenderers; ++k)
+              counters.shares[k].fetch_add(shares[k], std::memory_order_relaxed);
             if (nonFinite) counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
             progress.advance();
           }

@@ -98,6 +98,67 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   return ctx;
 }
 
+namespace {
+
+// What every displaced object of one frame shares: the view, the dicing settings and what is left
+// of the frame's micropolygon budget.
+struct FrameDicing {
+  const CameraSettings& view;
+  ScreenMetric screen;
+  DisplacementMode mode;
+  DicingSettings dicing;
+  size_t budget;
+};
+
+FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings) {
+  const RenderSettings& rs = ctx.scene->render;
+  FrameDicing d{settings,
+                ctx.camera.screen(),
+                ctx.algorithm == Algorithm::Displacement ? DisplacementMode::Full
+                                                         : DisplacementMode::ByTransition,
+                {},
+                static_cast<size_t>(rs.maxMicropolygons)};
+  d.dicing.dicingRate = rs.dicingRate;
+  d.dicing.metric = parseDicingMetric(rs.dicingMetric);
+  d.dicing.maxEdgeRate = 4096;
+  return d;
+}
+
+size_t meshBytes(const TessellatedMesh& m) {
+  return m.positions.capacity() * sizeof(Vec3) + m.indices.capacity() * sizeof(uint32_t) +
+         m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
+}
+
+// Dices and displaces object k for this frame; its grids go to `grids`, its figures to `stats`.
+void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryStats& stats,
+                    std::vector<TriangleGrid>& grids) {
+  const RenderSettings& rs = ctx.scene->render;
+  PreparedObject& object = ctx.objects[k];
+  object.mesh = {};
+  const MaterialRelief& relief = ctx.reliefs[object.material];
+  const ReliefDisplacement displacement(
+      relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
+      ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
+  d.dicing.maxMicropolygons = std::max<size_t>(d.budget, 1);
+  AdaptiveTessellation t =
+      tessellateAdaptive(object.surface, d.screen, d.dicing,
+                         faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
+                                    ctx.camera.pixelsPerRadian()),
+                         &displacement);
+  if (!t.warning.empty())
+    ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
+  stats.micropolygons += t.stats.micropolygons;
+  stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
+  stats.facesDiced += t.stats.facesDiced;
+  stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
+  d.budget = d.budget > t.stats.micropolygons ? d.budget - t.stats.micropolygons : 1;
+  stats.meshBytes += meshBytes(t.mesh);
+  object.mesh = std::move(t.mesh);
+  grids = std::move(t.grids);
+}
+
+}  // namespace
+
 FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settings,
                                 PrepareTimes& times) {
   ctx.camera = Camera(settings);
@@ -106,53 +167,17 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     stats.triangles = ctx.rays->numTriangles();
     return stats;
   }
-  const RenderSettings& rs = ctx.scene->render;
-  const DisplacementMode mode = ctx.algorithm == Algorithm::Displacement
-                                    ? DisplacementMode::Full
-                                    : DisplacementMode::ByTransition;
-  const ScreenMetric screen = ScreenMetric::lookAt(settings.position, settings.lookAt, settings.up,
-                                                   settings.fovY, settings.width, settings.height);
-  DicingSettings dicing;
-  dicing.dicingRate = rs.dicingRate;
-  dicing.metric = parseDicingMetric(rs.dicingMetric);
-  dicing.maxEdgeRate = 4096;
-  size_t budget = static_cast<size_t>(rs.maxMicropolygons);
-
+  FrameDicing d = frameDicing(ctx, settings);
   Timer tess;
   ctx.rays.reset();  // the previous frame's scene goes before this one's is built (peak memory)
   auto rays = std::make_unique<RayScene>();
   std::vector<std::vector<TriangleGrid>> grids(ctx.objects.size());
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
-    if (!object.displaced) {
-      if (object.mesh.numTriangles() == 0)
-        object.mesh = tessellateUniform(object.surface, rs.tessellationRate);
-      continue;
-    }
-    object.mesh = {};
-    const MaterialRelief& relief = ctx.reliefs[object.material];
-    const ReliefDisplacement displacement(
-        relief, mode, rs.transition, settings.position, ctx.camera.pixelsPerRadian(),
-        ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
-    dicing.maxMicropolygons = std::max<size_t>(budget, 1);
-    AdaptiveTessellation t =
-        tessellateAdaptive(object.surface, screen, dicing,
-                           faceDicing(object.surface, relief, mode, rs.transition,
-                                      settings.position, ctx.camera.pixelsPerRadian()),
-                           &displacement);
-    if (!t.warning.empty())
-      ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
-    stats.micropolygons += t.stats.micropolygons;
-    stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
-    stats.facesDiced += t.stats.facesDiced;
-    stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
-    budget = budget > t.stats.micropolygons ? budget - t.stats.micropolygons : 1;
-    const TessellatedMesh& m = t.mesh;
-    stats.meshBytes +=
-        m.positions.capacity() * sizeof(Vec3) + m.indices.capacity() * sizeof(uint32_t) +
-        m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
-    object.mesh = std::move(t.mesh);
-    grids[k] = std::move(t.grids);
+    if (object.displaced)
+      displaceObject(ctx, k, d, stats, grids[k]);
+    else if (object.mesh.numTriangles() == 0)
+      object.mesh = tessellateUniform(object.surface, ctx.scene->render.tessellationRate);
   }
   stats.tessellateSeconds = tess.seconds();
 

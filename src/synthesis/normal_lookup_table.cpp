@@ -169,23 +169,28 @@ Vec3 NormalLookupTable::lookup(Vec2 r) const {
   return normalFromXY(interpolate(Vec2(unwarp(r.x) * s, unwarp(r.y) * s)));
 }
 
+namespace {
+
+// The fractional node index t in [0, n - 1] where at(t), rising and linear between nodes, reaches
+// v; clamped to the ends.
+template <class At>
+float invertRising(const At& at, int n, float v) {
+  if (!(v > at(0))) return 0.0f;
+  if (!(v < at(n - 1))) return static_cast<float>(n - 1);
+  int lo = 0, hi = n - 1;
+  while (hi - lo > 1) {  // invariant at(lo) < v <= at(hi)
+    const int mid = (lo + hi) / 2;
+    (at(mid) < v ? lo : hi) = mid;
+  }
+  const float w = at(hi) - at(lo);
+  return static_cast<float>(lo) + (w > 0.0f ? (v - at(lo)) / w : 0.0f);
+}
+
+}  // namespace
+
 Vec2 NormalLookupTable::invert(const Vec3& m) const {
   // First coordinate: node x depends on i only and rises with i.
-  const auto xAt = [&](int i) { return nodes_[i].x; };
-  int lo = 0, hi = res_ - 1;
-  float tx;
-  if (!(m.x > xAt(0))) {
-    tx = 0.0f;
-  } else if (!(m.x < xAt(res_ - 1))) {
-    tx = static_cast<float>(res_ - 1);
-  } else {
-    while (hi - lo > 1) {  // invariant xAt(lo) < m.x <= xAt(hi)
-      const int mid = (lo + hi) / 2;
-      (xAt(mid) < m.x ? lo : hi) = mid;
-    }
-    const float w = xAt(hi) - xAt(lo);
-    tx = static_cast<float>(lo) + (w > 0.0f ? (m.x - xAt(lo)) / w : 0.0f);
-  }
+  const float tx = invertRising([&](int i) { return nodes_[i].x; }, res_, m.x);
   // Second coordinate: y along the column blended at tx rises with j.
   const int i = std::min(static_cast<int>(tx), res_ - 2);
   const float a = tx - i;
@@ -193,20 +198,7 @@ Vec2 NormalLookupTable::invert(const Vec3& m) const {
     const Vec2* row = &nodes_[static_cast<size_t>(j) * res_ + i];
     return row[0].y + a * (row[1].y - row[0].y);
   };
-  float ty;
-  if (!(m.y > yAt(0))) {
-    ty = 0.0f;
-  } else if (!(m.y < yAt(res_ - 1))) {
-    ty = static_cast<float>(res_ - 1);
-  } else {
-    lo = 0, hi = res_ - 1;
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      (yAt(mid) < m.y ? lo : hi) = mid;
-    }
-    const float w = yAt(hi) - yAt(lo);
-    ty = static_cast<float>(lo) + (w > 0.0f ? (m.y - yAt(lo)) / w : 0.0f);
-  }
+  const float ty = invertRising(yAt, res_, m.y);
   const float s = static_cast<float>(res_ - 1);
   return Vec2(warp(tx / s), warp(ty / s));
 }

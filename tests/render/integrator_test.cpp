@@ -61,6 +61,11 @@ TEST(Integrator, FlatPlaneUnderDirectionalLightHasExactIntensity) {
   const Image img = renderFrame(ctx, {scene.camera.spp, 7, false}, counters);
   ASSERT_TRUE(img.allFinite());
   EXPECT_EQ(counters.rays.load(), 48 * 32 * 3);
+  // No relief and the plane fills the view: every sample is smooth shading.
+  for (int k = 0; k < kSampleRenderers; ++k)
+    EXPECT_EQ(counters.shares[k].load(),
+              k == static_cast<int>(SampleRenderer::Smooth) ? 48 * 32 * 3 * kShareUnit : 0)
+        << kSampleRendererNames[k];
   const Vec3 expected = scene.materials[0].kd * 1.5f * 0.8f;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
@@ -68,6 +73,27 @@ TEST(Integrator, FlatPlaneUnderDirectionalLightHasExactIntensity) {
       EXPECT_NEAR(img.at(x, y, img.channelIndex("normal.Z")), 1.0f, 1e-6f);
       EXPECT_GT(img.at(x, y, img.channelIndex("depth.Z")), 4.9f);
     }
+}
+
+// A relief plane seen whole by one fixed renderer: its samples and the background's make up all
+// the samples, exactly.
+TEST(Integrator, SampleSharesOfAFixedRendererAndTheBackground) {
+  Material m;
+  m.relief = {testing::noiseLevel(0.01f, 4.0f)};
+  Scene scene = testing::planeScene(testing::writePlaneObj("shares", 1.0f, 0.0f, 4.0f), "bump", m,
+                                    Vec3(0.0f, 0.3f, -1.0f), "shares");
+  scene.camera.position = {0.0f, -3.0f, 3.0f};
+  scene.camera.lookAt = Vec3(0.0f);
+  scene.camera.width = 32, scene.camera.height = 24, scene.camera.spp = 2;
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderCounters counters;
+  renderFrame(ctx, {scene.camera.spp, 1, false}, counters);
+  const int64_t bump = counters.shares[static_cast<int>(SampleRenderer::Bump)].load();
+  const int64_t background = counters.shares[static_cast<int>(SampleRenderer::Background)].load();
+  EXPECT_GT(bump, 0);
+  EXPECT_GT(background, 0);
+  EXPECT_EQ(bump + background, counters.rays.load() * kShareUnit);
 }
 
 TEST(Integrator, LightFromBehindThePlaneGivesAmbientOnly) {

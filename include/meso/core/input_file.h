@@ -6,9 +6,14 @@
 #include <filesystem>
 #include <string>
 
+#include <sys/types.h>
+
 namespace meso {
 
 // Default size limits of inputs: scenes are text, meshes and images can be large.
+// "a folder", "a FIFO", "a symbolic link", ...: what a file of this st_mode is, for messages.
+const char* fileTypeName(mode_t mode);
+
 inline constexpr uint64_t kMaxSceneBytes = uint64_t(64) << 20;
 inline constexpr uint64_t kMaxMeshBytes = uint64_t(4) << 30;
 inline constexpr uint64_t kMaxImageBytes = uint64_t(4) << 30;

@@ -4,6 +4,7 @@
 #include "meso/core/image.h"
 #include "meso/render/render_context.h"
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <exception>
@@ -31,8 +32,22 @@ struct Interrupted : std::exception {
   const char* what() const noexcept override { return "interrupted"; }
 };
 
+// Who shaded the samples (--stats "sample_shares"): a sample that misses is background; one on an
+// object without relief is smooth; one on relief counts for the algorithm asked for, or, with auto,
+// is split by the transition weights of its finest visible level (DESIGN.md section 3): brdf,
+// redistribution (1 - brdf) (1 - disp) and displacement (1 - brdf) disp.
+enum class SampleRenderer { Background, Smooth, Brdf, Bump, Redistribution, Displacement };
+inline constexpr int kSampleRenderers = 6;
+inline constexpr std::array<const char*, kSampleRenderers> kSampleRendererNames = {
+    "background", "smooth", "brdf", "bump", "redistribution", "displacement"};
+// Samples are counted in units of 1 / kShareUnit (integers: the sums are exact in any order).
+inline constexpr int64_t kShareUnit = 1 << 16;
+
 struct RenderCounters {
   std::atomic<int64_t> rays{0};
+  // Per SampleRenderer, in units of 1 / kShareUnit samples; they sum to rays * kShareUnit (none
+  // are counted with RenderOptions::traceOnly).
+  std::array<std::atomic<int64_t>, kSampleRenderers> shares{};
   // Film values that came out NaN or infinite and were written as 0 instead: always 0 unless meso
   // has a bug (the renderer's own check; the CLI warns and --stats reports it).
   std::atomic<int64_t> nonFinite{0};

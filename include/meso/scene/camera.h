@@ -1,6 +1,9 @@
-// The pinhole camera: rays through film positions, and the pixel scale the transition needs.
+// The pinhole camera: rays through film positions, and the pixel scale the transition needs. Its
+// frame is the ScreenMetric that dicing measures pixels with (geometry/adaptive_tessellation.h):
+// one pinhole model for rays and micropolygons.
 #pragma once
 
+#include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/scene/scene.h"
 
@@ -18,11 +21,12 @@ class Camera {
   float pixelsPerRadian() const { return pixelsPerRadian_; }
   Vec3 position() const { return settings_.position; }
   const CameraSettings& settings() const { return settings_; }
+  // The camera frame and field of view, as dicing sees them.
+  const ScreenMetric& screen() const { return screen_; }
 
  private:
   CameraSettings settings_;
-  Vec3 forward_, right_, up_;  // orthonormal camera frame
-  float tanHalfFovY_;
+  ScreenMetric screen_;  // eye, orthonormal forward/right/up, tan(fov / 2), size in pixels
   float pixelsPerRadian_;
 };
 
