@@ -281,6 +281,38 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
   return fp;
 }
 
+namespace {
+
+// The local model at normal N: no relief, or --normals facet.
+ShadeResult shadeLocalAt(const RenderContext& ctx, const Material& material, const Vec3& P,
+                         const Vec3& N, const Vec3& V, const LightShadows* shadows,
+                         const Vec3& algorithm) {
+  ShadeResult r;
+  r.normal = N;
+  r.colour = shadeLocal(material, ctx.scene->lights, P, r.normal, V, shadows);
+  r.algorithm = algorithm;
+  return r;
+}
+
+LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object,
+                          const SurfacePoint& sp, const Vec3& V, const Footprint* footprint,
+                          const LevelTransitions* transitions, MetricPosition metric,
+                          const LightShadows* shadows) {
+  return {ctx,
+          ctx.scene->materials[object.material],
+          ctx.reliefs[object.material],
+          sp,
+          V,
+          glm::length(sp.P - ctx.camera.position()),
+          object.displaced,
+          footprint,
+          transitions,
+          metric,
+          shadows};
+}
+
+}  // namespace
+
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                          const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal,
                          const Footprint* footprint, const Vec3* limitP,
@@ -291,35 +323,16 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   // side).
   const bool back = glm::dot(sp.N, V) < 0.0f;
   LevelFrame frame{sp.Pu, sp.Pv, back ? -sp.N : sp.N};
-  if (relief.levels.empty() && !relief.synthesis) {
-    ShadeResult r;
-    r.normal = frame.N;
-    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V, shadows);
-    r.algorithm = algorithm_colour::kSmooth;
-    return r;
-  }
-  if (facetNormal && ctx.algorithm == Algorithm::Displacement && object.displaced) {
+  if (relief.levels.empty() && !relief.synthesis)
+    return shadeLocalAt(ctx, material, sp.P, frame.N, V, shadows, algorithm_colour::kSmooth);
+  if (facetNormal && ctx.algorithm == Algorithm::Displacement && object.displaced)
     // --normals facet: the micropolygon's own normal, for comparison with the Blinn normal.
-    ShadeResult r;
-    r.normal = glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal;
-    r.colour = shadeLocal(material, ctx.scene->lights, sp.P, r.normal, V, shadows);
-    r.algorithm = algorithm_colour::kDisplacement;
-    return r;
-  }
-  if (relief.levels.empty()) {  // an NDF alone
-    const LevelContext c{ctx,
-                         material,
-                         relief,
-                         sp,
-                         V,
-                         glm::length(sp.P - ctx.camera.position()),
-                         object.displaced,
-                         footprint,
-                         nullptr,
-                         {},
-                         shadows};
-    return shadeBottom(c, frame, algorithm_colour::kSmooth, shadows);
-  }
+    return shadeLocalAt(ctx, material, sp.P,
+                        glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal, V, shadows,
+                        algorithm_colour::kDisplacement);
+  if (relief.levels.empty())  // an NDF alone
+    return shadeBottom(levelContext(ctx, object, sp, V, footprint, nullptr, {}, shadows), frame,
+                       algorithm_colour::kSmooth, shadows);
   // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
   // coordinates), exactly as the tessellator raised the geometry.
   const SurfacePoint limit{limitP ? *limitP : sp.P, sp.Pu, sp.Pv, sp.N, sp.uv};
@@ -329,17 +342,8 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
         relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
         ctx.scene->render.transition, DisplacementMode::ByTransition,
         ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
-  const LevelContext c{ctx,
-                       material,
-                       relief,
-                       sp,
-                       V,
-                       glm::length(sp.P - ctx.camera.position()),
-                       object.displaced,
-                       footprint,
-                       &transitions,
-                       relief.metricAt(metricOf(sp.Pu, sp.Pv)),
-                       shadows};
+  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
+                                      relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows)
                                           : shadeFixed(c, ctx.algorithm, frame);
 }
