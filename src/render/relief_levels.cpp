@@ -187,7 +187,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
-  const size_t n = r.levels.size();
+  const size_t n = shapeless.build ? r.levels.size() : 0;
   std::vector<LevelTables> reversed;
   for (size_t k = 0; k < n; ++k) {
     const TileRelief tile(r.levels[n - 1 - k], lengthPerU);

@@ -79,6 +79,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   // shadows, displacement traces them.
   settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump &&
                      ctx.algorithm != Algorithm::Displacement;
+  settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
     bool used = false;

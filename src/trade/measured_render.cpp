@@ -60,6 +60,7 @@ MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
   const Scene scene = sceneFor(base, c);
   MeasuredRender out;
   resetPeakOrWarn(options.warnedRss);
+  const double before = currentRssMib();
   PrepareTimes prep;
   RenderContext ctx = prepareRenderContext(scene, prep, false);
   RenderCounters counters;
@@ -76,6 +77,7 @@ MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
     if (options.keepFilms) out.films.push_back(std::move(film));
   }
   out.peakRssMib = peakRssMib();
+  out.addedMib = std::max(0.0, out.peakRssMib - before);
   for (const std::string& w : ctx.warnings)
     std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());
   return out;

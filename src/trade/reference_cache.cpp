@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when the renderer changes what a reference looks like, or the file layout changes.
-constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kFormatVersion = 3;  // 3: addedMib
 constexpr char kMagic[8] = {'M', 'E', 'S', 'O', 'R', 'E', 'F', '1'};
 
 struct Header {
@@ -26,7 +26,7 @@ struct Header {
   int32_t width, height, frames;
   uint64_t key;
   uint64_t micropolygons;
-  double seconds, peakRssMib, geometryMib;
+  double seconds, peakRssMib, geometryMib, addedMib;
 };
 
 void hashFile(Hasher& h, const fs::path& file) {
@@ -103,6 +103,7 @@ std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* w
   ReferenceRender r;
   r.width = h.width, r.height = h.height;
   r.seconds = h.seconds, r.peakRssMib = h.peakRssMib, r.geometryMib = h.geometryMib;
+  r.addedMib = h.addedMib;
   r.micropolygons = h.micropolygons;
   const size_t n = static_cast<size_t>(h.width) * static_cast<size_t>(h.height) * 4;
   r.frames.assign(static_cast<size_t>(h.frames), std::vector<float>(n));
@@ -136,6 +137,7 @@ void ReferenceCache::store(uint64_t key, const ReferenceRender& r) const {
   h.key = key;
   h.micropolygons = r.micropolygons;
   h.seconds = r.seconds, h.peakRssMib = r.peakRssMib, h.geometryMib = r.geometryMib;
+  h.addedMib = r.addedMib;
   append(&h, sizeof h);
   for (const std::vector<float>& f : r.frames) append(f.data(), f.size() * sizeof(float));
   const uint64_t sum = checksum(r.frames);

@@ -14,6 +14,7 @@ namespace {
 ReferenceRender toCache(const MeasuredRender& r) {
   ReferenceRender out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.addedMib = r.addedMib;
   out.micropolygons = r.micropolygons;
   for (size_t f = 0; f < r.beauty.size(); ++f) {
     out.width = r.beauty[f].width, out.height = r.beauty[f].height;
@@ -29,6 +30,7 @@ ReferenceRender toCache(const MeasuredRender& r) {
 MeasuredRender fromCache(const ReferenceRender& r) {
   MeasuredRender out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
+  out.addedMib = r.addedMib;
   out.micropolygons = r.micropolygons;
   for (const std::vector<float>& rgbz : r.frames) {
     const size_t n = rgbz.size() / 4;

@@ -39,10 +39,10 @@ std::string row(const TradeResult& r) {
   // D is left empty where the algorithm does not use it (displacement alone).
   const std::string D = c.kind == Kind::Hybrid ? formatNumber(c.D) : "";
   char line[640];
-  std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f\n",
+  std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f\n",
                 c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, r.seconds,
                 r.peakRssMib, r.micropolygons, r.errors.meanAbsError, r.errors.rmse,
-                r.errors.intensityErrorPct, r.geometryMib);
+                r.errors.intensityErrorPct, r.geometryMib, r.addedMib);
   return line;
 }
 
@@ -70,11 +70,13 @@ std::string comparison(const TradeResult& h, const TradeResult& d) {
   std::snprintf(
       buf, sizeof buf,
       "; cheapest displacement-only as accurate (dicing %g px, %d spp) %.3g s, rmse %.4g: "
-      "speedup %.2fx%s; hybrid / displacement at equal rmse: time %.3gx, peak memory %.3gx, "
-      "geometry memory %.3gx, micropolygons %.3gx, spp %.3gx",
+      "speedup %.2fx%s; hybrid / displacement at equal rmse: time %.3gx, peak memory %.3gx "
+      "(%.3gx of what each added above the process's baseline), geometry memory %.3gx, "
+      "micropolygons %.3gx, spp %.3gx",
       d.config.dicingRate, d.config.spp, d.seconds, d.errors.rmse, ratio(d.seconds, h.seconds),
       d.seconds < h.seconds ? " (the hybrid is slower)" : "", ratio(h.seconds, d.seconds),
-      ratio(h.peakRssMib, d.peakRssMib), ratio(h.geometryMib, d.geometryMib),
+      ratio(h.peakRssMib, d.peakRssMib), ratio(h.addedMib, d.addedMib),
+      ratio(h.geometryMib, d.geometryMib),
       ratio(static_cast<double>(h.micropolygons), static_cast<double>(d.micropolygons)),
       ratio(h.config.spp, d.config.spp));
   return buf;
@@ -91,7 +93,7 @@ std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStu
   for (const TradeResult& r : results)
     if (r.config.defaultHybrid) s += "# default_hybrid: " + r.config.name + "\n";
   s += "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-       "mean_intensity_error_pct,geometry_mib\n";
+       "mean_intensity_error_pct,geometry_mib,peak_added_mib\n";
   for (const TradeResult& r : results) s += row(r);
   return s;
 }

@@ -38,8 +38,8 @@ std::vector<TradeResult> referenceRows(const ReferenceStudy& study) {
                           l.dicingRate,
                           false};
     rows.push_back({c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
-                    l.render.geometryMib,
-                    compareFrames(l.render.beauty, study.reference().beauty)});
+                    l.render.geometryMib, compareFrames(l.render.beauty, study.reference().beauty),
+                    l.render.addedMib});
   }
   return rows;
 }
@@ -84,7 +84,8 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
                              r.peakRssMib,
                              r.micropolygons,
                              r.geometryMib,
-                             compareFrames(r.beauty, reference.beauty)};
+                             compareFrames(r.beauty, reference.beauty),
+                             r.addedMib};
     study.results.push_back(result);
     if (!settings.quiet) std::fputs(progressLine(result, i, configs.size()).c_str(), stderr);
     if (c.defaultHybrid) study.defaultHybrid = std::move(r);

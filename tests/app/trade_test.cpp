@@ -115,17 +115,19 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(
       rows[0],
       "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-      "mean_intensity_error_pct,geometry_mib");
+      "mean_intensity_error_pct,geometry_mib,peak_added_mib");
   ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 4u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
     const std::vector<std::string> f = split(rows[i], ',');
-    ASSERT_EQ(f.size(), 12u) << rows[i];
-    for (int c : {5, 6, 8, 9, 10, 11}) {
+    ASSERT_EQ(f.size(), 13u) << rows[i];
+    for (int c : {5, 6, 8, 9, 10, 11, 12}) {
       const double v = std::stod(f[c]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
     }
     EXPECT_GT(std::stod(f[5]), 0.0) << rows[i];  // seconds
+    // What the configuration added above the process's resident memory is part of its peak.
+    EXPECT_LE(std::stod(f[12]), std::stod(f[6]) + 0.1) << rows[i];
     byName[f[0]] = f;
   }
   ASSERT_TRUE(byName.count("reference"));
@@ -136,6 +138,9 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][8]), 0.0);
   EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][9]), 0.0);
   EXPECT_GT(std::stod(byName["reference"][11]), 0.0);  // geometry memory of displaced micropolygons
+  // Rendering the reference needs memory of its own (its micropolygons, its film), above the
+  // process's baseline.
+  EXPECT_GT(std::stod(byName["reference"][12]), 0.0) << rows[1];
   ASSERT_TRUE(byName.count("hybrid_D2_r1_spp4"));
   EXPECT_EQ(byName["hybrid_D2_r1_spp4"][1], "auto");
   ASSERT_TRUE(byName.count("hybrid_D2_r2_spp1"));  // the hybrid's dicing rate is swept too
@@ -165,7 +170,8 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   const std::string x = "[0-9.e+-]+x";
   EXPECT_TRUE(std::regex_search(
       r.output, std::regex("hybrid / displacement at equal rmse: time " + x + ", peak memory " + x +
-                           ", geometry memory " + x + ", micropolygons " + x + ", spp " + x)))
+                           " \\(" + x + " of what each added above the process's baseline\\), " +
+                           "geometry memory " + x + ", micropolygons " + x + ", spp " + x)))
       << r.output;
   // One reference level cannot say how converged it is: the warning says so.
   EXPECT_NE(r.output.find("reference NOT converged: only one level"), std::string::npos)

@@ -25,6 +25,10 @@ struct TableSettings {
   // its own key (the level's key with a shadows flag), so the unshadowed tables keep theirs.
   bool shadows = false;
   ShadowingResolution shadowing;
+  // false: build and load no tables at all, for renderers that read none (bump and displacement
+  // shade with Blinn normals): only what a frame needs is modelled. Metric classes are still
+  // listed.
+  bool build = true;
 };
 
 struct LevelTables {

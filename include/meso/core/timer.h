@@ -19,5 +19,7 @@ class Timer {
 
 // Peak resident set size of this process in MiB (VmHWM), 0 if unknown.
 double peakRssMib();
+// Resident memory now (VmRSS), MiB; 0 where /proc/self/status is not readable.
+double currentRssMib();
 
 }  // namespace meso

@@ -95,6 +95,7 @@ struct MetricPosition {
 struct MaterialRelief {
   std::vector<ReliefLevel> levels;
   std::vector<MetricTables> metrics;  // sorted by lengthPerU; one class when the metric is constant
+  // None when the renderer reads no tables (TableSettings::build false: bump and displacement).
   const LevelTables& tables(size_t level, int metric = 0) const {
     return metrics[metric].levels[level];
   }

@@ -30,6 +30,9 @@ RgbImage beautyOf(const Image& film);
 struct MeasuredRender {
   double seconds = 0.0;
   double peakRssMib = 0.0;
+  // The peak above the resident memory when the configuration started: what it needed itself,
+  // without the process's libraries, the reference images and the other state trade holds.
+  double addedMib = 0.0;
   size_t micropolygons = 0;  // the most of any frame
   double geometryMib = 0.0;  // the most of any frame
   float coarsening = 1.0f;   // > 1: the micropolygon cap coarsened some frame's dicing

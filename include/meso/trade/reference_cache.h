@@ -23,6 +23,7 @@ struct ReferenceRender {
   double seconds = 0.0;
   double peakRssMib = 0.0;
   double geometryMib = 0.0;
+  double addedMib = 0.0;
   size_t micropolygons = 0;
 };
 

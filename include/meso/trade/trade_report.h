@@ -14,7 +14,8 @@ namespace meso::trade {
 // trade.csv. Comment lines first: the reference's convergence, one line per level, and the Pareto
 // front ("# pareto_front: NAME;NAME;..." by time) and "# default_hybrid: NAME"; then the header
 // name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,
-// mean_intensity_error_pct,geometry_mib and one row per result (D empty for displacement alone).
+// mean_intensity_error_pct,geometry_mib,peak_added_mib and one row per result (D empty for
+// displacement alone).
 std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStudy& study);
 
 // The default hybrid against the cheapest displacement-only configuration at least as accurate

@@ -15,6 +15,7 @@ struct TradeResult {
   size_t micropolygons = 0;  // the most of any frame
   double geometryMib = 0.0;  // displaced meshes and their Embree scene, the most of any frame
   ImageErrors errors;        // against the reference, averaged over the frames
+  double addedMib = 0.0;     // peakRssMib above the resident memory at the start (MeasuredRender)
 };
 
 }  // namespace meso::trade
