@@ -114,8 +114,6 @@ std::span<const float> Redistribution::phiCdf(int k) const {
   return {phiCdfs_.data() + static_cast<size_t>(k) * len, len};
 }
 
-int Redistribution::phiBinOf(float phi) const { return layout_.phiBin(phi); }
-
 CdfMix Redistribution::thetaCdfAt(const SliceMix& m, float phi) const {
   CdfMix mix;
   if (variant_ == RedistributionVariant::Separable) {

@@ -69,15 +69,14 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
   return I;
 }
 
-namespace {
-
-// The view-aligned frame of tile coordinates (macro normal +z) for a tile-space direction v.
 ViewFrame tileViewFrame(const Vec3& v) {
   const float len = glm::length(v);
   return makeViewFrame(Vec3(0.0f, 0.0f, 1.0f),
                        len > 0.0f && std::isfinite(len) ? v / len : Vec3(0, 0, 1),
                        Vec3(1.0f, 0.0f, 0.0f));
 }
+
+namespace {
 
 Vec3 normalizedOr(const Vec3& v, const Vec3& fallback) {
   const float len = glm::length(v);
@@ -95,30 +94,6 @@ Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V
   const NormalAngles out =
       r.partial(f.thetaV, std::atan2(f.T.y, f.T.x), disp, anglesOf(toFrame(f, nTile)));
   return normalizedOr(m.normalToWorld(fromFrame(f, normalOf(out))), m.N);
-}
-
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
-               const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w) {
-  Vec3 I = material.ka;
-  const ViewFrame f = tileViewFrame(m.toTile(V));
-  const float phiV = std::atan2(f.T.y, f.T.x);  // the view's azimuth about the relief's axes
-  for (const Light& light : lights) {
-    const LightSample s = sampleLight(light, P);
-    const Vec3 lt = m.toTile(s.L);
-    const float len = glm::length(lt);
-    if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
-    const Vec3 l = toFrame(f, lt / len);
-    const float thetaL = std::acos(std::min(l.z, 1.0f));
-    const float phiVL = -std::atan2(l.y, l.x);  // V has azimuth 0 in the frame: phi_V - phi_L
-    BrdfTable::Value v = t0.lookup(f.thetaV, phiV, thetaL, phiVL);
-    if (w > 0.0f && &t1 != &t0) {
-      const BrdfTable::Value v1 = t1.lookup(f.thetaV, phiV, thetaL, phiVL);
-      v.diffuse += w * (v1.diffuse - v.diffuse);
-      v.specular += w * (v1.specular - v.specular);
-    }
-    I += s.radiance * (material.kd * (v.diffuse * len) + material.ks * v.specular);
-  }
-  return I;
 }
 
 }  // namespace meso

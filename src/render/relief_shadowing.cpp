@@ -10,20 +10,16 @@
 namespace meso {
 namespace {
 
-// The angles a table is looked up at, as shadeBrdf (level_shading.cpp) computes them.
+// The angles the BRDF and shadowing tables are looked up at.
 struct TileAngles {
   ViewFrame f;
   float phiV = 0.0f;
 };
 
 TileAngles tileAngles(const TileMap& m, const Vec3& V) {
-  const Vec3 vt = m.toTile(V);
-  const float len = glm::length(vt);
   TileAngles a;
-  a.f = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f),
-                      len > 0.0f && std::isfinite(len) ? vt / len : Vec3(0, 0, 1),
-                      Vec3(1.0f, 0.0f, 0.0f));
-  a.phiV = std::atan2(a.f.T.y, a.f.T.x);
+  a.f = tileViewFrame(m.toTile(V));
+  a.phiV = std::atan2(a.f.T.y, a.f.T.x);  // the view's azimuth about the relief's axes
   return a;
 }
 

@@ -72,10 +72,10 @@ Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped,
   const TileMap m = brdfTileMap(c, shaped);
   const BrdfTable& t0 = c.relief.tables(i, c.metric.k0).brdf;
   const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
-  if (!shadows)
-    return shadeBrdf(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w);
-  return shadeBrdfShadowed(c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w,
-                           *shadows, shadowingLevels(c, i, c.relief.levels.size()));
+  return shadeBrdfShadowed(
+      c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w,
+      shadows ? *shadows : LightShadows{},
+      shadows ? shadowingLevels(c, i, c.relief.levels.size()) : ShadowingLevels{});
 }
 
 // The level's redistributed normal on frame f. Each class's map is exact in distribution; near the

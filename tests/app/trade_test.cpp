@@ -126,8 +126,10 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
     }
     EXPECT_GT(std::stod(f[5]), 0.0) << rows[i];  // seconds
-    // What the configuration added above the process's resident memory is part of its peak.
-    EXPECT_LE(std::stod(f[12]), std::stod(f[6]) + 0.1) << rows[i];
+    // What the configuration added above the process's resident memory is its peak without the
+    // process's baseline (its libraries alone are tens of MiB), so clearly less than the peak.
+    EXPECT_GE(std::stod(f[12]), 0.0) << rows[i];
+    EXPECT_LT(std::stod(f[12]), std::stod(f[6]) - 20.0) << rows[i];
     byName[f[0]] = f;
   }
   ASSERT_TRUE(byName.count("reference"));

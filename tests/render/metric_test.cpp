@@ -118,6 +118,21 @@ TEST(Metric, TablesFollowTheLengthPerU) {
   EXPECT_LT(diff, 1e-3) << "summed over 16 slices of mass 1";
 }
 
+// Only what a frame needs: bump and displacement read no appearance tables, so none are built or
+// loaded (the metric classes are still listed); the table renderers get one set per class.
+TEST(Metric, OnlyTableRenderersGetTables) {
+  const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  for (const char* algorithm : {"bump", "displacement", "brdf"}) {
+    const Scene s = metricScene(algorithm, std::string("only_") + algorithm, unit, 2.0f, 0.03f);
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, false);
+    ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u) << algorithm;
+    const bool tables = std::string(algorithm) == "brdf";
+    EXPECT_EQ(ctx.reliefs[0].metrics[0].levels.size(), tables ? 1u : 0u) << algorithm;
+    EXPECT_EQ(times.tablesBuilt + times.tablesFromCache, tables ? 1 : 0) << algorithm;
+  }
+}
+
 // Stretched (|P_u| = 3 |P_v|) and sheared (45 degrees) uv on the same world relief as unit-speed
 // uv: the redistribution renderer, conjugated by the frame's affine map, stays close to the
 // unit-speed image of the same relief drawn with its uv rotated (the reliefs differ, so only a

@@ -47,7 +47,6 @@ class Redistribution {
   NormalAngles mapBetween(const SliceMix& from, const SliceMix& to, NormalAngles n) const;
   std::span<const float> thetaCdf(int k, int phiBin) const;
   std::span<const float> phiCdf(int k) const;
-  int phiBinOf(float phi) const;
   // The theta_N CDF at azimuth phi of a slice mix: the marginal (separable), or the conditionals
   // of the two phi bins whose centres bracket phi, blended across their edge (conditional).
   CdfMix thetaCdfAt(const SliceMix& m, float phi) const;

@@ -55,12 +55,9 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
 Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V, float disp,
                         const Vec3& nBump);
 
-// The BRDF renderer on a surface of any metric: V and each L go to tile coordinates by the
-// area-preserving map `m` (makeTileMap with areaLengthPerU), the tables of the two metric classes
-// around the surface's length per unit of u are looked up there and mixed by w (t1 may equal t0),
-// and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N.
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
-               const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1, float w);
+// The view-aligned frame of tile coordinates (macro normal +z) for a tile-space direction v (not
+// necessarily unit; zero or non-finite: straight up).
+ViewFrame tileViewFrame(const Vec3& v);
 
 // phi_{V-L} of eq. (2) in [0, pi], or a negative value when V_n or L_n vanishes.
 float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv);

@@ -35,10 +35,13 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
                              const Vec3& V, const ShadowingLevels& levels,
                              const LightShadows* macro = nullptr);
 
-// shadeBrdf (level_shading.h, the TileMap overload) with each light's diffuse and specular terms
-// scaled by `macro` times the self-shadowing of `levels` (macro first, then each level in order):
-// the BRDF and the shadowing tables looked up at one set of angles per light, so {1, 1} and no
-// levels give shadeBrdf's value up to the order of float sums.
+// The BRDF renderer on a surface of any metric: V and each L go to tile coordinates by the
+// area-preserving map `m` (makeTileMap with areaLengthPerU), the tables of the two metric classes
+// around the surface's length per unit of u are looked up there and mixed by w (t1 may equal t0),
+// and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N. Each light's
+// diffuse and specular terms are scaled by `macro` times the self-shadowing of `levels` (macro
+// first, then each level in order), looked up at the same angles; without shadows, all-lit macro
+// shadows ({}) and no levels.
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
                        float w, const LightShadows& macro, const ShadowingLevels& levels);
