@@ -91,6 +91,11 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                    "render.dicing_metric)")
       ->check(CLI::IsMember({"isotropic", "projected"}));
   render
+      ->add_option("--relief-samples", o.reliefSamples,
+                   "Full displacement: least micropolygon edges per shortest relief wavelength, "
+                   "also below a pixel; 0 = pixel dicing only (overrides render.relief_samples)")
+      ->check(CLI::Range(0.0f, 16.0f));
+  render
       ->add_option("--max-micropolygons", o.maxMicropolygons,
                    "Cap per frame; a frame over it is diced coarser, with a warning (overrides "
                    "render.max_micropolygons)")
@@ -295,6 +300,11 @@ void addTradeCommand(CLI::App& cli) {
       ->capture_default_str();
   t->add_option("--dicing-rates", o.settings.grid.dicingRates,
                 "Dicing rates (pixels) of the displacement-only configurations")
+      ->delimiter(',')
+      ->capture_default_str();
+  t->add_option("--relief-samples-values", o.settings.grid.reliefSamples,
+                "render.relief_samples of the displacement-only configurations (0: pixel dicing "
+                "only)")
       ->delimiter(',')
       ->capture_default_str();
   t->add_option(

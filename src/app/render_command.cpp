@@ -36,6 +36,7 @@ void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
   if (o.height) scene.camera.height = *o.height;
   if (o.dicingRate) scene.render.dicingRate = *o.dicingRate;
   if (o.dicingMetric) scene.render.dicingMetric = *o.dicingMetric;
+  if (o.reliefSamples) scene.render.reliefSamples = *o.reliefSamples;
   if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
   if (o.normals) scene.render.normals = *o.normals;
   if (o.noShadows) scene.render.shadows = false;

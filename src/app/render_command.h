@@ -25,6 +25,7 @@ struct RenderCommandOptions {
   std::optional<int> width, height;
   std::optional<float> dicingRate;
   std::optional<std::string> dicingMetric;
+  std::optional<float> reliefSamples;
   std::optional<int64_t> maxMicropolygons;
   std::optional<ShadingNormals> normals;
   std::optional<float> transitionD, transitionEps;

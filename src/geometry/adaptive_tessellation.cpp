@@ -125,6 +125,7 @@ struct EdgeMeasure {
   float density = 0.0f;         // isotropic metric: largest pixelDensity of its points in view
   float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
   int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
+  int floor = 0;                // least rate the diced neighbours ask for, 0 = none
 };
 
 void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDicing& faces) {
@@ -144,8 +145,13 @@ void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDi
   if (!faces.texelCap.empty() && faces.texelCap.size() != n)
     throw Error("texelCap has " + std::to_string(faces.texelCap.size()) + " entries for " +
                 std::to_string(n) + " faces");
+  if (!faces.texelFloor.empty() && faces.texelFloor.size() != n)
+    throw Error("texelFloor has " + std::to_string(faces.texelFloor.size()) + " entries for " +
+                std::to_string(n) + " faces");
   for (int cap : faces.texelCap)
     if (cap < 0) throw Error("texel caps must be 0 (none) or positive rates");
+  for (int floor : faces.texelFloor)
+    if (floor < 0) throw Error("texel floors must be 0 (none) or positive rates");
 }
 
 // A face is in view when the box of its patch points, grown by the displacement bound, is: the
@@ -241,6 +247,7 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
       const int cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
       uncapped = uncapped || cap == 0;
       m.cap = std::max(m.cap, cap);
+      if (!faces.texelFloor.empty()) m.floor = std::max(m.floor, faces.texelFloor[f]);
     }
     if (uncapped) m.cap = 0;
     if (m.kind != EdgeMeasure::Culled)
@@ -264,6 +271,7 @@ int edgeRate(const EdgeMeasure& m, const DicingSettings& s, float coarsening) {
   if (m.kind == EdgeMeasure::Diced) {
     const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
     rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), limit));
+    rate = std::max(rate, toRate(static_cast<float>(m.floor) / coarsening, limit));
   }
   return rate;
 }

@@ -5,6 +5,7 @@
 #include "meso/relief/level_frames.h"
 #include "meso/render/shading.h"
 #include "meso/render/transition.h"
+#include "meso/core/rng.h"
 
 #include <tbb/parallel_for.h>
 
@@ -112,6 +113,12 @@ Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
 
 namespace {
 
+// Masking decides whether sub-pixel relief must be resolved: where no facet of the relief hides
+// another one at this view, under-resolved micropolygons shaded with the relief's own normals see
+// its normals with their true distribution f. For Gaussian slopes of rms sigma per direction,
+// Smith's Lambda(a), a = cot(theta_V) / (sqrt(2) sigma), is below 2e-4 for cot(theta_V) >= 3 sigma.
+constexpr float kMaskingSlopes = 3.0f;
+
 // Distance from p to the box [lo, hi] (0 inside).
 float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
   const Vec3 d = glm::max(glm::max(lo - p, p - hi), Vec3(0.0f));
@@ -120,42 +127,85 @@ float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
 
 }  // namespace
 
+float reliefSlopeRmsPerU(const MaterialRelief& relief) {
+  double sum = 0.0;
+  for (const ReliefLevel& level : relief.levels) {
+    // 1024 points spread over 64 shortest wavelengths (or one period of a height table).
+    const bool table = dynamic_cast<const HeightTable*>(level.source.get()) != nullptr;
+    const float span =
+        table && level.scale > 0.0f ? 1.0f / level.scale : 64.0f * level.wavelength();
+    Rng rng(0x51073);
+    double uu = 0.0, vv = 0.0;
+    constexpr int kPoints = 1024;
+    for (int k = 0; k < kPoints; ++k) {
+      const Vec2 B = level.derivatives(Vec2(rng.uniform(), rng.uniform()) * span);
+      uu += static_cast<double>(B.x) * B.x;
+      vv += static_cast<double>(B.y) * B.y;
+    }
+    sum += std::max(uu, vv) / kPoints;
+  }
+  const float rms = static_cast<float>(std::sqrt(sum));
+  return std::isfinite(rms) ? rms : std::numeric_limits<float>::infinity();
+}
+
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian) {
+                      float pixelsPerRadian, float reliefSamples) {
   const int n = surface.numFaces();
   FaceDicing out;
   out.needsDicing.assign(static_cast<size_t>(n), 0);
   out.texelCap.assign(static_cast<size_t>(n), 0);
+  out.texelFloor.assign(static_cast<size_t>(n), 0);
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
   const ReliefLevel& coarsest = relief.levels.front();
   const float threshold =
       transition.D + transition.e3 * transition.eps;  // least nu that T can raise
+  const float slopePerU =
+      mode == DisplacementMode::Full && reliefSamples > 0.0f ? reliefSlopeRmsPerU(relief) : 0.0f;
   tbb::parallel_for(0, n, [&](int face) {
     Vec3 lo, hi;
     if (!surface.faceBox(face, lo, hi)) return;
     const int corners = surface.faceSize(face);
     Vec2 centre(0.0f);
     float uvEdge = 0.0f, lengthPerU = 0.0f;
+    float shortestPerU = std::numeric_limits<float>::infinity(), leastCot = shortestPerU;
+    const auto seen = [&](const SurfacePoint& sp) {  // how grazing the view of a limit point is
+      const float shortest = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+      shortestPerU = std::min(shortestPerU, shortest);
+      lengthPerU = std::max(lengthPerU, shortest);
+      const Vec3 toEye = eye - sp.P;
+      const float along = std::abs(glm::dot(sp.N, toEye)),
+                  across = glm::length(glm::cross(sp.N, toEye));
+      leastCot = std::min(leastCot, across > 0.0f ? along / across : shortestPerU);
+    };
     SurfacePoint previous = surface.evaluate(face, surface.cornerSt(face, corners - 1));
     for (int k = 0; k < corners; ++k) {
       const Vec2 st = surface.cornerSt(face, k);
       const SurfacePoint sp = surface.evaluate(face, st);
       centre += st / static_cast<float>(corners);
       uvEdge = std::max(uvEdge, glm::length(sp.uv - previous.uv));
-      lengthPerU = std::max(lengthPerU, std::min(glm::length(sp.Pu), glm::length(sp.Pv)));
+      seen(sp);
       previous = sp;
     }
-    const SurfacePoint mid = surface.evaluate(face, centre);
-    lengthPerU = std::max(lengthPerU, std::min(glm::length(mid.Pu), glm::length(mid.Pv)));
+    seen(surface.evaluate(face, centre));
     const auto capAt = [&](const ReliefLevel& level) {
       const float perU = samplesPerU(level);
       if (perU > 0.0f && std::isfinite(uvEdge * perU))
         out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, 32767.0f));
     };
     if (mode == DisplacementMode::Full) {
-      capAt(relief.levels.back());
+      const ReliefLevel& finest = relief.levels.back();
+      capAt(finest);
+      const float perU = std::min(reliefSamples * finest.freqPerU, samplesPerU(finest));
+      const int cap = out.texelCap[face] > 0 ? out.texelCap[face] : 32767;
+      // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
+      const float slope =
+          shortestPerU > 0.0f ? slopePerU / shortestPerU : std::numeric_limits<float>::infinity();
+      const bool masks = !(leastCot >= kMaskingSlopes * slope);
+      if (masks && perU > 0.0f && std::isfinite(uvEdge * perU))
+        out.texelFloor[face] =
+            static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, static_cast<float>(cap)));
       out.needsDicing[face] = 1;
       return;
     }

@@ -144,7 +144,7 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
   AdaptiveTessellation t =
       tessellateAdaptive(object.surface, d.screen, d.dicing,
                          faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
-                                    ctx.camera.pixelsPerRadian()),
+                                    ctx.camera.pixelsPerRadian(), rs.reliefSamples),
                          &displacement);
   if (!t.warning.empty())
     ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);

@@ -16,11 +16,13 @@ struct Rendered {
   std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
 };
 
-Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, int spp,
-                    const std::atomic<bool>* cancel, bool objects) {
+// dicing > 0: that dicing rate, and the scene's relief samples times reliefFactor.
+Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float reliefFactor,
+                    int spp, const std::atomic<bool>* cancel, bool objects) {
   Scene scene = base;
   scene.render.algorithm = algorithm;
   if (dicing > 0.0f) scene.render.dicingRate = dicing;
+  scene.render.reliefSamples = std::min(16.0f, scene.render.reliefSamples * reliefFactor);
   if (spp > 0) scene.camera.spp = spp;
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times);
@@ -58,19 +60,23 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   const auto announce = [&](const std::string& what) {
     if (o.onRender) o.onRender(what);
   };
-  char dicing[64];
-  std::snprintf(dicing, sizeof dicing, "%g px and %g px", o.referenceDicing,
-                2.0f * o.referenceDicing);
+  // The reference is refined in both ways geometry resolves relief: half the coarse reference's
+  // pixel dicing, and twice its micropolygons per relief wavelength where relief is sub-pixel.
+  const float samples = scene.render.reliefSamples;
+  char dicing[128];
+  std::snprintf(dicing, sizeof dicing, "%g px, %g and %g px, %g per relief wavelength",
+                o.referenceDicing, std::min(16.0f, 2.0f * samples), 2.0f * o.referenceDicing,
+                samples);
   announce(std::string("reference: displacement at ") + dicing);
-  images.push_back(renderWith(scene, Algorithm::Displacement, o.referenceDicing, o.referenceSpp,
-                              o.cancel, true));
+  images.push_back(renderWith(scene, Algorithm::Displacement, o.referenceDicing, 2.0f,
+                              o.referenceSpp, o.cancel, true));
   report.renderers.push_back("reference");
-  images.push_back(renderWith(scene, Algorithm::Displacement, 2.0f * o.referenceDicing,
+  images.push_back(renderWith(scene, Algorithm::Displacement, 2.0f * o.referenceDicing, 1.0f,
                               o.referenceSpp, o.cancel, false));
   report.renderers.push_back("coarse reference");
   for (Algorithm a : o.algorithms) {
     announce(choiceName(a));
-    images.push_back(renderWith(scene, a, 0.0f, 0, o.cancel, false));
+    images.push_back(renderWith(scene, a, 0.0f, 1.0f, 0, o.cancel, false));
     report.renderers.push_back(choiceName(a));
   }
   const Image& ref = images[0].image;

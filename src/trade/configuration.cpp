@@ -41,10 +41,12 @@ std::vector<Configuration> configurations(const SweepGrid& grid, const Scene& sc
   }
   add(hybrid(sceneD, sceneRate, sceneSpp));  // the summary's configuration
   if (!grid.temporalOnly)
-    for (float rate : grid.dicingRates)
-      for (int spp : grid.sppValues)
-        list.push_back({"displacement_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
-                        Kind::Displacement, 0.0f, spp, rate, false});
+    for (float samples : grid.reliefSamples)
+      for (float rate : grid.dicingRates)
+        for (int spp : grid.sppValues)
+          add({"displacement_r" + formatNumber(rate) + "_rs" + formatNumber(samples) + "_spp" +
+                   std::to_string(spp),
+               Kind::Displacement, 0.0f, spp, rate, false, samples});
   return list;
 }
 
@@ -53,6 +55,7 @@ Scene sceneFor(const Scene& base, const Configuration& c) {
   scene.render.algorithm = c.kind == Kind::Hybrid ? Algorithm::Auto : Algorithm::Displacement;
   if (c.kind == Kind::Hybrid) scene.render.transition.D = c.D;
   scene.render.dicingRate = c.dicingRate;
+  if (c.reliefSamples >= 0.0f) scene.render.reliefSamples = c.reliefSamples;
   scene.camera.spp = c.spp;
   validateTransitionSettings(scene.render.transition, "--d-values");
   return scene;

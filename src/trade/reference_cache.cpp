@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when the renderer changes what a reference looks like, or the file layout changes.
-constexpr uint32_t kFormatVersion = 3;  // 3: addedMib
+constexpr uint32_t kFormatVersion = 4;  // 3: addedMib, 4: reliefSamples
 constexpr char kMagic[8] = {'M', 'E', 'S', 'O', 'R', 'E', 'F', '1'};
 
 struct Header {
@@ -63,6 +63,7 @@ uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cam
   const RenderSettings& r = scene.render;
   h.value(dicingRate).value(spp).value(r.seed).value(r.tessellationRate).value(r.background);
   h.string(r.dicingMetric).string(choiceName(r.normals)).value(r.maxMicropolygons);
+  h.value(r.reliefSamples);
   h.value(cameras.size());
   for (const CameraSettings& c : cameras) hashCamera(h, c);
   return h.digest();

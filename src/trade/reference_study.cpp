@@ -100,6 +100,7 @@ ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
                               const MeasureOptions& measure, bool quiet) {
   ReferenceLevel level;
   level.dicingRate = rate, level.spp = spp;
+  level.reliefSamples = scene.render.reliefSamples;
   const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
   const uint64_t key = referenceKey(sceneFor(scene, c), cams, rate, spp);
   std::string warning;
@@ -160,10 +161,12 @@ std::string referenceLevels(const ReferenceStudy& s) {
   for (size_t k = 0; k < s.levels.size(); ++k) {
     const ReferenceLevel& l = s.levels[k];
     if (k == 0)
-      std::snprintf(buf, sizeof buf, "%g px %d spp", l.dicingRate, l.spp);
+      std::snprintf(buf, sizeof buf, "%g px %g/wavelength %d spp", l.dicingRate, l.reliefSamples,
+                    l.spp);
     else
-      std::snprintf(buf, sizeof buf, " -> %g px %d spp (worst band %+.2f%%, rmse %.2f%%)",
-                    l.dicingRate, l.spp, l.meanChangePct, l.rmseChangePct);
+      std::snprintf(buf, sizeof buf,
+                    " -> %g px %g/wavelength %d spp (worst band %+.2f%%, rmse %.2f%%)",
+                    l.dicingRate, l.reliefSamples, l.spp, l.meanChangePct, l.rmseChangePct);
     text += buf;
   }
   return text;
@@ -188,9 +191,10 @@ ReferenceStudy convergeReference(const Scene& base, const ReferenceBudget& budge
     ReferenceLevel& level = study.levels.back();
     if (!quiet)
       std::fprintf(stderr,
-                   "meso: trade: reference level %d: %g px, %d spp, %zu micropolygons, %.3g s%s\n",
-                   k, rate, spp, level.render.micropolygons, level.render.seconds,
-                   level.fromCache ? " (cached)" : "");
+                   "meso: trade: reference level %d: %g px, %g per wavelength, %d spp, %zu "
+                   "micropolygons, %.3g s%s\n",
+                   k, rate, scene.render.reliefSamples, spp, level.render.micropolygons,
+                   level.render.seconds, level.fromCache ? " (cached)" : "");
     if (level.render.coarsening > 1.0f) {
       study.stop = "the micropolygon cap coarsened level " + std::to_string(k);
       if (study.levels.size() > 1) study.levels.pop_back();  // the finest level diced as asked
@@ -209,7 +213,10 @@ ReferenceStudy convergeReference(const Scene& base, const ReferenceBudget& budge
       study.stop = *why;
       return study;
     }
+    // Each refinement halves the pixel dicing and doubles the micropolygons per relief
+    // wavelength (where relief is sub-pixel), up to the relief's texels.
     rate /= 2.0f;
+    scene.render.reliefSamples = std::min(16.0f, 2.0f * scene.render.reliefSamples);
     spp = std::min(spp * 2, 65536);
   }
 }

@@ -26,9 +26,9 @@ std::string bandList(const std::vector<double>& bands) {
 std::string levelComment(const ReferenceLevel& l, size_t k) {
   char line[640];
   std::snprintf(line, sizeof line,
-                "# reference level %zu: dicing_rate %g, spp %d, micropolygons %zu, seconds "
-                "%.6g%s, mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
-                k, l.dicingRate, l.spp, l.render.micropolygons, l.render.seconds,
+                "# reference level %zu: dicing_rate %g, relief_samples %g, spp %d, micropolygons "
+                "%zu, seconds %.6g%s, mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
+                k, l.dicingRate, l.reliefSamples, l.spp, l.render.micropolygons, l.render.seconds,
                 l.fromCache ? " (cached)" : "", k ? formatNumber(l.meanChangePct).c_str() : "",
                 k ? formatNumber(l.rmseChangePct).c_str() : "", bandList(l.bandChangePct).c_str());
   return line;
@@ -39,10 +39,12 @@ std::string row(const TradeResult& r) {
   // D is left empty where the algorithm does not use it (displacement alone).
   const std::string D = c.kind == Kind::Hybrid ? formatNumber(c.D) : "";
   char line[640];
-  std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f\n",
-                c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, r.seconds,
-                r.peakRssMib, r.micropolygons, r.errors.meanAbsError, r.errors.rmse,
-                r.errors.intensityErrorPct, r.geometryMib, r.addedMib);
+  // relief_samples is left empty for the hybrid, which dices by pixels where it displaces.
+  const std::string samples = c.kind == Kind::Hybrid ? "" : formatNumber(c.reliefSamples);
+  std::snprintf(line, sizeof line, "%s,%s,%s,%d,%g,%s,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f\n",
+                c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate,
+                samples.c_str(), r.seconds, r.peakRssMib, r.micropolygons, r.errors.meanAbsError,
+                r.errors.rmse, r.errors.intensityErrorPct, r.geometryMib, r.addedMib);
   return line;
 }
 
@@ -92,7 +94,8 @@ std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStu
   s += "# pareto_front: " + joined(front) + "\n";
   for (const TradeResult& r : results)
     if (r.config.defaultHybrid) s += "# default_hybrid: " + r.config.name + "\n";
-  s += "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
+  s += "name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,mean_"
+       "abs_error,rmse,"
        "mean_intensity_error_pct,geometry_mib,peak_added_mib\n";
   for (const TradeResult& r : results) s += row(r);
   return s;

@@ -36,7 +36,8 @@ std::vector<TradeResult> referenceRows(const ReferenceStudy& study) {
                           0.0f,
                           l.spp,
                           l.dicingRate,
-                          false};
+                          false,
+                          l.reliefSamples};
     rows.push_back({c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
                     l.render.geometryMib, compareFrames(l.render.beauty, study.reference().beauty),
                     l.render.addedMib});
@@ -58,6 +59,7 @@ void validateTradeSettings(const TradeSettings& s) {
   checkValues(s.grid.dValues, "--d-values", 0, 1e6);
   checkValues(s.grid.sppValues, "--spp-values", 1, 65536);
   checkValues(s.grid.dicingRates, "--dicing-rates", 0.01, 1000);
+  checkValues(s.grid.reliefSamples, "--relief-samples-values", 0, 16);
 }
 
 TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& cameras,

@@ -89,7 +89,7 @@ class TradeTest : public meso::testing::TempDirTest {
   std::string out() const { return (dir_ / "trade").string(); }
   std::string cache() const { return (dir_ / "references").string(); }
   // Small sweeps: a one-level reference + 2 x 2 hybrid over D (D 2, 1 px, 4 spp is the scene's own)
-  // + 1 x 2 more hybrid over dicing (2 px) + 2 x 2 displacement.
+  // + 1 x 2 more hybrid over dicing (2 px) + 2 x 2 x 2 displacement (relief samples 0 and 4).
   std::string tiny() const {
     return "--width 48 --height 27 --reference-spp 4 --reference-dicing-rate 2 "
            "--reference-max-refinements 0 "
@@ -112,42 +112,42 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   ASSERT_EQ(r.status, 0) << r.output;
   const std::vector<std::string> rows = dataLines(dir_ / "trade/trade.csv");
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(
-      rows[0],
-      "name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,"
-      "mean_intensity_error_pct,geometry_mib,peak_added_mib");
-  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 4u) << r.output;
+  EXPECT_EQ(rows[0],
+            "name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,"
+            "mean_abs_error,rmse,"
+            "mean_intensity_error_pct,geometry_mib,peak_added_mib");
+  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 8u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
     const std::vector<std::string> f = split(rows[i], ',');
-    ASSERT_EQ(f.size(), 13u) << rows[i];
-    for (int c : {5, 6, 8, 9, 10, 11, 12}) {
+    ASSERT_EQ(f.size(), 14u) << rows[i];
+    for (int c : {6, 7, 9, 10, 11, 12, 13}) {
       const double v = std::stod(f[c]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
     }
-    EXPECT_GT(std::stod(f[5]), 0.0) << rows[i];  // seconds
+    EXPECT_GT(std::stod(f[6]), 0.0) << rows[i];  // seconds
     // What the configuration added above the process's resident memory is its peak without the
     // process's baseline (its libraries alone are tens of MiB), so clearly less than the peak.
-    EXPECT_GE(std::stod(f[12]), 0.0) << rows[i];
-    EXPECT_LT(std::stod(f[12]), std::stod(f[6]) - 20.0) << rows[i];
+    EXPECT_GE(std::stod(f[13]), 0.0) << rows[i];
+    EXPECT_LT(std::stod(f[13]), std::stod(f[7]) - 20.0) << rows[i];
     byName[f[0]] = f;
   }
   ASSERT_TRUE(byName.count("reference"));
   EXPECT_EQ(byName["reference"][1], "displacement");
-  EXPECT_EQ(std::stod(byName["reference"][8]), 0.0);
+  EXPECT_EQ(std::stod(byName["reference"][9]), 0.0);
   // Same algorithm, dicing rate, spp and seed as the reference: the renderer is deterministic.
-  ASSERT_TRUE(byName.count("displacement_r2_spp4"));
-  EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][8]), 0.0);
-  EXPECT_EQ(std::stod(byName["displacement_r2_spp4"][9]), 0.0);
-  EXPECT_GT(std::stod(byName["reference"][11]), 0.0);  // geometry memory of displaced micropolygons
+  ASSERT_TRUE(byName.count("displacement_r2_rs4_spp4"));
+  EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][9]), 0.0);
+  EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][10]), 0.0);
+  EXPECT_GT(std::stod(byName["reference"][12]), 0.0);  // geometry memory of displaced micropolygons
   // Rendering the reference needs memory of its own (its micropolygons, its film), above the
   // process's baseline.
-  EXPECT_GT(std::stod(byName["reference"][12]), 0.0) << rows[1];
+  EXPECT_GT(std::stod(byName["reference"][13]), 0.0) << rows[1];
   ASSERT_TRUE(byName.count("hybrid_D2_r1_spp4"));
   EXPECT_EQ(byName["hybrid_D2_r1_spp4"][1], "auto");
   ASSERT_TRUE(byName.count("hybrid_D2_r2_spp1"));  // the hybrid's dicing rate is swept too
   EXPECT_EQ(byName["hybrid_D2_r2_spp1"][4], "2");
-  EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][8]),
+  EXPECT_GT(std::stod(byName["hybrid_D1_r1_spp1"][9]),
             0.0);  // one sample per pixel is not converged
   // The plot's inputs are in the CSV: the Pareto front (names by time, none dominated) and the
   // scene's own hybrid; tools/plot_trade.py draws trade.png from them.
@@ -159,16 +159,16 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   for (const std::string& name : front) {
     ASSERT_TRUE(byName.count(name)) << name;
     EXPECT_NE(name.rfind("reference", 0), 0u) << name;
-    EXPECT_GE(std::stod(byName[name][5]), lastSeconds) << name;
-    EXPECT_LT(std::stod(byName[name][9]), lastRmse) << name;
-    lastSeconds = std::stod(byName[name][5]), lastRmse = std::stod(byName[name][9]);
+    EXPECT_GE(std::stod(byName[name][6]), lastSeconds) << name;
+    EXPECT_LT(std::stod(byName[name][10]), lastRmse) << name;
+    lastSeconds = std::stod(byName[name][6]), lastRmse = std::stod(byName[name][10]);
   }
   EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png")) << r.output;
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
   EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("speedup"), std::string::npos)
-      << r.output;  // displacement_r2_spp4 is as accurate
+      << r.output;  // displacement_r2_rs4_spp4 is as accurate
   const std::string x = "[0-9.e+-]+x";
   EXPECT_TRUE(std::regex_search(
       r.output, std::regex("hybrid / displacement at equal rmse: time " + x + ", peak memory " + x +
@@ -189,7 +189,9 @@ TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
   EXPECT_NE(
       r.output.find(
           "trade: reference converged (the mean of every depth band changed by less than 1%, the "
-          "rmse is below 10% of the mean): 2 px 4 spp -> 1 px 8 spp (worst band "),
+          "rmse is below 10% of the mean): 2 px 4/wavelength 4 spp -> 1 px 8/wavelength 8 spp "
+          "(worst "
+          "band "),
       std::string::npos)
       << r.output;
   const std::vector<std::string> comments = commentLines(dir_ / "trade/trade.csv");
@@ -216,7 +218,10 @@ TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
   ASSERT_TRUE(byName.count("reference_l0") && byName.count("reference"));
   EXPECT_EQ(byName["reference"][3], "8");
   EXPECT_EQ(byName["reference"][4], "1");
-  EXPECT_GT(std::stod(byName["reference_l0"][9]), 0.0);  // measured against the finer level
+  // Each refinement also doubles the micropolygons per relief wavelength (render.relief_samples).
+  EXPECT_EQ(byName["reference_l0"][5], "4");
+  EXPECT_EQ(byName["reference"][5], "8");
+  EXPECT_GT(std::stod(byName["reference_l0"][10]), 0.0);  // measured against the finer level
 }
 
 // A budget of one refinement and a tolerance no render meets: a loud warning with the last change,
@@ -240,7 +245,7 @@ TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
                 numberAfter(comments[2], "rmse_change_pct"),
             0.0001);
   EXPECT_EQ(dataLines(dir_ / "trade/trade.csv").size(),
-            1u + 2u + 1u + 1u);  // header, levels, hybrid, displacement
+            1u + 2u + 1u + 2u);  // header, levels, hybrid, displacement (relief samples 0, 4)
 
   // Level 0 has 4204 micropolygons here; the next would need about 4x.
   r = run("trade " + scene("default.toml") + " " + referenceOnly() +

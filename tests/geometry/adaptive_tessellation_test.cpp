@@ -383,6 +383,32 @@ TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
   EXPECT_LT(t.stats.micropolygons, free.stats.micropolygons);
 }
 
+// A texel floor raises the rate of every diced edge in view to it (never above the cap), and
+// leaves faces out of view alone.
+TEST(AdaptiveTessellation, TexelFloorRaisesDicedEdgesUpToTheCap) {
+  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  // Far away, so pixel dicing asks for rate 1 or 2 only.
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 60.0f), Vec3(0.0f), Vec3(0, 1, 0), 30.0f, 160, 90);
+  const AdaptiveTessellation free = tessellateAdaptive(surface, screen, {}, {}, nullptr);
+  EXPECT_LE(free.stats.maxEdgeRate, 4);
+  FaceDicing floored;
+  floored.texelFloor.assign(surface.numFaces(), 12);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, floored, nullptr);
+  EXPECT_EQ(t.stats.minEdgeRate, 12);
+  EXPECT_EQ(t.stats.maxEdgeRate, 12);
+  floored.texelCap.assign(surface.numFaces(), 7);
+  const AdaptiveTessellation capped = tessellateAdaptive(surface, screen, {}, floored, nullptr);
+  EXPECT_EQ(capped.stats.maxEdgeRate, 7);
+  // Looking away: every face is culled and the floor does not apply.
+  const ScreenMetric away = ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 60.0f), Vec3(0.0f, 0.0f, 90.0f),
+                                                 Vec3(0, 1, 0), 30.0f, 160, 90);
+  EXPECT_EQ(tessellateAdaptive(surface, away, {}, floored, nullptr).stats.maxEdgeRate, 1);
+  FaceDicing negative;
+  negative.texelFloor.assign(surface.numFaces(), -1);
+  EXPECT_THROW(tessellateAdaptive(surface, screen, {}, negative, nullptr), Error);
+}
+
 TEST(AdaptiveTessellation, InvalidSettingsThrow) {
   const LimitSurface surface(test::cube(), SubdivisionScheme::CatmullClark);
   const ScreenMetric screen;

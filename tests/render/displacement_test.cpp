@@ -110,7 +110,8 @@ TEST(Displacement, MicropolygonsFollowTheScreenAndTheTransition) {
   near.camera.position = {0.0f, 0.0f, 2.0f};
   near.camera.lookAt = {0.0f, 0.0f, 0.0f};
   near.camera.up = {0.0f, 1.0f, 0.0f};
-  near.camera.fovY = 20.0f;  // the plane (8 units) fills the view from both distances
+  near.camera.fovY = 20.0f;          // the plane (8 units) fills the view from both distances
+  near.render.reliefSamples = 0.0f;  // pixel dicing only (the floor is the next test's)
   Scene far = near;
   far.camera.position.z = 4.0f;
   const size_t a = render(near).geometry.micropolygons, b = render(far).geometry.micropolygons;
@@ -127,6 +128,56 @@ TEST(Displacement, MicropolygonsFollowTheScreenAndTheTransition) {
   EXPECT_EQ(r.geometry.facesDiced, 0);
   EXPECT_LE(r.geometry.micropolygons, 8u) << "one quad, no dicing";
   EXPECT_TRUE(r.image.allFinite());
+}
+
+// Full displacement resolves relief below a pixel where it masks itself: seen at a grazing angle,
+// every edge of the one-face plane gets render.relief_samples segments per shortest wavelength
+// (the floor), however far the camera, while pixel dicing alone (relief_samples 0) thins out with
+// distance. Seen face-on nothing is masked, and the floor does not apply.
+TEST(Displacement, ReliefSamplesFloorResolvesSubPixelReliefWhereItMasks) {
+  Scene s = planeScene("displacement");
+  s.materials[0].relief = {noiseLevel(0.02f, 1.0f)};
+  const MaterialRelief relief = levelsOnly(s.materials[0].relief);
+  const float perU = relief.levels[0].freqPerU, slope = reliefSlopeRmsPerU(relief);
+  ASSERT_GT(perU, 0.0f);
+  // The premises: the plane (uv 0..8 over 8 units, unit speed) masks at cot(theta_V) = 0.1, not
+  // face-on.
+  ASSERT_GT(3.0f * slope, 0.1f * 1.5f);
+  const size_t floorRate = static_cast<size_t>(std::ceil(4.0f * perU * 8.0f));
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.up = {0.0f, 0.0f, 1.0f};
+  s.camera.fovY = 20.0f;
+  size_t floored[3], pixel[3];
+  const Vec3 eyes[3] = {{0.0f, -30.0f, 3.0f}, {0.0f, -60.0f, 6.0f}, {0.0f, 0.5f, 30.0f}};
+  for (int k = 0; k < 3; ++k) {
+    s.camera.position = eyes[k];
+    s.render.reliefSamples = 4.0f;
+    floored[k] = render(s).geometry.micropolygons;
+    s.render.reliefSamples = 0.0f;
+    pixel[k] = render(s).geometry.micropolygons;
+  }
+  std::printf(
+      "  rms slope %.3f, floor rate %zu: %zu, %zu and %zu micropolygons; pixel dicing %zu, "
+      "%zu and %zu\n",
+      slope, floorRate, floored[0], floored[1], floored[2], pixel[0], pixel[1], pixel[2]);
+  EXPECT_EQ(floored[0], 2 * floorRate * floorRate);
+  EXPECT_EQ(floored[1], 2 * floorRate * floorRate);
+  EXPECT_LT(pixel[1], pixel[0]);
+  EXPECT_LT(pixel[0], floored[0]);
+  EXPECT_EQ(floored[2], pixel[2]);  // face-on: no masking, no floor
+}
+
+// The rms slope is that of the relief's heights: it scales with amplitude and frequency, adds in
+// quadrature over levels, and is 0 for a flat relief.
+TEST(Displacement, ReliefSlopeRmsScalesWithAmplitudeAndFrequency) {
+  const float one = reliefSlopeRmsPerU(levelsOnly({noiseLevel(0.01f, 1.0f)}));
+  EXPECT_GT(one, 0.0f);
+  EXPECT_NEAR(reliefSlopeRmsPerU(levelsOnly({noiseLevel(0.03f, 1.0f)})), 3.0f * one, 1e-4f * one);
+  const float fine = reliefSlopeRmsPerU(levelsOnly({noiseLevel(0.01f, 4.0f)}));
+  EXPECT_NEAR(fine, 4.0f * one, 0.25f * one);  // other sample points of the same statistics
+  EXPECT_NEAR(reliefSlopeRmsPerU(levelsOnly({noiseLevel(0.01f, 1.0f), noiseLevel(0.01f, 4.0f)})),
+              std::sqrt(one * one + fine * fine), 1e-3f * fine);
+  EXPECT_EQ(reliefSlopeRmsPerU(levelsOnly({noiseLevel(0.0f, 1.0f)})), 0.0f);
 }
 
 // The shader's partial displacement: n' = R_thetaV(R_thetaW^-1(n)) is plain redistribution at
@@ -167,6 +218,7 @@ TEST(Displacement, AutoImagesMatchTheirLimits) {
   autoDisp.render.transition = {0.0f, 0.1f, -2.0f, -1.0f, 1e-6f, 2e-6f};
   Scene disp = planeScene("displacement");
   disp.render.transition = autoDisp.render.transition;
+  disp.render.reliefSamples = 0.0f;  // the hybrid dices by pixels only where it displaces
   const Rendered c = render(autoDisp), d = render(disp);
   EXPECT_GT(c.geometry.micropolygons, 1000u);
   EXPECT_EQ(c.geometry.micropolygons, d.geometry.micropolygons);
@@ -186,6 +238,7 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
   s.camera.up = {0.0f, 1.0f, 0.0f};
   s.camera.width = 64;
   s.camera.height = 64;
+  s.render.reliefSamples = 0.0f;  // dicing by pixels only, so the rate decides
   double previous = 1e9;
   for (float rate : {4.0f, 1.0f, 0.25f}) {
     s.render.dicingRate = rate;

@@ -96,6 +96,10 @@ struct FaceDicing {
   // The largest useful edge rate of the face (e.g. from its finest displaced level's texel
   // spacing); 0 = no cap. Default: no caps.
   std::vector<int> texelCap;
+  // The least edge rate of a face in view that is diced (e.g. so that displaced micropolygons
+  // resolve the relief where it is smaller than a pixel); 0 = none, at most texelCap. Default:
+  // none.
+  std::vector<int> texelFloor;
 };
 
 // How tessellated vertices move off the limit surface; the caller implements it (meso's renderer:

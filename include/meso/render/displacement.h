@@ -92,14 +92,24 @@ float displacementBound(const MaterialRelief& relief);
 float finestSamplesPerU(const MaterialRelief& relief);
 float samplesPerU(const ReliefLevel& level);
 
+// Root of the summed mean squares of every level's height derivative along u or v (the larger),
+// per unit of u, from 1024 fixed points per level: the relief's rms slope on a unit-speed surface.
+float reliefSlopeRmsPerU(const MaterialRelief& relief);
+
 // Per face: whether some level can be raised there in this view (always, in Full mode; in
 // ByTransition mode, when the coarsest level's nu at the face's nearest point exceeds
 // D + e3 * eps, the least nu for which T can exceed e3 at a grazing angle), and the texel cap
 // (the edge rate at which micropolygons reach the sample spacing of the finest level that can be
 // raised on the face: every level in Full mode, in ByTransition mode those whose nu can exceed
 // D + e3 * eps there; finer levels are drawn flat, so dicing below their texels buys nothing).
+// In Full mode also the texel floor: at least reliefSamples micropolygon edges per shortest
+// wavelength of the finest level (at most its texel cap), so that relief smaller than a pixel is
+// still resolved by the geometry (0: pixel dicing only), on faces where the relief can mask
+// itself: where the most grazing view of the face's corners and centre has cot(theta_V) below
+// 3 times the relief's world rms slope. Elsewhere under-resolved relief already shows its normals
+// with their true distribution, and the floor would only cost micropolygons.
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian);
+                      float pixelsPerRadian, float reliefSamples = 0.0f);
 
 }  // namespace meso

@@ -137,6 +137,9 @@ struct RenderSettings {
   TransitionSettings transition;
   float dicingRate = 1.0f;                 // micropolygon edge length in pixels where displaced
   std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
+  // Full displacement: at least this many micropolygon edges per shortest wavelength of the
+  // finest relief level wherever it is diced, also where that is below a pixel (0 = off).
+  float reliefSamples = 4.0f;
   int64_t maxMicropolygons =
       80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   ShadingNormals normals = ShadingNormals::Bump;  // shading normal on displaced geometry

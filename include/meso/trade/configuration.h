@@ -18,14 +18,18 @@ struct Configuration {
   float D = 2.0f;  // hybrid only
   int spp = 4;
   float dicingRate = 1.0f;
-  bool defaultHybrid = false;  // D and spp of the scene
+  bool defaultHybrid = false;   // D and spp of the scene
+  float reliefSamples = -1.0f;  // full displacement's render.relief_samples; < 0: the scene's
 };
 
 // The values swept; temporalOnly keeps only the scene's own hybrid.
 struct SweepGrid {
   std::vector<float> dValues{0.5f, 1.0f, 2.0f, 4.0f};
   std::vector<int> sppValues{1, 4, 16};
-  std::vector<float> dicingRates{4.0f, 2.0f, 1.0f, 0.5f};        // displacement alone
+  std::vector<float> dicingRates{4.0f, 2.0f, 1.0f, 0.5f};  // displacement alone
+  // render.relief_samples of displacement alone, for every dicing rate: 0 dices by pixels only
+  // (cheap, under-resolved where relief is sub-pixel), 4 resolves the relief there.
+  std::vector<float> reliefSamples{0.0f, 4.0f};
   std::vector<float> hybridDicingRates{4.0f, 2.0f, 1.0f, 0.5f};  // the hybrid, at the scene's D
   bool temporalOnly = false;
 };

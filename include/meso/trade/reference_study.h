@@ -29,6 +29,7 @@ struct ReferenceBudget {
 // One level of the reference's refinement.
 struct ReferenceLevel {
   float dicingRate = 0.5f;
+  float reliefSamples = 4.0f;  // micropolygon edges per shortest relief wavelength (at least)
   int spp = 64;
   MeasuredRender render;
   bool fromCache = false;
