@@ -2,6 +2,7 @@
 #include "meso/trade/reference_study.h"
 
 #include "meso/core/error.h"
+#include "meso/trade/image_errors.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,28 +45,6 @@ MeasuredRender fromCache(const ReferenceRender& r) {
     out.depth.push_back(std::move(depth));
   }
   return out;
-}
-
-constexpr int kDepthBands = 5;
-
-// One frame's change from b to a over `hits` (sorted near to far): per depth band in percent of
-// a's band sum added to bandPct; returns the rmse in percent of a's mean.
-double frameChange(const std::vector<float>& a, const std::vector<float>& b,
-                   const std::vector<size_t>& hits, std::vector<double>& bandPct) {
-  double sumA = 0.0, squares = 0.0;
-  for (int band = 0; band < kDepthBands; ++band) {
-    double bandA = 0.0, bandB = 0.0;
-    for (size_t k = hits.size() * band / kDepthBands; k < hits.size() * (band + 1) / kDepthBands;
-         ++k)
-      for (int c = 0; c < 3; ++c) {
-        const double va = a[3 * hits[k] + c], vb = b[3 * hits[k] + c];
-        bandA += va, bandB += vb, squares += (va - vb) * (va - vb);
-      }
-    sumA += bandA;
-    bandPct[band] += bandA > 0.0 ? 100.0 * (bandA - bandB) / bandA : 0.0;
-  }
-  const double n = 3.0 * static_cast<double>(hits.size());
-  return sumA > 0.0 ? 100.0 * std::sqrt(squares / n) / (sumA / n) : 0.0;
 }
 
 // The change from `previous` to `level` over the pixels where both hit a surface (the background

@@ -38,9 +38,10 @@ std::vector<TradeResult> referenceRows(const ReferenceStudy& study) {
                           l.dicingRate,
                           false,
                           l.reliefSamples};
-    rows.push_back({c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
-                    l.render.geometryMib, compareFrames(l.render.beauty, study.reference().beauty),
-                    l.render.addedMib});
+    rows.push_back(
+        {c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons, l.render.geometryMib,
+         compareFrames(l.render.beauty, study.reference().beauty, study.reference().depth),
+         l.render.addedMib});
   }
   return rows;
 }
@@ -86,7 +87,7 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
                              r.peakRssMib,
                              r.micropolygons,
                              r.geometryMib,
-                             compareFrames(r.beauty, reference.beauty),
+                             compareFrames(r.beauty, reference.beauty, reference.depth),
                              r.addedMib};
     study.results.push_back(result);
     if (!settings.quiet) std::fputs(progressLine(result, i, configs.size()).c_str(), stderr);

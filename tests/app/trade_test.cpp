@@ -115,12 +115,13 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(rows[0],
             "name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,"
             "mean_abs_error,rmse,"
-            "mean_intensity_error_pct,geometry_mib,peak_added_mib");
+            "mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct");
   ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 8u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
     const std::vector<std::string> f = split(rows[i], ',');
-    ASSERT_EQ(f.size(), 14u) << rows[i];
+    ASSERT_EQ(f.size(), 15u) << rows[i];
+    EXPECT_TRUE(std::isfinite(std::stod(f[14]))) << rows[i];
     for (int c : {6, 7, 9, 10, 11, 12, 13}) {
       const double v = std::stod(f[c]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
@@ -135,6 +136,9 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   ASSERT_TRUE(byName.count("reference"));
   EXPECT_EQ(byName["reference"][1], "displacement");
   EXPECT_EQ(std::stod(byName["reference"][9]), 0.0);
+  EXPECT_EQ(std::stod(byName["reference"][14]), 0.0);
+  // One sample per pixel of the hybrid differs from the reference in some depth band's mean.
+  EXPECT_NE(std::stod(byName["hybrid_D1_r1_spp1"][14]), 0.0);
   // Same algorithm, dicing rate, spp and seed as the reference: the renderer is deterministic.
   ASSERT_TRUE(byName.count("displacement_r2_rs4_spp4"));
   EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][9]), 0.0);
@@ -166,6 +170,9 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_TRUE(fs::exists(dir_ / "trade/trade.png")) << r.output;
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
   EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("trade: as consistent too (every depth band's mean within "),
+            std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("speedup"), std::string::npos)
       << r.output;  // displacement_r2_rs4_spp4 is as accurate
