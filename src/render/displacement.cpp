@@ -32,15 +32,10 @@ float displacementBound(const MaterialRelief& relief) {
   return std::isfinite(sum) ? static_cast<float>(sum) : std::numeric_limits<float>::infinity();
 }
 
-float finestSamplesPerU(const MaterialRelief& relief) {
-  if (relief.levels.empty()) return 0.0f;
-  return samplesPerU(relief.levels.back());
-}
-
-float samplesPerU(const ReliefLevel& finest) {
-  if (const auto* table = dynamic_cast<const HeightTable*>(finest.source.get()))
-    return static_cast<float>(std::max(table->width(), table->heightTexels())) * finest.scale;
-  return 16.0f * finest.freqPerU;
+float samplesPerU(const ReliefLevel& level, float reliefSamples) {
+  if (const auto* table = dynamic_cast<const HeightTable*>(level.source.get()))
+    return static_cast<float>(std::max(table->width(), table->heightTexels())) * level.scale;
+  return std::max(8.0f, 2.0f * reliefSamples) * level.freqPerU;
 }
 
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
@@ -190,14 +185,15 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     }
     seen(surface.evaluate(face, centre));
     const auto capAt = [&](const ReliefLevel& level) {
-      const float perU = samplesPerU(level);
+      const float perU = samplesPerU(level, reliefSamples);
       if (perU > 0.0f && std::isfinite(uvEdge * perU))
         out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, 32767.0f));
     };
     if (mode == DisplacementMode::Full) {
       const ReliefLevel& finest = relief.levels.back();
       capAt(finest);
-      const float perU = std::min(reliefSamples * finest.freqPerU, samplesPerU(finest));
+      const float perU =
+          std::min(reliefSamples * finest.freqPerU, samplesPerU(finest, reliefSamples));
       const int cap = out.texelCap[face] > 0 ? out.texelCap[face] : 32767;
       // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
       const float slope =

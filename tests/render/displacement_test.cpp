@@ -232,7 +232,7 @@ TEST(Displacement, AutoImagesMatchTheirLimits) {
 // paper's shading normal) as the dicing rate shrinks.
 TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
   Scene s = planeScene("displacement");
-  // Shortest wavelength about 3.4 pixels: 16 samples per wavelength (the cap) is about 0.21 px.
+  // Shortest wavelength about 3.4 pixels: 8 samples per wavelength (the cap) is about 0.42 px.
   s.camera.position = {0.0f, 0.0f, 2.5f};
   s.camera.lookAt = {0.0f, 0.0f, 0.0f};
   s.camera.up = {0.0f, 1.0f, 0.0f};

@@ -86,11 +86,13 @@ class ReliefDisplacement : public VertexDisplacement {
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
 float displacementBound(const MaterialRelief& relief);
 
-// Samples of the finest level per unit of u: the texel spacing below which dicing stops. A height
-// table has max(W, H) * S texels per unit of u; procedural noise is sampled 16 times per shortest
-// wavelength (enough for facet normals to follow its slopes).
-float finestSamplesPerU(const MaterialRelief& relief);
-float samplesPerU(const ReliefLevel& level);
+// Samples of a level per unit of u: the texel spacing below which dicing stops. A height table has
+// max(W, H) * S texels per unit of u; procedural noise is sampled max(8, 2 reliefSamples) times
+// per shortest wavelength: 8 resolve its silhouettes and self-occlusion (the shading normal is its
+// Blinn normal; on the terrain 8 instead of 16 changed no depth band by more than 0.05%), and
+// twice the relief samples keeps the cap above the floor, so a reference that doubles them is
+// refined, not capped.
+float samplesPerU(const ReliefLevel& level, float reliefSamples);
 
 // Root of the summed mean squares of every level's height derivative along u or v (the larger),
 // per unit of u, from 1024 fixed points per level: the relief's rms slope on a unit-speed surface.
