@@ -59,7 +59,16 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
                "%.2f%% when diced at %g px\n",
                report.worstRenderer.c_str(), report.worstRegion.c_str(), 100.0 * report.worst,
                o.referenceDicing, 100.0 * report.referenceChange, 2.0 * o.referenceDicing);
-  if (report.referenceChange > 0.01)
+  for (const std::string& w : report.warnings)
+    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  if (report.referenceCoarsened)
+    std::fprintf(stderr,
+                 "meso: WARNING: the reference is not diced as asked: the micropolygon cap "
+                 "(render.max_micropolygons) coarsened it, so its change when diced at %g px says "
+                 "nothing about its convergence; raise render.max_micropolygons in the scene "
+                 "or --reference-dicing\n",
+                 2.0 * o.referenceDicing);
+  else if (report.referenceChange > 0.01)
     std::fprintf(
         stderr,
         "meso: warning: the reference is not converged (%.2f%% change over one halving of dicing); "

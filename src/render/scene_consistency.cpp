@@ -14,6 +14,8 @@ namespace {
 struct Rendered {
   Image image;
   std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
+  float coarsening = 1.0f;  // > 1: the micropolygon cap coarsened dicing
+  std::vector<std::string> warnings;
 };
 
 // dicing > 0: that dicing rate, and the scene's relief samples times reliefFactor.
@@ -25,7 +27,8 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float 
   scene.render.reliefSamples = std::min(16.0f, scene.render.reliefSamples * reliefFactor);
   if (spp > 0) scene.camera.spp = spp;
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderContext ctx = prepareRenderContext(scene, times, false);
+  const FrameGeometryStats geometry = prepareFrame(ctx, scene.camera, times);
   RenderOptions options;
   options.spp = scene.camera.spp;
   options.seed = scene.render.seed;
@@ -33,6 +36,8 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float 
   options.cancel = cancel;
   RenderCounters counters;
   Rendered r;
+  r.coarsening = geometry.coarsening;
+  r.warnings = ctx.warnings;
   r.image = renderFrame(ctx, options, counters);
   if (objects) {
     r.object.assign(static_cast<size_t>(r.image.width) * r.image.height, -1);
@@ -79,6 +84,11 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
     images.push_back(renderWith(scene, a, 0.0f, 1.0f, 0, o.cancel, false));
     report.renderers.push_back(choiceName(a));
   }
+  report.referenceCoarsened = images[0].coarsening > 1.0f || images[1].coarsening > 1.0f;
+  for (const Rendered& r : images)
+    for (const std::string& w : r.warnings)
+      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
+        report.warnings.push_back(w);
   const Image& ref = images[0].image;
   const std::vector<int>& object = images[0].object;
   const int bands = std::max(1, o.bands);

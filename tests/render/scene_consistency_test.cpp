@@ -55,12 +55,29 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
   }
   EXPECT_GT(r.referenceChange, 0.0);
   EXPECT_LT(r.referenceChange, 0.05);
+  EXPECT_FALSE(r.referenceCoarsened);
+  EXPECT_TRUE(r.warnings.empty());
   EXPECT_EQ(r.worstRenderer, "bump");  // displacement is exact, so bump is the worst
   const std::string csv = formatSceneConsistency(r, false), md = formatSceneConsistency(r, true);
   EXPECT_NE(csv.find("region,pixels,reference,coarse reference,displacement,bump"),
             std::string::npos)
       << csv;
   EXPECT_NE(md.find("| region | pixels | reference"), std::string::npos) << md;
+}
+
+// A reference that the micropolygon cap coarsened is not diced as asked, and says so: its change
+// over one halving of dicing would measure nothing.
+TEST(SceneConsistency, CoarsenedReferenceIsFlagged) {
+  Scene s = smallScene();
+  s.render.maxMicropolygons = 1000;
+  SceneConsistencyOptions o;
+  o.algorithms = {Algorithm::Bump};
+  o.bands = 1;
+  o.referenceDicing = 0.5f;
+  const SceneConsistencyReport r = sceneConsistency(s, o);
+  EXPECT_TRUE(r.referenceCoarsened);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("would exceed the cap of 1000"), std::string::npos) << r.warnings[0];
 }
 
 }  // namespace

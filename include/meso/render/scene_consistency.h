@@ -42,6 +42,10 @@ struct SceneConsistencyReport {
   std::string worstRenderer, worstRegion;
   // The largest relative change of the reference when its dicing is halved: how converged it is.
   double referenceChange = 0.0;
+  // The micropolygon cap (render.max_micropolygons) coarsened the reference or the coarse
+  // reference: then they are not diced as asked, and referenceChange says nothing.
+  bool referenceCoarsened = false;
+  std::vector<std::string> warnings;  // of every render, each once
 };
 
 // Renders `scene` (its own camera) with each renderer; pixels are grouped by the object the
