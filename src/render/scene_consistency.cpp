@@ -119,7 +119,8 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   return report;
 }
 
-std::string formatSceneConsistency(const SceneConsistencyReport& report, bool markdown) {
+std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFormat format) {
+  const bool markdown = format == TableFormat::Markdown;
   std::string out;
   char buf[64];
   const auto cell = [&](double v, const char* fmt) {
