@@ -28,12 +28,6 @@ ReliefLevelDecl reliefFrom(const ConsistencyCommandOptions& o) {
   return d;
 }
 
-Component componentFrom(const std::string& c) {
-  if (c == "diffuse") return Component::Diffuse;
-  if (c == "specular") return Component::Specular;
-  return Component::Both;
-}
-
 }  // namespace
 
 void runSceneConsistency(const ConsistencyCommandOptions& o) {
@@ -53,7 +47,7 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
   } catch (const Interrupted&) {
     throw RenderInterrupted();
   }
-  std::fputs(formatSceneConsistency(report, o.format == "markdown").c_str(), stdout);
+  std::fputs(formatSceneConsistency(report, o.format).c_str(), stdout);
   std::fprintf(stderr,
                "meso: worst: %s in %s, %.2f%% from the reference; reference (dicing %g px) moves "
                "%.2f%% when diced at %g px\n",
@@ -98,15 +92,14 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   ConsistencySettings s;
   s.thetaL = radians(o.thetaL);
   s.phi = radians(o.phi);
-  s.component = componentFrom(o.component);
+  s.component = o.component;
   s.phong = o.phong;
   s.samplesPerAzimuth = o.samples;
   s.azimuths = o.azimuths;
   s.shadows = o.shadows;
   std::vector<ConsistencyRow> rows;
   for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
-  const std::string table = formatConsistency(
-      rows, o.format == "markdown" ? TableFormat::Markdown : TableFormat::Csv, o.normalize);
+  const std::string table = formatConsistency(rows, o.format, o.normalize);
   std::fputs(table.c_str(), stdout);
 }
 

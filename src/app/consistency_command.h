@@ -26,9 +26,9 @@ struct ConsistencyCommandOptions {
   std::vector<float> thetaV{0.0f, 30.0f, 60.0f, 80.0f};  // degrees
   float thetaL = 45.0f;
   float phi = 0.0f;
-  std::string component = "diffuse";
+  Component component = Component::Diffuse;
   float phong = 20.0f;
-  std::string format = "csv";
+  TableFormat format = TableFormat::Csv;
   double normalize = 0.0;
   int samples = 4096;
   int azimuths = 64;

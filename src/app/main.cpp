@@ -83,13 +83,10 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
       ->add_option("--dicing-rate", o.dicingRate,
                    "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
       ->check(CLI::Range(0.01f, 1000.0f));
-  render
-      ->add_option("--dicing-metric", o.dicingMetric,
-                   "isotropic (world length over the pixel footprint at its depth) or projected "
-                   "(foreshortened "
-                   "screen length; cheaper, under-resolved at grazing angles) (overrides "
-                   "render.dicing_metric)")
-      ->check(CLI::IsMember({"isotropic", "projected"}));
+  addChoice(render, "--dicing-metric", o.dicingMetric,
+            "isotropic (world length over the pixel footprint at its depth) or projected "
+            "(foreshortened screen length; cheaper, under-resolved at grazing angles) (overrides "
+            "render.dicing_metric)");
   render
       ->add_option("--relief-samples", o.reliefSamples,
                    "Full displacement: least micropolygon edges per shortest relief wavelength, "
@@ -182,15 +179,12 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
   c->add_option("--phi", o.phi, "phi_V - phi_L in degrees")
       ->check(CLI::Range(-360.0f, 360.0f))
       ->capture_default_str();
-  c->add_option("--component", o.component, "diffuse|specular|both")
-      ->check(CLI::IsMember({"diffuse", "specular", "both"}))
-      ->capture_default_str();
+  addChoice(c, "--component", o.component,
+            "Terms of the local model: " + meso::choiceList<meso::Component>("|"));
   c->add_option("--phong", o.phong, "Phong exponent of the specular component")
       ->check(CLI::Range(0.0f, 10000.0f))
       ->capture_default_str();
-  c->add_option("--format", o.format, "csv|markdown")
-      ->check(CLI::IsMember({"csv", "markdown"}))
-      ->capture_default_str();
+  addChoice(c, "--format", o.format, meso::choiceList<meso::TableFormat>("|"));
   c->add_option("--normalize", o.normalize,
                 "Scale so that bump at the first theta_V equals this (the paper used 128)");
   c->add_option("--samples", o.samples, "Samples per view azimuth")

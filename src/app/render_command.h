@@ -24,7 +24,7 @@ struct RenderCommandOptions {
   std::optional<int> tessellationRate;
   std::optional<int> width, height;
   std::optional<float> dicingRate;
-  std::optional<std::string> dicingMetric;
+  std::optional<DicingMetric> dicingMetric;
   std::optional<float> reliefSamples;
   std::optional<int64_t> maxMicropolygons;
   std::optional<ShadingNormals> normals;

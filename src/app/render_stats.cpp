@@ -37,7 +37,7 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"threads", scene.render.threads},
           {"tessellation_rate", scene.render.tessellationRate},
           {"dicing_rate", scene.render.dicingRate},
-          {"dicing_metric", scene.render.dicingMetric},
+          {"dicing_metric", choiceName(scene.render.dicingMetric)},
           {"relief_samples", scene.render.reliefSamples},
           {"max_micropolygons", scene.render.maxMicropolygons},
           {"normals", choiceName(scene.render.normals)},

@@ -1,7 +1,7 @@
 // Becker & Max 1993, section 3 (redistribution bump mapping) and section 4.1 (theta_W).
 #include "meso/appearance/redistribution.h"
 
-#include "meso/appearance/piecewise_cdf.h"
+#include "meso/core/piecewise_cdf.h"
 #include "meso/core/math.h"
 
 #include <algorithm>

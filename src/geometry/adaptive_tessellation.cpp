@@ -79,16 +79,6 @@ bool ScreenMetric::pointInView(Vec3 p) const {
          q.y <= static_cast<float>(height);
 }
 
-DicingMetric parseDicingMetric(const std::string& name) {
-  if (name == "isotropic") return DicingMetric::Isotropic;
-  if (name == "projected") return DicingMetric::Projected;
-  throw Error("dicing metric: expected \"isotropic\" or \"projected\", got \"" + name + "\"");
-}
-
-const char* dicingMetricName(DicingMetric metric) {
-  return metric == DicingMetric::Projected ? "projected" : "isotropic";
-}
-
 bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
   lo -= Vec3(grow);
   hi += Vec3(grow);

@@ -2,6 +2,7 @@
 
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/shadow_rays.h"
 #include "meso/render/surface_shader.h"
 #include "meso/render/transition.h"
@@ -16,7 +17,6 @@ namespace meso {
 namespace {
 
 constexpr int kTileSize = 16;
-constexpr int kChannels = 11;
 
 // The paper's Figure 4 look: the algorithm colours, shaded by the beauty's brightness so the shapes
 // stay readable.
@@ -124,6 +124,32 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   countSample(ctx, object, r.T, shares);
 }
 
+// Writes a pixel's means into FilmLayout's channels; a value that is not finite is written as 0
+// and counted.
+void writePixel(const PixelSum& sum, int spp, bool falseColourBeauty, int x, int y, Image& film,
+                int64_t& nonFinite) {
+  const float inv = 1.0f / static_cast<float>(spp);
+  const float invHits = sum.hits > 0 ? 1.0f / static_cast<float>(sum.hits) : 0.0f;
+  Vec3 beauty = sum.colour * inv;
+  const Vec3 algorithm = sum.algorithm * inv;
+  if (falseColourBeauty) beauty = falseColour(beauty, algorithm);
+  std::array<float, FilmLayout::kChannels> values{};
+  values[FilmLayout::R] = beauty.r, values[FilmLayout::G] = beauty.g;
+  values[FilmLayout::B] = beauty.b;
+  values[FilmLayout::DepthZ] = sum.depth * invHits;
+  values[FilmLayout::NormalX] = sum.normal.x * invHits;
+  values[FilmLayout::NormalY] = sum.normal.y * invHits;
+  values[FilmLayout::NormalZ] = sum.normal.z * invHits;
+  values[FilmLayout::AlgorithmR] = algorithm.r, values[FilmLayout::AlgorithmG] = algorithm.g;
+  values[FilmLayout::AlgorithmB] = algorithm.b;
+  values[FilmLayout::T] = sum.T * invHits;
+  for (int c = 0; c < FilmLayout::kChannels; ++c) {
+    const bool finite = std::isfinite(values[c]);
+    nonFinite += !finite;
+    film.at(x, y, c) = finite ? values[c] : 0.0f;
+  }
+}
+
 void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, int y, Image& film,
                  int64_t& rays, int64_t& nonFinite, ShareCounts& shares) {
   const int spp = options.spp;
@@ -152,27 +178,7 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
                 shares);
   }
   rays += spp;
-  const float inv = 1.0f / static_cast<float>(spp);
-  const float invHits = sum.hits > 0 ? 1.0f / static_cast<float>(sum.hits) : 0.0f;
-  Vec3 beauty = sum.colour * inv;
-  const Vec3 algorithm = sum.algorithm * inv;
-  if (options.falseColour) beauty = falseColour(beauty, algorithm);
-  const float values[kChannels] = {beauty.r,
-                                   beauty.g,
-                                   beauty.b,
-                                   sum.depth * invHits,
-                                   sum.normal.x * invHits,
-                                   sum.normal.y * invHits,
-                                   sum.normal.z * invHits,
-                                   algorithm.r,
-                                   algorithm.g,
-                                   algorithm.b,
-                                   sum.T * invHits};
-  for (int c = 0; c < kChannels; ++c) {
-    const bool finite = std::isfinite(values[c]);
-    nonFinite += !finite;
-    film.at(x, y, c) = finite ? values[c] : 0.0f;
-  }
+  writePixel(sum, spp, options.falseColour, x, y, film, nonFinite);
 }
 
 }  // namespace
@@ -180,9 +186,7 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options,
                   RenderCounters& counters) {
   const CameraSettings& cam = ctx.camera.settings();
-  Image film(cam.width, cam.height,
-             {"R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "algorithm.R",
-              "algorithm.G", "algorithm.B", "T.Y"});
+  Image film = FilmLayout::make(cam.width, cam.height);
   const int tilesX = (cam.width + kTileSize - 1) / kTileSize;
   const int tilesY = (cam.height + kTileSize - 1) / kTileSize;
   ProgressBar progress("render", static_cast<int64_t>(tilesX) * tilesY, options.progress);

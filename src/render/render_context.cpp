@@ -120,7 +120,7 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
                 {},
                 static_cast<size_t>(rs.maxMicropolygons)};
   d.dicing.dicingRate = rs.dicingRate;
-  d.dicing.metric = parseDicingMetric(rs.dicingMetric);
+  d.dicing.metric = rs.dicingMetric;
   d.dicing.maxEdgeRate = 4096;
   return d;
 }

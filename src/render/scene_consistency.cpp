@@ -1,6 +1,7 @@
 // Becker & Max 1993, Figure 6 for whole scenes (issue: consistency on every real surface).
 #include "meso/render/scene_consistency.h"
 
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
 
@@ -53,8 +54,9 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float 
   return r;
 }
 
-double luminance(const Image& image, int x, int y) {
-  return 0.2126 * image.at(x, y, 0) + 0.7152 * image.at(x, y, 1) + 0.0722 * image.at(x, y, 2);
+double luminance(const Image& film, int x, int y) {
+  return 0.2126 * film.at(x, y, FilmLayout::R) + 0.7152 * film.at(x, y, FilmLayout::G) +
+         0.0722 * film.at(x, y, FilmLayout::B);
 }
 
 }  // namespace
@@ -129,7 +131,8 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   return report;
 }
 
-std::string formatSceneConsistency(const SceneConsistencyReport& report, bool markdown) {
+std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFormat format) {
+  const bool markdown = format == TableFormat::Markdown;
   std::string out;
   char buf[64];
   const auto cell = [&](double v, const char* fmt) {

@@ -3,58 +3,16 @@
 #include "meso/synthesis/normal_lookup_table.h"
 
 #include "meso/core/error.h"
+#include "meso/core/piecewise_cdf.h"
 
 #include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <span>
 #include <string>
 
 namespace meso {
-namespace {
-
-// Cumulative sums of masses (double), normalized to end at 1; all zero gives the uniform CDF.
-void cumulate(const double* masses, int n, float* out) {
-  double total = 0.0;
-  for (int k = 0; k < n; ++k) total += masses[k];
-  double run = 0.0;
-  out[0] = 0.0f;
-  for (int k = 0; k < n; ++k) {
-    run += masses[k];
-    out[k + 1] = total > 0.0 ? static_cast<float>(run / total) : static_cast<float>(k + 1) / n;
-  }
-  out[n] = 1.0f;
-}
-
-// Inverse of a piecewise-linear CDF over n equal cells of [0, n]: a position in cells, and the cell
-// it came from (one with mass, unless all are empty). r >= 1 lands on the right edge of the last
-// cell with mass, r <= 0 on the left edge of the first.
-float inverseCells(const float* cdf, int n, float r, int& cell) {
-  if (r >= 1.0f) {
-    int c = n - 1;
-    while (c > 0 && !(cdf[c + 1] > cdf[c])) --c;
-    cell = c;
-    return static_cast<float>(c + 1);
-  }
-  r = std::max(r, 0.0f);
-  // The cell c with cdf[c] <= r < cdf[c + 1]: it has mass.
-  const int c =
-      std::clamp(static_cast<int>(std::upper_bound(cdf, cdf + n + 1, r) - cdf) - 1, 0, n - 1);
-  const float width = cdf[c + 1] - cdf[c];
-  const float f = width > 0.0f ? (r - cdf[c]) / width : 0.0f;
-  cell = c;
-  return static_cast<float>(c) + std::clamp(f, 0.0f, 1.0f);
-}
-
-// The CDF at a position in cells (clamped to [0, n]).
-float forwardCells(const float* cdf, int n, float pos) {
-  pos = std::clamp(pos, 0.0f, static_cast<float>(n));
-  const int c = std::min(static_cast<int>(pos), n - 1);
-  return cdf[c] + (pos - c) * (cdf[c + 1] - cdf[c]);
-}
-
-}  // namespace
-
 namespace {
 
 // x^(1/3) for x in [0, 1/8] to float precision, without std::cbrt's ~25 ns: a bit-level first
@@ -108,12 +66,11 @@ NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& 
   if (!(total > 0.0) || !std::isfinite(total))
     throw Error("normal lookup table: the NDF " + ndf.name() +
                 " has no mass inside its support box");
-  marginalCdf_.resize(n + 1);
-  cumulate(column.data(), n, marginalCdf_.data());
-  conditionalCdf_.resize(static_cast<size_t>(n) * (n + 1));
+  appendCumulative(std::span<const double>(column), marginalCdf_);
+  conditionalCdf_.reserve(static_cast<size_t>(n) * (n + 1));
   for (int i = 0; i < n; ++i)
-    cumulate(&mass[static_cast<size_t>(i) * n], n,
-             &conditionalCdf_[static_cast<size_t>(i) * (n + 1)]);
+    appendCumulative(std::span<const double>(&mass[static_cast<size_t>(i) * n], n),
+                     conditionalCdf_);
 
   nodes_.resize(static_cast<size_t>(res_) * res_);
   for (int i = 0; i < res_; ++i) {
@@ -126,16 +83,23 @@ NormalLookupTable::NormalLookupTable(const Ndf& ndf, const NormalLookupOptions& 
   }
 }
 
+CdfRows NormalLookupTable::conditional(int column) const {
+  const size_t edges = static_cast<size_t>(pdfRes_) + 1;
+  return CdfRows(
+      std::span<const float>(&conditionalCdf_[static_cast<size_t>(column) * edges], edges));
+}
+
+// The inverses land inside the support of their CDF, so the column of x has mass: r >= 1 lands on
+// the right edge of the last cell with mass, r <= 0 on the left edge of the first.
 float NormalLookupTable::marginalInverse(float r1, int& column) const {
-  const float pos = inverseCells(marginalCdf_.data(), pdfRes_, r1, column);
-  return -support_.x + pos * (2.0f * support_.x / pdfRes_);
+  const BinPosition pos = cdfInverseInBins(CdfRows(marginalCdf_), r1, InverseSide::Upper);
+  column = static_cast<int>(pos.bin);
+  return -support_.x + pos.t() * (2.0f * support_.x / pdfRes_);
 }
 
 float NormalLookupTable::conditionalInverse(int column, float r2) const {
-  int cell = 0;
-  const float pos = inverseCells(&conditionalCdf_[static_cast<size_t>(column) * (pdfRes_ + 1)],
-                                 pdfRes_, r2, cell);
-  return -support_.y + pos * (2.0f * support_.y / pdfRes_);
+  const BinPosition pos = cdfInverseInBins(conditional(column), r2, InverseSide::Upper);
+  return -support_.y + pos.t() * (2.0f * support_.y / pdfRes_);
 }
 
 Vec3 NormalLookupTable::sampleExact(Vec2 r) const {
@@ -150,8 +114,7 @@ Vec2 NormalLookupTable::cdf(const Vec3& m) const {
   const float py = std::clamp((m.y + support_.y) / (2.0f * support_.y) * pdfRes_, 0.0f,
                               static_cast<float>(pdfRes_));
   const int c = std::min(static_cast<int>(px), pdfRes_ - 1);
-  return Vec2(forwardCells(marginalCdf_.data(), pdfRes_, px),
-              forwardCells(&conditionalCdf_[static_cast<size_t>(c) * (pdfRes_ + 1)], pdfRes_, py));
+  return Vec2(cdfForwardInBins(CdfRows(marginalCdf_), px), cdfForwardInBins(conditional(c), py));
 }
 
 Vec2 NormalLookupTable::interpolate(Vec2 t) const {
@@ -169,28 +132,9 @@ Vec3 NormalLookupTable::lookup(Vec2 r) const {
   return normalFromXY(interpolate(Vec2(unwarp(r.x) * s, unwarp(r.y) * s)));
 }
 
-namespace {
-
-// The fractional node index t in [0, n - 1] where at(t), rising and linear between nodes, reaches
-// v; clamped to the ends.
-template <class At>
-float invertRising(const At& at, int n, float v) {
-  if (!(v > at(0))) return 0.0f;
-  if (!(v < at(n - 1))) return static_cast<float>(n - 1);
-  int lo = 0, hi = n - 1;
-  while (hi - lo > 1) {  // invariant at(lo) < v <= at(hi)
-    const int mid = (lo + hi) / 2;
-    (at(mid) < v ? lo : hi) = mid;
-  }
-  const float w = at(hi) - at(lo);
-  return static_cast<float>(lo) + (w > 0.0f ? (v - at(lo)) / w : 0.0f);
-}
-
-}  // namespace
-
 Vec2 NormalLookupTable::invert(const Vec3& m) const {
   // First coordinate: node x depends on i only and rises with i.
-  const float tx = invertRising([&](int i) { return nodes_[i].x; }, res_, m.x);
+  const float tx = inverseNondecreasing([&](int i) { return nodes_[i].x; }, res_, m.x);
   // Second coordinate: y along the column blended at tx rises with j.
   const int i = std::min(static_cast<int>(tx), res_ - 2);
   const float a = tx - i;
@@ -198,7 +142,7 @@ Vec2 NormalLookupTable::invert(const Vec3& m) const {
     const Vec2* row = &nodes_[static_cast<size_t>(j) * res_ + i];
     return row[0].y + a * (row[1].y - row[0].y);
   };
-  const float ty = invertRising(yAt, res_, m.y);
+  const float ty = inverseNondecreasing(yAt, res_, m.y);
   const float s = static_cast<float>(res_ - 1);
   return Vec2(warp(tx / s), warp(ty / s));
 }

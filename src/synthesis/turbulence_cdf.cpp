@@ -3,10 +3,12 @@
 #include "meso/synthesis/turbulence_cdf.h"
 
 #include "meso/core/error.h"
+#include "meso/core/piecewise_cdf.h"
 #include "meso/core/rng.h"
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 
 namespace meso {
@@ -22,15 +24,12 @@ inline float quantileLevel(float s) {
 }
 
 // Quantiles q[k] = F^-1(quantileLevel(k / (kQuantiles - 1))) of a piecewise-linear CDF over bins
-// of [-range, range].
-void quantilesOf(const float* cdf, int bins, float range, float* q) {
-  int e = 0;
+// of [-range, range] (q[0]: the left end of the support).
+void quantilesOf(std::span<const float> cdf, int bins, float range, float* q) {
   for (int k = 0; k < kQuantiles; ++k) {
     const float u = quantileLevel(static_cast<float>(k) / (kQuantiles - 1));
-    while (e < bins - 1 && !(cdf[e + 1] >= u && cdf[e + 1] > 0.0f)) ++e;
-    const float a = cdf[e], b = cdf[e + 1];
-    const float f = b > a ? std::clamp((u - a) / (b - a), 0.0f, 1.0f) : 0.0f;
-    q[k] = -range + (e + f) * (2.0f * range / bins);
+    q[k] =
+        -range + cdfInverseInBins(CdfRows(cdf), u, InverseSide::Lower).t() * (2.0f * range / bins);
   }
 }
 
@@ -74,7 +73,7 @@ TurbulenceCdf::TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOp
         "turbulence CDF: need at least 16 points, 8..2^20 bins and a positive domain (got " +
         std::to_string(options.points) + ", " + std::to_string(options.bins) + ")");
   const size_t measured = kMeasuredCounts.size();
-  std::vector<float> quantiles(measured * kQuantiles), cdf(bins_ + 1);
+  std::vector<float> quantiles(measured * kQuantiles), cdf;
   std::vector<double> counts(bins_);
   const double scale = bins_ / (2.0 * range_);
   for (size_t r = 0; r < measured; ++r) {
@@ -88,15 +87,9 @@ TurbulenceCdf::TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOp
       const Vec2 t = turbulence.evaluate(p, kMeasuredCounts[r]);
       add(t.x), add(-t.x), add(t.y), add(-t.y);
     }
-    double run = 0.0;
-    const double total = 4.0 * options.points;
-    cdf[0] = 0.0f;
-    for (int b = 0; b < bins_; ++b) {
-      run += counts[b];
-      cdf[b + 1] = static_cast<float>(run / total);
-    }
-    cdf[bins_] = 1.0f;
-    quantilesOf(cdf.data(), bins_, range_, &quantiles[r * kQuantiles]);
+    cdf.clear();
+    appendCumulative(std::span<const double>(counts), cdf);
+    quantilesOf(cdf, bins_, range_, &quantiles[r * kQuantiles]);
   }
   // Fine rows by displacement interpolation between the measured rows.
   const float first = kMeasuredCounts.front(), last = kMeasuredCounts.back();
@@ -117,57 +110,33 @@ TurbulenceCdf::TurbulenceCdf(const Turbulence& turbulence, const TurbulenceCdfOp
   }
 }
 
-void TurbulenceCdf::rows(float c, int& lo, float& w) const {
+CdfRows TurbulenceCdf::blended(float c) const {
   const float x = (c - kMeasuredCounts.front()) * kRowsPerOctave;
-  if (!(x > 0.0f)) {
-    lo = 0, w = 0.0f;
-    return;
+  int row = 0;  // x <= 0 (and NaN): the first row
+  float w = 0.0f;
+  if (x > 0.0f && !(x < static_cast<float>(rowCount_ - 1))) {
+    row = rowCount_ - 2, w = 1.0f;
+  } else if (x > 0.0f) {
+    row = static_cast<int>(x);
+    w = x - static_cast<float>(row);
   }
-  if (!(x < static_cast<float>(rowCount_ - 1))) {
-    lo = rowCount_ - 2, w = 1.0f;
-    return;
-  }
-  lo = static_cast<int>(x);
-  w = x - static_cast<float>(lo);
-}
-
-float TurbulenceCdf::blended(int row, float w, int edge) const {
-  const float* a = &cdf_[static_cast<size_t>(row) * (bins_ + 1)];
-  const float* b = a + (bins_ + 1);
-  return a[edge] + w * (b[edge] - a[edge]);
+  const size_t edges = static_cast<size_t>(bins_) + 1;
+  const std::span<const float> a(&cdf_[static_cast<size_t>(row) * edges], edges);
+  return CdfRows(a, std::span<const float>(a.data() + edges, edges), w, RowMix::Lerp);
 }
 
 float TurbulenceCdf::G(float t, float c) const {
-  int row;
-  float w;
-  rows(c, row, w);
   if (!(t == t)) t = 0.0f;  // NaN: the median
   const float x =
       std::clamp((t + range_) * (bins_ / (2.0f * range_)), 0.0f, static_cast<float>(bins_));
-  const int e = std::min(static_cast<int>(x), bins_ - 1);
-  const float f = x - e;
-  const float lo = blended(row, w, e), hi = blended(row, w, e + 1);
-  return std::clamp(lo + f * (hi - lo), 0.0f, 1.0f);
+  return cdfForwardInBins(blended(c), x);
 }
 
 float TurbulenceCdf::inverse(float u, float c) const {
-  int row;
-  float w;
-  rows(c, row, w);
   u = std::clamp(u == u ? u : 0.5f, 0.0f, 1.0f);
-  // The bin e with F(e) < u <= F(e + 1) (binary search over edges of the blended CDF).
-  int lo = 0, hi = bins_;
-  if (!(u > blended(row, w, 0))) {
-    while (lo < bins_ && !(blended(row, w, lo + 1) > 0.0f)) ++lo;  // the left end of the support
-    return -range_ + lo * (2.0f * range_ / bins_);
-  }
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    (blended(row, w, mid) < u ? lo : hi) = mid;
-  }
-  const float a = blended(row, w, lo), b = blended(row, w, hi);
-  const float f = b > a ? (u - a) / (b - a) : 0.0f;
-  return -range_ + (lo + std::clamp(f, 0.0f, 1.0f)) * (2.0f * range_ / bins_);
+  // u = 0 gives the left end of the support.
+  return -range_ +
+         cdfInverseInBins(blended(c), u, InverseSide::Lower).t() * (2.0f * range_ / bins_);
 }
 
 }  // namespace meso

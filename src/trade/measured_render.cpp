@@ -1,8 +1,8 @@
 // Renders one configuration of `meso trade` and measures it (see measured_render.h).
 #include "meso/trade/measured_render.h"
 
-#include "meso/core/error.h"
 #include "meso/core/timer.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
 #include "meso/trade/peak_rss.h"
@@ -14,12 +14,10 @@ namespace meso::trade {
 namespace {
 
 std::vector<float> depthOf(const Image& film) {
-  const int z = film.channelIndex("depth.Z");
-  if (z < 0) throw Error("trade: the film has no depth.Z channel");
   std::vector<float> depth(static_cast<size_t>(film.width) * film.height);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x)
-      depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, z);
+      depth[static_cast<size_t>(y) * film.width + x] = film.at(x, y, FilmLayout::DepthZ);
   return depth;
 }
 
@@ -42,14 +40,13 @@ void resetPeakOrWarn(bool* warned) {
 }  // namespace
 
 RgbImage beautyOf(const Image& film) {
-  const int r = film.channelIndex("R"), g = film.channelIndex("G"), b = film.channelIndex("B");
-  if (r < 0 || g < 0 || b < 0) throw Error("trade: the film has no R, G, B channels");
   RgbImage out{film.width, film.height,
                std::vector<float>(static_cast<size_t>(film.width) * film.height * 3)};
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
       float* p = &out.rgb[(static_cast<size_t>(y) * film.width + x) * 3];
-      p[0] = film.at(x, y, r), p[1] = film.at(x, y, g), p[2] = film.at(x, y, b);
+      p[0] = film.at(x, y, FilmLayout::R), p[1] = film.at(x, y, FilmLayout::G);
+      p[2] = film.at(x, y, FilmLayout::B);
     }
   return out;
 }

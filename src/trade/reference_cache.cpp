@@ -62,7 +62,7 @@ uint64_t referenceKey(const Scene& scene, const std::vector<CameraSettings>& cam
   // What the command line may override, and what shapes a full-displacement image.
   const RenderSettings& r = scene.render;
   h.value(dicingRate).value(spp).value(r.seed).value(r.tessellationRate).value(r.background);
-  h.string(r.dicingMetric).string(choiceName(r.normals)).value(r.maxMicropolygons);
+  h.string(choiceName(r.dicingMetric)).string(choiceName(r.normals)).value(r.maxMicropolygons);
   h.value(r.reliefSamples);
   h.value(cameras.size());
   for (const CameraSettings& c : cameras) hashCamera(h, c);

@@ -1,7 +1,7 @@
 // Frame-to-frame change in the transition bands (see temporal_stability.h).
 #include "meso/trade/temporal_stability.h"
 
-#include "meso/core/error.h"
+#include "meso/render/film_layout.h"
 #include "meso/trade/configuration.h"
 
 #include <cmath>
@@ -23,12 +23,10 @@ void add(TemporalBand& band, double dh, double dr) {
 void addFramePair(std::vector<TemporalBand>& bands, const MeasuredRender& hybrid,
                   const MeasuredRender& reference, size_t f, float halfWidth) {
   const Image& film = hybrid.films[f];
-  const int tc = film.channelIndex("T.Y"), zc = film.channelIndex("depth.Z");
-  if (tc < 0 || zc < 0) throw Error("trade: the film has no T.Y or depth.Z channel");
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
-      if (film.at(x, y, zc) <= 0.0f) continue;  // no surface
-      const float T = film.at(x, y, tc);
+      if (film.at(x, y, FilmLayout::DepthZ) <= 0.0f) continue;  // no surface
+      const float T = film.at(x, y, FilmLayout::T);
       const double dh = meanAbsChange(hybrid.beauty[f + 1], hybrid.beauty[f], x, y);
       const double dr = meanAbsChange(reference.beauty[f + 1], reference.beauty[f], x, y);
       bool any = false;

@@ -5,6 +5,7 @@
 #include "meso/core/rng.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/scene/camera.h"
+#include "meso/scene/choices.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -122,7 +123,7 @@ void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, in
   DicingSettings settings;
   settings.metric = metric;
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, faces, &wave);
-  std::printf("  %s, %d faces: %zu micropolygons, edge rates %d..%d\n", dicingMetricName(metric),
+  std::printf("  %s, %d faces: %zu micropolygons, edge rates %d..%d\n", choiceName(metric),
               surface.numFaces(), t.stats.micropolygons, t.stats.minEdgeRate, t.stats.maxEdgeRate);
   // The camera close to one side and coarse faces between diced ones make rates differ strongly,
   // also within single faces.
@@ -524,9 +525,6 @@ TEST(ScreenMetric, FootprintLengthIsWorldLengthOverThePixelFootprint) {
     const Vec3 b = a + 0.3f * randomDirection(rng);
     EXPECT_GE(screen.footprintLength(a, b), screen.projectedLength(a, b) * (1.0f - 1e-5f));
   }
-  EXPECT_EQ(parseDicingMetric("projected"), DicingMetric::Projected);
-  EXPECT_EQ(parseDicingMetric("isotropic"), DicingMetric::Isotropic);
-  EXPECT_THROW(parseDicingMetric("screen"), Error);
 }
 
 TEST(ScreenMetric, BoxTestCullsOnlyBoxesOutsideTheFrustum) {

@@ -1,6 +1,7 @@
 // Schilling's antialiased bump mapping in the bump renderer: slopes averaged over the ray
 // footprint and the highlight widened by the removed roughness approach the supersampled image
 // with one sample per pixel; the roughened highlight reduces to Blinn-Phong on a smooth surface.
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/shading.h"
 #include "meso/render/surface_shader.h"
@@ -52,7 +53,8 @@ double rmse(const Image& a, const Image& b) {
   double sum = 0.0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
-      for (int c = 0; c < 3; ++c) sum += std::pow(a.at(x, y, c) - b.at(x, y, c), 2.0);
+      for (int c = FilmLayout::R; c <= FilmLayout::B; ++c)
+        sum += std::pow(a.at(x, y, c) - b.at(x, y, c), 2.0);
   return std::sqrt(sum / (3.0 * a.width * a.height));
 }
 
@@ -66,7 +68,7 @@ TEST(BumpFilter, OneFilteredSampleIsCloserToTheSupersampledImage) {
   const auto mean = [](const Image& im) {
     double sum = 0.0;
     for (int y = 0; y < im.height; ++y)
-      for (int x = 0; x < im.width; ++x) sum += im.at(x, y, 0);
+      for (int x = 0; x < im.width; ++x) sum += im.at(x, y, FilmLayout::R);
     return sum / (im.width * im.height);
   };
   std::printf("  mean intensity: reference %.4f, filtered %.4f\n", mean(reference), mean(filtered));

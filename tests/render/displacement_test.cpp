@@ -2,6 +2,7 @@
 // screen-space dicing, the exact limits of partial displacement (disp -> 0 is redistribution,
 // disp = 1 is displacement) in the shader and in whole images.
 #include "meso/render/displacement.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/level_shading.h"
 #include "meso/scene/mesh_io.h"
@@ -67,7 +68,7 @@ double worstBeautyDifference(const Image& a, const Image& b) {
   double worst = 0.0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
-      for (int c = 0; c < 3; ++c)
+      for (int c = FilmLayout::R; c <= FilmLayout::B; ++c)
         worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
   return worst;
 }

@@ -3,6 +3,7 @@
 // very tall relief, uv poles, zero-area faces and non-manifold meshes; T(d, theta_V) and the blend
 // weights of Becker & Max 1993, eq. (10), are continuous (Lipschitz on every sampled interval).
 #include "meso/core/error.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/transition.h"
 #include "meso/scene/mesh_io.h"
@@ -157,10 +158,9 @@ class ExtremesTest : public meso::testing::TempDirTest {
       EXPECT_EQ(img.width, s.camera.width) << what;
       EXPECT_TRUE(img.allFinite()) << what;
       EXPECT_EQ(counters.nonFinite.load(), 0) << what << ": the renderer's NaN/Inf check fired";
-      const int depth = img.channelIndex("depth.Z");
       int hits = 0;
       for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) hits += img.at(x, y, depth) > 0.0f;
+        for (int x = 0; x < img.width; ++x) hits += img.at(x, y, FilmLayout::DepthZ) > 0.0f;
       if (std::getenv("MESO_DEBUG_EXTREMES"))
         std::fprintf(stderr, "%s: %d hits\n", what.c_str(), hits);
       return hits;

@@ -1,4 +1,5 @@
 // Renders analytic scenes with known intensity, and checks determinism across thread counts.
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/shading.h"
 
@@ -69,9 +70,10 @@ TEST(Integrator, FlatPlaneUnderDirectionalLightHasExactIntensity) {
   const Vec3 expected = scene.materials[0].kd * 1.5f * 0.8f;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      for (int c = 0; c < 3; ++c) ASSERT_NEAR(img.at(x, y, c), expected[c], 2e-6f) << x << "," << y;
-      EXPECT_NEAR(img.at(x, y, img.channelIndex("normal.Z")), 1.0f, 1e-6f);
-      EXPECT_GT(img.at(x, y, img.channelIndex("depth.Z")), 4.9f);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(img.at(x, y, FilmLayout::R + c), expected[c], 2e-6f) << x << "," << y;
+      EXPECT_NEAR(img.at(x, y, FilmLayout::NormalZ), 1.0f, 1e-6f);
+      EXPECT_GT(img.at(x, y, FilmLayout::DepthZ), 4.9f);
     }
 }
 
@@ -105,7 +107,8 @@ TEST(Integrator, LightFromBehindThePlaneGivesAmbientOnly) {
   const Image img = renderFrame(ctx, {1, 0, false}, counters);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
-      for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(img.at(x, y, c), scene.materials[0].ka[c]);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_FLOAT_EQ(img.at(x, y, FilmLayout::R + c), scene.materials[0].ka[c]);
 }
 
 TEST(Shading, BlinnPhongHighlightAtMirrorConfiguration) {
@@ -191,7 +194,7 @@ TEST(Integrator, TraceOnlyFindsTheSameHitsAndShadesNothing) {
   RenderOptions trace = full;
   trace.traceOnly = true;
   const Image a = renderFrame(ctx, full, counters), b = renderFrame(ctx, trace, counters);
-  const int depth = a.channelIndex("depth.Z"), red = a.channelIndex("R");
+  const int depth = FilmLayout::DepthZ, red = FilmLayout::R;
   ASSERT_GE(depth, 0);
   int hits = 0;
   for (int y = 0; y < a.height; ++y)

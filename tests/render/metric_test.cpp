@@ -1,6 +1,7 @@
 // The surface's own metric (docs/metric.md): the same world relief on a plane whose uv is scaled,
 // stretched or sheared gives the same BRDF and redistribution images; geometry and shading agree
 // on disp per level; heights are centred on their midlevel.
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/surface_shader.h"
 #include "meso/render/tile_map.h"
@@ -62,11 +63,10 @@ std::vector<double> bandMeans(const Scene& scene, int bands) {
   const Image img = renderFrame(ctx, {scene.camera.spp, 3, false}, counters);
   EXPECT_TRUE(img.allFinite());
   std::vector<double> sum(bands, 0.0), count(bands, 0.0);
-  const int depth = img.channelIndex("depth.Z");
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      if (!(img.at(x, y, depth) > 0.0f)) continue;
-      sum[y * bands / img.height] += img.at(x, y, 0);
+      if (!(img.at(x, y, FilmLayout::DepthZ) > 0.0f)) continue;
+      sum[y * bands / img.height] += img.at(x, y, FilmLayout::R);
       count[y * bands / img.height] += 1.0;
     }
   std::vector<double> means;

@@ -1,5 +1,6 @@
 // Rendering relief: every algorithm gives finite images at the extremes, the BRDF agrees with
 // redistribution in mean intensity on a flat patch, and auto is continuous across the thresholds.
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 
 #include "support/plane_scene.h"
@@ -42,7 +43,7 @@ Image render(const Scene& scene) {
 double meanRed(const Image& img, int y0, int y1) {
   double sum = 0.0;
   for (int y = y0; y < y1; ++y)
-    for (int x = 0; x < img.width; ++x) sum += img.at(x, y, 0);
+    for (int x = 0; x < img.width; ++x) sum += img.at(x, y, FilmLayout::R);
   return sum / ((y1 - y0) * img.width);
 }
 
@@ -86,8 +87,8 @@ TEST(ReliefRender, AutoIsContinuousAcrossThresholds) {
   s.camera.position = {0.0f, -1.0f, 2.0f};
   s.camera.spp = 4;
   const Image img = render(s);
-  const int R = img.channelIndex("algorithm.R"), G = img.channelIndex("algorithm.G"),
-            B = img.channelIndex("algorithm.B"), depth = img.channelIndex("depth.Z");
+  const int R = FilmLayout::AlgorithmR, G = FilmLayout::AlgorithmG, B = FilmLayout::AlgorithmB,
+            depth = FilmLayout::DepthZ;
   int brdfRows = 0, redistRows = 0, dispRows = 0, firstFullRow = img.height;
   for (int y = 0; y < img.height; ++y) {
     const int x = img.width / 2;

@@ -58,7 +58,8 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
   EXPECT_FALSE(r.referenceCoarsened);
   EXPECT_TRUE(r.warnings.empty());
   EXPECT_EQ(r.worstRenderer, "bump");  // displacement is exact, so bump is the worst
-  const std::string csv = formatSceneConsistency(r, false), md = formatSceneConsistency(r, true);
+  const std::string csv = formatSceneConsistency(r, TableFormat::Csv),
+                    md = formatSceneConsistency(r, TableFormat::Markdown);
   EXPECT_NE(csv.find("region,pixels,reference,coarse reference,displacement,bump"),
             std::string::npos)
       << csv;

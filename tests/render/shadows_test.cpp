@@ -1,6 +1,7 @@
 // Macro shadows (DESIGN.md section 6): no acne under a grazing light, shadows where an occluder
 // blocks the light and nowhere else, and bit-identical images with render.shadows = false.
 #include "meso/core/image_io.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/shadow_rays.h"
 
@@ -80,9 +81,9 @@ TEST(Shadows, FlatPlaneUnderGrazingLightHasNoAcne) {
       ASSERT_TRUE(lit.allFinite());
       for (int y = 0; y < lit.height; ++y)
         for (int x = 0; x < lit.width; ++x) {
-          const float u = unshadowed.at(x, y, 0);
+          const float u = unshadowed.at(x, y, FilmLayout::R);
           ASSERT_GT(u, 0.0f);
-          ASSERT_NEAR(lit.at(x, y, 0), u, 1e-4f * u)
+          ASSERT_NEAR(lit.at(x, y, FilmLayout::R), u, 1e-4f * u)
               << "elevation " << elevation << " at " << x << "," << y;
         }
     }
@@ -111,10 +112,10 @@ TEST(Shadows, FloatingQuadCastsItsShadowAndNothingElse) {
       const bool outside =
           p.x < -1.5f - margin || p.x > -0.5f + margin || std::abs(p.y) > 0.5f + margin;
       if (inside) {
-        EXPECT_EQ(img.at(x, y, 0), 0.0f) << x << "," << y;
+        EXPECT_EQ(img.at(x, y, FilmLayout::R), 0.0f) << x << "," << y;
         ++dark;
       } else if (outside) {
-        EXPECT_NEAR(img.at(x, y, 0), lightOnFloor, 1e-5f) << x << "," << y;
+        EXPECT_NEAR(img.at(x, y, FilmLayout::R), lightOnFloor, 1e-5f) << x << "," << y;
         ++lit;
       }
     }
@@ -152,8 +153,8 @@ TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
                           (dir / "shadow_golden.toml").string() + " --no-shadows -q -o " +
                           out.string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
-  const Image golden = readImage(dir / "golden_no_shadows.exr");
-  const Image now = readImage(out);
+  const Image golden = FilmLayout::fromExr(readImage(dir / "golden_no_shadows.exr"), "golden");
+  const Image now = FilmLayout::fromExr(readImage(out), out.string());
   ASSERT_EQ(golden.pixels.size(), now.pixels.size());
   EXPECT_EQ(0, std::memcmp(golden.pixels.data(), now.pixels.data(),
                            golden.pixels.size() * sizeof(float)));
@@ -162,7 +163,7 @@ TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
                          (dir / "shadow_golden.toml").string() + " -q -o " + out.string() +
                          " > /dev/null 2>&1";
   ASSERT_EQ(std::system(on.c_str()), 0);
-  const Image shadowed = readImage(out);
+  const Image shadowed = FilmLayout::fromExr(readImage(out), out.string());
   EXPECT_NE(0, std::memcmp(golden.pixels.data(), shadowed.pixels.data(),
                            golden.pixels.size() * sizeof(float)));
   fs::remove(out);

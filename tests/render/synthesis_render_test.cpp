@@ -1,6 +1,7 @@
 // Fractal NDF synthesis in the renderer (Kautz et al. 2001 as meso's finest level): zooming in
 // adds synthesized detail without changing the mean intensity, the false-colour layer shows it,
 // and a Blinn-Phong NDF far away is the local model it generalizes.
+#include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/relief_levels.h"
 
@@ -73,10 +74,10 @@ Means meanOverSurface(const std::string& type, float distance, int views) {
     RenderCounters counters;
     const Image img = renderFrame(ctx, {cam.spp, static_cast<uint64_t>(k), false}, counters);
     EXPECT_EQ(counters.nonFinite.load(), 0);
-    const int B = img.channelIndex("algorithm.B"), G = img.channelIndex("algorithm.G");
+    const int B = FilmLayout::AlgorithmB, G = FilmLayout::AlgorithmG;
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x) {
-        m.intensity += img.at(x, y, 0);
+        m.intensity += img.at(x, y, FilmLayout::R);
         m.synthesis += 2.0 * (img.at(x, y, B) - img.at(x, y, G));  // magenta (1, 0, 1) against grey
         n += 1.0;
       }
@@ -186,7 +187,7 @@ TEST(SynthesisRender, FilteredBumpReachesSynthesis) {
   RenderCounters counters;
   const Image img = renderFrame(ctx, {s.camera.spp, 3, false}, counters);
   ASSERT_TRUE(img.allFinite());
-  const int R = img.channelIndex("algorithm.R"), B = img.channelIndex("algorithm.B");
+  const int R = FilmLayout::AlgorithmR, B = FilmLayout::AlgorithmB;
   double magenta = 0.0;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) magenta += std::min(img.at(x, y, R), img.at(x, y, B));

@@ -31,6 +31,14 @@ TEST(Choices, EveryNameRoundTripsAndUnknownNamesAreRefused) {
   expectRoundTrip<NdfType>();
   expectRoundTrip<LightType>();
   expectRoundTrip<SubdivisionScheme>();
+  expectRoundTrip<DicingMetric>();
+  expectRoundTrip<Component>();
+  expectRoundTrip<TableFormat>();
+  EXPECT_EQ(parseChoice<DicingMetric>("projected"), DicingMetric::Projected);
+  EXPECT_EQ(parseChoice<DicingMetric>("isotropic"), DicingMetric::Isotropic);
+  EXPECT_FALSE(parseChoice<DicingMetric>("screen").has_value());
+  EXPECT_EQ(choiceList<Component>(), "diffuse | specular | both");
+  EXPECT_EQ(choiceList<TableFormat>(), "csv | markdown");
   EXPECT_EQ(choiceList<Algorithm>(), "auto | brdf | bump | redistribution | displacement");
   EXPECT_EQ(choiceNames<NdfType>(),
             (std::vector<std::string>{"beckmann", "blinn-phong", "tabulated", "relief"}));
@@ -64,6 +72,7 @@ TEST(Choices, SceneFormatDocumentsEveryName) {
   expectDocumented<LightType>("type", 0);
   expectDocumented<NdfType>("type", 1);
   expectDocumented<SubdivisionScheme>("scheme");
+  expectDocumented<DicingMetric>("dicing_metric");
 }
 
 }  // namespace

@@ -134,7 +134,7 @@ normals = "facet"
   EXPECT_FLOAT_EQ(s.render.transition.D, 3.0f);
   EXPECT_FLOAT_EQ(s.render.transition.e4, 2.0f);
   EXPECT_FLOAT_EQ(s.render.dicingRate, 0.5f);
-  EXPECT_EQ(s.render.dicingMetric, "projected");
+  EXPECT_EQ(s.render.dicingMetric, DicingMetric::Projected);
   EXPECT_EQ(s.render.normals, ShadingNormals::Facet);
 }
 
@@ -145,7 +145,7 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
   EXPECT_EQ(s.camera.spp, 4);
   EXPECT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.render.algorithm, Algorithm::Auto);
-  EXPECT_EQ(s.render.dicingMetric, "isotropic");
+  EXPECT_EQ(s.render.dicingMetric, DicingMetric::Isotropic);
   // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2,
   // 0).
   const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);

@@ -3,7 +3,7 @@
 // R_theta^-1 = F^-1 o G_theta (the paper's q) goes back. Both are table lookups.
 #pragma once
 
-#include "meso/appearance/piecewise_cdf.h"
+#include "meso/core/piecewise_cdf.h"
 #include "meso/appearance/visible_normal_histogram.h"
 #include "meso/scene/choices.h"  // RedistributionVariant
 

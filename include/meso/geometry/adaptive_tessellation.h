@@ -4,12 +4,12 @@
 #pragma once
 
 #include "meso/core/math.h"
+#include "meso/geometry/dicing_metric.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
 
 #include <cstddef>
-#include <string>
 #include <vector>
 
 namespace meso {
@@ -60,21 +60,6 @@ struct ScreenMetric {
   // its four side planes or behind the near plane); conservative: true when unsure.
   bool boxInView(Vec3 lo, Vec3 hi, float grow) const;
 };
-
-// How the length of an edge in pixels is measured for dicing.
-enum class DicingMetric {
-  // World length over the pixel footprint at the edge's depth (ScreenMetric::footprintLength):
-  // micropolygons are about dicingRate pixel footprints long in every direction, also along the
-  // view direction at grazing angles, where relief seen edge-on needs them.
-  Isotropic,
-  // Foreshortened screen length of the edge (ScreenMetric::projectedLength): fewer micropolygons
-  // at grazing angles, where they are many pixels deep, so displacement there is under-resolved.
-  Projected,
-};
-
-// "isotropic" | "projected" (the scene key render.dicing_metric); throws meso::Error otherwise.
-DicingMetric parseDicingMetric(const std::string& name);
-const char* dicingMetricName(DicingMetric metric);
 
 struct DicingSettings {
   float dicingRate = 1.0f;  // longest micropolygon edge in pixels where a face needs dicing

@@ -5,14 +5,13 @@
 
 #include "meso/appearance/level_tables.h"
 #include "meso/appearance/periodic_tile.h"
+#include "meso/scene/choices.h"  // Component, TableFormat
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace meso {
-
-enum class Component { Diffuse, Specular, Both };
 
 struct ConsistencySettings {
   float thetaL = 0.7853982f;  // light polar angle (radians)
@@ -35,8 +34,6 @@ struct ConsistencyRow {
   double brdf = 0.0;            // the level's BRDF table
   double displacement = 0.0;    // rays at the displaced periodic relief, shaded with Blinn normals
 };
-
-enum class TableFormat { Csv, Markdown };
 
 // The table of rows: CSV with the header exactly `theta_v,bump,redistribution,brdf,displacement`
 // (theta_v in degrees), or a Markdown table with the largest pairwise difference of redistribution,

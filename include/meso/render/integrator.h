@@ -2,6 +2,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/render/film_layout.h"
 #include "meso/render/render_context.h"
 
 #include <array>
@@ -53,10 +54,8 @@ struct RenderCounters {
   std::atomic<int64_t> nonFinite{0};
 };
 
-// The film's layers: R, G, B (beauty), depth.Z (mean distance from the eye over the samples that
-// hit a surface, 0 where none did), normal.X/Y/Z (mean shading normal over hits, 0 where none),
-// algorithm.R/G/B (the renderer colours of DESIGN.md section 2 mixed by blend weights, averaged
-// over all samples) and T.Y (mean transition parameter of the finest visible level over hits).
+// The film's layers are FilmLayout's (film_layout.h): beauty, depth, shading normal, algorithm
+// colours and T.
 // Every pixel depends only on (seed, pixel, sample index), so any thread count gives the same bits.
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options, RenderCounters& counters);
 

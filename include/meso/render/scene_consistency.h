@@ -55,6 +55,6 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
 
 // The report as CSV (region, pixels, one column per renderer, then relative differences) or as a
 // markdown table.
-std::string formatSceneConsistency(const SceneConsistencyReport& report, bool markdown);
+std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFormat format);
 
 }  // namespace meso

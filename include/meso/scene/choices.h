@@ -1,11 +1,12 @@
 // The named choices of a scene file and the command line (render.algorithm, render.normals,
-// render.tables.variant, a relief level's source, materials.ndf.type, lights.type,
-// objects.scheme): one enum each and one table of its names, used by the scene reader, the CLI and
-// the messages. Strings die where they are parsed (pbrt-v4's way): an unknown name is an error
-// there, never a silent default.
+// render.dicing_metric, render.tables.variant, a relief level's source, materials.ndf.type,
+// lights.type, objects.scheme; `meso consistency --component` and `--format`): one enum each and
+// one table of its names, used by the scene reader, the CLI and the messages. Strings die where
+// they are parsed (pbrt-v4's way): an unknown name is an error there, never a silent default.
 #pragma once
 
-#include "meso/geometry/control_mesh.h"  // SubdivisionScheme
+#include "meso/geometry/control_mesh.h"   // SubdivisionScheme
+#include "meso/geometry/dicing_metric.h"  // DicingMetric
 
 #include <array>
 #include <optional>
@@ -40,6 +41,13 @@ enum class NdfType { Beckmann, BlinnPhong, Tabulated, Relief };
 
 // lights.type.
 enum class LightType { Directional, Point };
+
+// `meso consistency --component`: the terms of the local model the patch is lit with (kd = 1,
+// ks = 1 or both; ka = 0).
+enum class Component { Diffuse, Specular, Both };
+
+// `meso consistency --format`: how its tables are printed.
+enum class TableFormat { Csv, Markdown };
 
 template <class E>
 struct ChoiceName {
@@ -87,6 +95,22 @@ template <>
 struct Choices<LightType> {
   static constexpr std::array<ChoiceName<LightType>, 2> names{
       {{LightType::Directional, "directional"}, {LightType::Point, "point"}}};
+};
+template <>
+struct Choices<DicingMetric> {
+  static constexpr std::array<ChoiceName<DicingMetric>, 2> names{
+      {{DicingMetric::Isotropic, "isotropic"}, {DicingMetric::Projected, "projected"}}};
+};
+template <>
+struct Choices<Component> {
+  static constexpr std::array<ChoiceName<Component>, 3> names{{{Component::Diffuse, "diffuse"},
+                                                               {Component::Specular, "specular"},
+                                                               {Component::Both, "both"}}};
+};
+template <>
+struct Choices<TableFormat> {
+  static constexpr std::array<ChoiceName<TableFormat>, 2> names{
+      {{TableFormat::Csv, "csv"}, {TableFormat::Markdown, "markdown"}}};
 };
 template <>
 struct Choices<SubdivisionScheme> {

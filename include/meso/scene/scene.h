@@ -135,8 +135,8 @@ struct RenderSettings {
   int tessellationRate = 8;  // uniform Bfr rate (segments per base-face edge)
   Vec3 background{0.0f};
   TransitionSettings transition;
-  float dicingRate = 1.0f;                 // micropolygon edge length in pixels where displaced
-  std::string dicingMetric = "isotropic";  // how that length is measured: isotropic | projected
+  float dicingRate = 1.0f;  // micropolygon edge length in pixels where displaced
+  DicingMetric dicingMetric = DicingMetric::Isotropic;  // how that length is measured
   // Full displacement: at least this many micropolygon edges per shortest wavelength of the
   // finest relief level wherever it is diced, also where that is below a pixel (0 = off).
   float reliefSamples = 4.0f;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "meso/core/math.h"
+#include "meso/core/piecewise_cdf.h"
 #include "meso/synthesis/ndf.h"
 
 #include <vector>
@@ -63,6 +64,7 @@ class NormalLookupTable {
  private:
   float marginalInverse(float r1, int& column) const;
   float conditionalInverse(int column, float r2) const;
+  CdfRows conditional(int column) const;  // C(y | column)
   Vec2 nodeXY(int i, int j) const { return nodes_[static_cast<size_t>(j) * res_ + i]; }
   // Bilinear (x, y) at table coordinates t in [0, res - 1]^2.
   Vec2 interpolate(Vec2 t) const;

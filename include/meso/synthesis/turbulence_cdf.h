@@ -2,6 +2,7 @@
 // distribution, so that G(turbulence) is uniform on [0, 1] before it indexes L(r1, r2).
 #pragma once
 
+#include "meso/core/piecewise_cdf.h"
 #include "meso/synthesis/turbulence.h"
 
 #include <array>
@@ -52,10 +53,9 @@ class TurbulenceCdf {
   float range() const { return range_; }  // G is tabulated over [-range, range]
 
  private:
-  // The fine row below c and the blend weight towards the next.
-  void rows(float c, int& lo, float& w) const;
+  // The fine rows around c, blended (the last two at w = 1 beyond the last row).
+  CdfRows blended(float c) const;
   int rowCount_ = 0;
-  float blended(int row, float w, int edge) const;
   int bins_;
   float range_;
   std::vector<float> cdf_;  // rows of bins + 1 edges

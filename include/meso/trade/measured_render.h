@@ -24,7 +24,7 @@ struct RgbImage {
   }
 };
 
-// The R, G, B channels of a film; throws meso::Error if it has none.
+// The beauty channels of a film of renderFrame's (FilmLayout).
 RgbImage beautyOf(const Image& film);
 
 struct MeasuredRender {

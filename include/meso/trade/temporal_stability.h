@@ -20,8 +20,8 @@ struct TemporalBand {
   double hybridChange = 0.0, referenceChange = 0.0;  // mean |change| over the band's pixels
 };
 
-// `hybrid` must hold its films (MeasureOptions::keepFilms); throws meso::Error if they lack T.Y or
-// depth.Z.
+// `hybrid` must hold its films (MeasureOptions::keepFilms), renderFrame's (FilmLayout): T and depth
+// are read from their channels.
 std::vector<TemporalBand> temporalBands(const MeasuredRender& hybrid,
                                         const MeasuredRender& reference,
                                         const TransitionSettings& t, float halfWidth);

@@ -1,4 +1,4 @@
-#include "meso/appearance/piecewise_cdf.h"
+#include "meso/core/piecewise_cdf.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,18 +17,31 @@ std::vector<float> cumulativeFromMasses(std::span<const float> masses) {
   return out;
 }
 
-void appendCumulative(std::span<const float> masses, std::vector<float>& out) {
+namespace {
+
+template <class Mass>
+void appendCumulativeOf(std::span<const Mass> masses, std::vector<float>& out) {
   const size_t n = masses.size();
   double total = 0.0;
-  for (float m : masses) total += std::max(0.0f, m);
+  for (Mass m : masses) total += std::max(Mass(0), m);
   double c = 0.0;
   out.push_back(0.0f);
   for (size_t i = 0; i < n; ++i) {
-    c += std::max(0.0f, masses[i]);
+    c += std::max(Mass(0), masses[i]);
     out.push_back(i + 1 == n    ? 1.0f
                   : total > 0.0 ? static_cast<float>(c / total)
                                 : static_cast<float>(i + 1) / static_cast<float>(n));
   }
+}
+
+}  // namespace
+
+void appendCumulative(std::span<const float> masses, std::vector<float>& out) {
+  appendCumulativeOf(masses, out);
+}
+
+void appendCumulative(std::span<const double> masses, std::vector<float>& out) {
+  appendCumulativeOf(masses, out);
 }
 
 void appendGuide(std::span<const float> cdf, std::vector<uint16_t>& out) {
@@ -51,8 +64,26 @@ BinCosines::BinCosines(float lo, float width, size_t bins) : lower(bins), upper(
 
 namespace {
 
-inline float mixAt(std::span<const float> a, std::span<const float> b, float w, size_t i) {
-  return w == 0.0f ? a[i] : (1.0f - w) * a[i] + w * b[i];
+// The largest edge i in [lo, hi) with at(i) < p (or at(i) <= p when `inclusive`), by bisection: the
+// bin of the inverse at p of a nondecreasing table, given at(lo) below p and at(hi) not.
+template <class Table>
+size_t bisectEdges(const Table& table, size_t lo, size_t hi, float p, bool inclusive) {
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    const float c = table.at(mid);
+    if (inclusive ? c <= p : c < p)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+// The fraction of bin i where the table's linear interpolation reaches p.
+template <class Table>
+float fractionAt(const Table& table, size_t i, float p) {
+  const float c0 = table.at(i), c1 = table.at(i + 1);
+  return c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
 }
 
 // Fraction of bin i below x, and its inverse, for the bin shape.
@@ -95,47 +126,58 @@ size_t inverseBin(const CdfMix& mix, float p) {
     while (loI > 0 && !(mix.at(loI) < p)) --loI;  // verify the bracket's ends
     while (hiI < n && mix.at(hiI) < p) ++hiI;
   }
-  while (hiI - loI > 1) {
-    const size_t mid = (loI + hiI) / 2;
-    if (mix.at(mid) < p)
-      loI = mid;
-    else
-      hiI = mid;
-  }
-  return loI;
+  return bisectEdges(mix, loI, hiI, p, false);
 }
 
 }  // namespace
 
-float cdfForward(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
-                 float x, BinShape shape) {
-  const size_t n = a.size() - 1;
+float cdfForwardInBins(const CdfRows& rows, float t) {
+  const size_t n = rows.edges() - 1;
+  t = std::clamp(t == t ? t : 0.0f, 0.0f, static_cast<float>(n));
+  const size_t i = std::min(static_cast<size_t>(t), n - 1);
+  const float f = t - static_cast<float>(i);
+  const float c0 = rows.at(i), c1 = rows.at(i + 1);
+  return std::clamp(c0 + f * (c1 - c0), 0.0f, 1.0f);
+}
+
+BinPosition cdfInverseInBins(const CdfRows& rows, float p, InverseSide side) {
+  const size_t n = rows.edges() - 1;
+  p = std::clamp(p == p ? p : 0.0f, 0.0f, 1.0f);
+  BinPosition r;
+  if (side == InverseSide::Lower && !(p > rows.at(0))) {
+    const float first = rows.at(0);  // the left end of the support
+    while (r.bin < n && !(rows.at(r.bin + 1) > first)) ++r.bin;
+    return r;
+  }
+  if (side == InverseSide::Upper && !(p < rows.at(n))) {
+    r.bin = n - 1;  // the right end of the support
+    while (r.bin > 0 && !(rows.at(r.bin + 1) > rows.at(r.bin))) --r.bin;
+    r.fraction = 1.0f;
+    return r;
+  }
+  r.bin = bisectEdges(rows, 0, n, p, side == InverseSide::Upper);
+  r.fraction = fractionAt(rows, r.bin, p);
+  return r;
+}
+
+float cdfForward(const CdfRows& rows, float lo, float width, float x, BinShape shape) {
+  const size_t n = rows.edges() - 1;
   const float t = (x - lo) / width;
   if (!(t > 0.0f)) return 0.0f;  // also catches NaN
   if (t >= static_cast<float>(n)) return 1.0f;
   const size_t i = std::min(static_cast<size_t>(t), n - 1);
   const float f = fractionIn(i, lo, width, x, shape);
-  const float c0 = mixAt(a, b, w, i), c1 = mixAt(a, b, w, i + 1);
+  const float c0 = rows.at(i), c1 = rows.at(i + 1);
   return c0 + f * (c1 - c0);
 }
 
-float cdfInverse(std::span<const float> a, std::span<const float> b, float w, float lo, float width,
-                 float p, BinShape shape) {
-  const size_t n = a.size() - 1;
+float cdfInverse(const CdfRows& rows, float lo, float width, float p, BinShape shape) {
+  const size_t n = rows.edges() - 1;
   p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f);
   // Largest edge i with C(i) < p (first edge where the CDF reaches p is i + 1), so zero-mass bins
   // before the answer are skipped.
-  size_t loI = 0, hiI = n;
-  while (hiI - loI > 1) {
-    const size_t mid = (loI + hiI) / 2;
-    if (mixAt(a, b, w, mid) < p)
-      loI = mid;
-    else
-      hiI = mid;
-  }
-  const float c0 = mixAt(a, b, w, loI), c1 = mixAt(a, b, w, loI + 1);
-  const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
-  return positionIn(loI, lo, width, f, shape);
+  const size_t i = bisectEdges(rows, 0, n, p, false);
+  return positionIn(i, lo, width, fractionAt(rows, i, p), shape);
 }
 
 float cdfForward(const CdfMix& mix, float lo, float width, float x, BinShape shape,
@@ -159,10 +201,8 @@ float cdfInverse(const CdfMix& mix, float lo, float width, float p, BinShape sha
   // The top 1e-6 of mass is left out: a stray bin far in the tail, mixed in by a tiny slice weight,
   // would otherwise decide where every normal at p = 1 goes (by float rounding of that weight).
   p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f - 1e-6f);
-  const size_t loI = inverseBin(mix, p);
-  const float c0 = mix.at(loI), c1 = mix.at(loI + 1);
-  const float f = c1 > c0 ? std::clamp((p - c0) / (c1 - c0), 0.0f, 1.0f) : 0.0f;
-  return positionIn(loI, lo, width, f, shape, cosines);
+  const size_t i = inverseBin(mix, p);
+  return positionIn(i, lo, width, fractionAt(mix, i, p), shape, cosines);
 }
 
 }  // namespace meso
