@@ -143,6 +143,52 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief) {
   return std::isfinite(rms) ? rms : std::numeric_limits<float>::infinity();
 }
 
+namespace {
+
+// What faceDicing needs to know of one face, from its corners and centre.
+struct FaceSample {
+  Vec3 lo, hi;              // box of the face's limit patch
+  float uvEdge = 0.0f;      // longest edge in uv
+  float lengthPerU = 0.0f;  // the largest min(|P_u|, |P_v|) of the points
+  float shortestPerU = std::numeric_limits<float>::infinity();  // the smallest
+  float leastCot = std::numeric_limits<float>::infinity();      // most grazing view: cot(theta_V)
+};
+
+bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, FaceSample& s) {
+  if (!surface.faceBox(face, s.lo, s.hi)) return false;
+  const auto seen = [&](const SurfacePoint& sp) {
+    const float shortest = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+    s.shortestPerU = std::min(s.shortestPerU, shortest);
+    s.lengthPerU = std::max(s.lengthPerU, shortest);
+    const Vec3 toEye = eye - sp.P;
+    const float along = std::abs(glm::dot(sp.N, toEye)),
+                across = glm::length(glm::cross(sp.N, toEye));
+    s.leastCot = std::min(s.leastCot, across > 0.0f ? along / across : s.shortestPerU);
+  };
+  const int corners = surface.faceSize(face);
+  Vec2 centre(0.0f);
+  SurfacePoint previous = surface.evaluate(face, surface.cornerSt(face, corners - 1));
+  for (int k = 0; k < corners; ++k) {
+    const Vec2 st = surface.cornerSt(face, k);
+    const SurfacePoint sp = surface.evaluate(face, st);
+    centre += st / static_cast<float>(corners);
+    s.uvEdge = std::max(s.uvEdge, glm::length(sp.uv - previous.uv));
+    seen(sp);
+    previous = sp;
+  }
+  seen(surface.evaluate(face, centre));
+  return true;
+}
+
+// ceil(uvEdge * perU) clamped to [1, limit]; 0 (none) where perU is not positive or the product
+// not finite.
+int edgeRateFor(float uvEdge, float perU, float limit) {
+  if (!(perU > 0.0f) || !std::isfinite(uvEdge * perU)) return 0;
+  return static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, limit));
+}
+
+}  // namespace
+
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, float reliefSamples) {
@@ -153,73 +199,44 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   out.texelFloor.assign(static_cast<size_t>(n), 0);
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
-  const ReliefLevel& coarsest = relief.levels.front();
   const float threshold =
       transition.D + transition.e3 * transition.eps;  // least nu that T can raise
   const float slopePerU =
       mode == DisplacementMode::Full && reliefSamples > 0.0f ? reliefSlopeRmsPerU(relief) : 0.0f;
   tbb::parallel_for(0, n, [&](int face) {
-    Vec3 lo, hi;
-    if (!surface.faceBox(face, lo, hi)) return;
-    const int corners = surface.faceSize(face);
-    Vec2 centre(0.0f);
-    float uvEdge = 0.0f, lengthPerU = 0.0f;
-    float shortestPerU = std::numeric_limits<float>::infinity(), leastCot = shortestPerU;
-    const auto seen = [&](const SurfacePoint& sp) {  // how grazing the view of a limit point is
-      const float shortest = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
-      shortestPerU = std::min(shortestPerU, shortest);
-      lengthPerU = std::max(lengthPerU, shortest);
-      const Vec3 toEye = eye - sp.P;
-      const float along = std::abs(glm::dot(sp.N, toEye)),
-                  across = glm::length(glm::cross(sp.N, toEye));
-      leastCot = std::min(leastCot, across > 0.0f ? along / across : shortestPerU);
-    };
-    SurfacePoint previous = surface.evaluate(face, surface.cornerSt(face, corners - 1));
-    for (int k = 0; k < corners; ++k) {
-      const Vec2 st = surface.cornerSt(face, k);
-      const SurfacePoint sp = surface.evaluate(face, st);
-      centre += st / static_cast<float>(corners);
-      uvEdge = std::max(uvEdge, glm::length(sp.uv - previous.uv));
-      seen(sp);
-      previous = sp;
-    }
-    seen(surface.evaluate(face, centre));
-    const auto capAt = [&](const ReliefLevel& level) {
-      const float perU = samplesPerU(level, reliefSamples);
-      if (perU > 0.0f && std::isfinite(uvEdge * perU))
-        out.texelCap[face] = static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, 32767.0f));
-    };
+    FaceSample s;
+    if (!sampleFace(surface, face, eye, s)) return;
     if (mode == DisplacementMode::Full) {
       const ReliefLevel& finest = relief.levels.back();
-      capAt(finest);
-      const float perU =
-          std::min(reliefSamples * finest.freqPerU, samplesPerU(finest, reliefSamples));
-      const int cap = out.texelCap[face] > 0 ? out.texelCap[face] : 32767;
+      const float capPerU = samplesPerU(finest, reliefSamples);
+      out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
       // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
-      const float slope =
-          shortestPerU > 0.0f ? slopePerU / shortestPerU : std::numeric_limits<float>::infinity();
-      const bool masks = !(leastCot >= kMaskingSlopes * slope);
-      if (masks && perU > 0.0f && std::isfinite(uvEdge * perU))
+      const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU
+                                                : std::numeric_limits<float>::infinity();
+      if (!(s.leastCot >= kMaskingSlopes * slope))
         out.texelFloor[face] =
-            static_cast<int>(std::clamp(std::ceil(uvEdge * perU), 1.0f, static_cast<float>(cap)));
+            edgeRateFor(s.uvEdge, std::min(reliefSamples * finest.freqPerU, capPerU),
+                        out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
       out.needsDicing[face] = 1;
       return;
     }
     // The largest nu of a level on the face: seen from the nearest point of the face's box grown
     // by the bound; lengthPerU is padded by 25% because it was sampled at five points only.
     const Vec3 grow(std::isfinite(bound) ? bound : 0.0f);
-    const float distance = std::isfinite(bound) ? boxDistance(eye, lo - grow, hi + grow) : 0.0f;
+    const float distance = std::isfinite(bound) ? boxDistance(eye, s.lo - grow, s.hi + grow) : 0.0f;
     const auto maxNu = [&](const ReliefLevel& level) {
-      return distance > 0.0f ? level.wavelength() * 1.25f * lengthPerU * pixelsPerRadian / distance
-                             : std::numeric_limits<float>::infinity();
+      return distance > 0.0f
+                 ? level.wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / distance
+                 : std::numeric_limits<float>::infinity();
     };
-    out.needsDicing[face] = !(maxNu(coarsest) <= threshold);
+    out.needsDicing[face] = !(maxNu(relief.levels.front()) <= threshold);
     if (!out.needsDicing[face]) return;
     // Texels of the finest level that can be raised here: a finer one is drawn flat (BRDF or
     // redistribution) on this face, so dicing below its texels would buy nothing.
     for (size_t i = relief.levels.size(); i-- > 0;)
       if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
-        capAt(relief.levels[i]);
+        out.texelCap[face] =
+            edgeRateFor(s.uvEdge, samplesPerU(relief.levels[i], reliefSamples), 32767.0f);
         break;
       }
   });
