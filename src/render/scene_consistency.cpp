@@ -59,41 +59,12 @@ double luminance(const Image& film, int x, int y) {
          0.0722 * film.at(x, y, FilmLayout::B);
 }
 
-}  // namespace
-
-SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& o) {
-  SceneConsistencyReport report;
-  std::vector<Rendered> images;
-  const auto announce = [&](const std::string& what) {
-    if (o.onRender) o.onRender(what);
-  };
-  // The reference is refined in both ways geometry resolves relief: half the coarse reference's
-  // pixel dicing, and twice its micropolygons per relief wavelength where relief is sub-pixel.
-  const float samples = scene.render.reliefSamples;
-  char dicing[128];
-  std::snprintf(dicing, sizeof dicing, "%g px, %g and %g px, %g per relief wavelength",
-                o.referenceDicing, std::min(16.0f, 2.0f * samples), 2.0f * o.referenceDicing,
-                samples);
-  announce(std::string("reference: displacement at ") + dicing);
-  images.push_back(renderWith(scene, Algorithm::Displacement, o.referenceDicing, 2.0f,
-                              o.referenceSpp, o.cancel, true));
-  report.renderers.push_back("reference");
-  images.push_back(renderWith(scene, Algorithm::Displacement, 2.0f * o.referenceDicing, 1.0f,
-                              o.referenceSpp, o.cancel, false));
-  report.renderers.push_back("coarse reference");
-  for (Algorithm a : o.algorithms) {
-    announce(choiceName(a));
-    images.push_back(renderWith(scene, a, 0.0f, 1.0f, 0, o.cancel, false));
-    report.renderers.push_back(choiceName(a));
-  }
-  report.referenceCoarsened = images[0].coarsening > 1.0f || images[1].coarsening > 1.0f;
-  for (const Rendered& r : images)
-    for (const std::string& w : r.warnings)
-      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
-        report.warnings.push_back(w);
+// The regions (objects, then bands of rows) of the pixels whose centre ray hits an object in the
+// reference (images[0]), their mean luminance per image, the reference's change and the worst.
+void accumulateRegions(const Scene& scene, const std::vector<Rendered>& images, int bands,
+                       SceneConsistencyReport& report) {
   const Image& ref = images[0].image;
   const std::vector<int>& object = images[0].object;
-  const int bands = std::max(1, o.bands);
   const size_t numObjects = scene.objects.size();
   report.regions.resize(numObjects + static_cast<size_t>(bands));
   for (size_t k = 0; k < numObjects; ++k)
@@ -128,6 +99,41 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
       }
     }
   }
+}
+
+}  // namespace
+
+SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& o) {
+  SceneConsistencyReport report;
+  std::vector<Rendered> images;
+  const auto announce = [&](const std::string& what) {
+    if (o.onRender) o.onRender(what);
+  };
+  // The reference is refined in both ways geometry resolves relief: half the coarse reference's
+  // pixel dicing, and twice its micropolygons per relief wavelength where relief is sub-pixel.
+  const float samples = scene.render.reliefSamples;
+  char dicing[128];
+  std::snprintf(dicing, sizeof dicing, "%g px, %g and %g px, %g per relief wavelength",
+                o.referenceDicing, std::min(16.0f, 2.0f * samples), 2.0f * o.referenceDicing,
+                samples);
+  announce(std::string("reference: displacement at ") + dicing);
+  images.push_back(renderWith(scene, Algorithm::Displacement, o.referenceDicing, 2.0f,
+                              o.referenceSpp, o.cancel, true));
+  report.renderers.push_back("reference");
+  images.push_back(renderWith(scene, Algorithm::Displacement, 2.0f * o.referenceDicing, 1.0f,
+                              o.referenceSpp, o.cancel, false));
+  report.renderers.push_back("coarse reference");
+  for (Algorithm a : o.algorithms) {
+    announce(choiceName(a));
+    images.push_back(renderWith(scene, a, 0.0f, 1.0f, 0, o.cancel, false));
+    report.renderers.push_back(choiceName(a));
+  }
+  report.referenceCoarsened = images[0].coarsening > 1.0f || images[1].coarsening > 1.0f;
+  for (const Rendered& r : images)
+    for (const std::string& w : r.warnings)
+      if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
+        report.warnings.push_back(w);
+  accumulateRegions(scene, images, std::max(1, o.bands), report);
   return report;
 }
 
