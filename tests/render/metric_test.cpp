@@ -150,6 +150,31 @@ TEST(Metric, AnisotropicAndShearedUvStayFinite) {
   }
 }
 
+// Strongly sheared or stretched metric classes get twice the view-azimuth slices (their visible
+// normals change fast with phi_V); an isotropic orthogonal uv keeps render.tables.phi_v_bins, and
+// so does a mild stretch.
+TEST(Metric, ShearedAndStretchedClassesGetTwiceTheViewSlices) {
+  const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  const Vec2 mild[4] = {{0, 0}, {40.0f / 1.4f, 0}, {40.0f / 1.4f, 40}, {0, 40}};   // log2 a = 0.24
+  const Vec2 aniso[4] = {{0, 0}, {40.0f / 3.0f, 0}, {40.0f / 3.0f, 40}, {0, 40}};  // 0.79
+  const Vec2 shear[4] = {{0, 0}, {40, 0}, {80, 40}, {40, 40}};                     // b = -1
+  const struct {
+    const Vec2* uv;
+    int factor;
+  } cases[] = {{unit, 1}, {mild, 1}, {aniso, 2}, {shear, 2}};
+  for (const auto& c : cases) {
+    Scene s = metricScene("brdf", "slices", c.uv, 2.0f, 0.03f);
+    s.render.tables.phiVBins = 4;
+    s.render.tables.azimuths = 8;
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, false);
+    ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u);
+    const HistogramResolution& q = ctx.reliefs[0].metrics[0].levels[0].distr.resolution();
+    EXPECT_EQ(q.phiV, 4 * c.factor) << "shape a " << ctx.reliefs[0].metrics[0].shape.a << " b "
+                                    << ctx.reliefs[0].metrics[0].shape.b;
+  }
+}
+
 // TileMap: M^-1 (M t) = t, and M^-T n is normal to every M t with t normal to n.
 TEST(Metric, TileMapInvertsAndMapsNormals) {
   Rng rng(5);
