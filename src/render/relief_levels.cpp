@@ -191,10 +191,11 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   // the view azimuth: twice the view-azimuth slices there. On a 45-degree shear (b = -1), 16
   // slices left a steep relief 1.6% (redistribution) and 1.1% (BRDF) from displacement in the
   // farthest rows, 32 slices 0.7% and 0.6% (tools/metric-consistency).
+  constexpr float kStrongShear = 0.5f, kStrongStretchOctaves = 0.75f;
   HistogramResolution& q = settings.histogram.resolution;
-  if (q.phiV > 1 &&
-      (std::abs(metric.shape.b) >= 0.5f || std::abs(std::log2(metric.shape.a)) >= 0.75f)) {
-    settings.histogram.azimuths = settings.histogram.azimuths / q.phiV * (2 * q.phiV);
+  if (q.phiV > 1 && (std::abs(metric.shape.b) >= kStrongShear ||
+                     std::abs(std::log2(metric.shape.a)) >= kStrongStretchOctaves)) {
+    settings.histogram.azimuths *= 2;  // a multiple of the slices (tableSettings), as before
     q.phiV *= 2;
   }
   const size_t n = shapeless.build ? r.levels.size() : 0;

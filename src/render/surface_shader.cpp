@@ -41,21 +41,15 @@ LevelFrame unshaped(const LevelFrame& f, const MetricShape& s) {
   return {f.Pu / s.a, s.a * f.Pv - s.b * f.Pu, f.N};
 }
 
-// The tile map the level's BRDF and self-shadowing tables are looked up through on frame f. Its
-// length is the frame's own clamped to the two classes' (c.metric, from the limit surface): the
-// same inside their range, where the tables are mixed in log l; outside it (a finer level's frame
-// on displaced coarser levels, whose slopes stretch it) the nearest class's, so that the map
-// carries the rest of the stretch to the tables' relief, as redistribution's maps do.
+// The tile map the level's BRDF and self-shadowing tables are looked up through on frame f, at
+// the frame's own length clamped to the two classes' around the limit surface's metric
+// (tableLengthPerU), as redistribution's maps carry a stretch beyond the classes.
 TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
   const LevelFrame f = unshaped(shaped, c.relief.metrics[c.metric.k0].shape);
-  const float l0 = c.relief.metrics[c.metric.k0].lengthPerU,
-              l1 = c.relief.metrics[c.metric.k1].lengthPerU;
-  const float own = areaLengthPerU(f.Pu, f.Pv);
-  const float length =
-      own >= std::min(l0, l1) && own <= std::max(l0, l1)
-          ? own
-          : (std::abs(std::log(own / l0)) < std::abs(std::log(own / l1)) ? l0 : l1);
-  return makeTileMap(f.Pu, f.Pv, f.N, std::isfinite(length) && length > 0.0f ? length : own);
+  return makeTileMap(
+      f.Pu, f.Pv, f.N,
+      tableLengthPerU(areaLengthPerU(f.Pu, f.Pv), c.relief.metrics[c.metric.k0].lengthPerU,
+                      c.relief.metrics[c.metric.k1].lengthPerU));
 }
 
 // The self-shadowing tables of levels first .. last - 1 at the surface's metric.

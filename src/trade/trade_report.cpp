@@ -78,7 +78,7 @@ std::string comparison(const TradeResult& h, const TradeResult& d, const char* a
   char buf[900];
   std::snprintf(
       buf, sizeof buf,
-      "; cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
+      "cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
       "%.4g, worst band %+.3g%%: speedup %.2fx%s; hybrid / displacement at %s: time %.3gx, peak "
       "memory %.3gx (%.3gx of what each added above the process's baseline), geometry memory "
       "%.3gx, micropolygons %.3gx, spp %.3gx",
@@ -128,12 +128,11 @@ std::string tradeSummary(const std::vector<TradeResult>& results, const Referenc
                 "reference's): ",
                 band);
   return std::string(buf) +
-         (cheapest ? comparison(h, *cheapest, "as accurate", "equal rmse")
+         (cheapest ? "; " + comparison(h, *cheapest, "as accurate", "equal rmse")
                    : "; no displacement-only configuration swept is as accurate") +
          "\n" + bandLine +
-         (consistent
-              ? comparison(h, *consistent, "as accurate", "equal rmse and band error").substr(2)
-              : "no displacement-only configuration swept is as accurate and consistent") +
+         (consistent ? comparison(h, *consistent, "as accurate", "equal rmse and band error")
+                     : "no displacement-only configuration swept is as accurate and consistent") +
          "\n" + (study.converged ? "trade: " : "trade: WARNING: ") + referenceVerdict(study);
 }
 

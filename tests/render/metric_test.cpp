@@ -175,6 +175,18 @@ TEST(Metric, ShearedAndStretchedClassesGetTwiceTheViewSlices) {
   }
 }
 
+// The tile map's length: the frame's own between the two classes' (in either order), the nearer
+// class's outside them, the frame's own where the classes give nothing usable.
+TEST(Metric, TableLengthIsTheFramesOwnClampedToTheClasses) {
+  EXPECT_EQ(tableLengthPerU(1.3f, 1.0f, 2.0f), 1.3f);
+  EXPECT_EQ(tableLengthPerU(1.3f, 2.0f, 1.0f), 1.3f);
+  EXPECT_EQ(tableLengthPerU(1.118f, 1.0f, 1.0f), 1.0f);  // a finer level stretched by a slope
+  EXPECT_EQ(tableLengthPerU(0.5f, 1.0f, 2.0f), 1.0f);
+  EXPECT_EQ(tableLengthPerU(3.0f, 1.0f, 2.0f), 2.0f);
+  EXPECT_EQ(tableLengthPerU(1.5f, 0.0f, 0.0f), 1.5f);
+  EXPECT_TRUE(std::isnan(tableLengthPerU(std::nanf(""), 1.0f, 2.0f)));
+}
+
 // TileMap: M^-1 (M t) = t, and M^-T n is normal to every M t with t normal to n.
 TEST(Metric, TileMapInvertsAndMapsNormals) {
   Rng rng(5);

@@ -6,6 +6,7 @@
 
 #include "meso/core/math.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace meso {
@@ -50,6 +51,16 @@ inline TileMap makeTileMap(const Vec3& Pu, const Vec3& Pv, const Vec3& N, float 
   m.aDual = (bb * a - ab * b) / det;
   m.bDual = (aa * b - ab * a) / det;
   return m;
+}
+
+// The length per unit of u a tile map uses for a frame of length `own` with tables built at the
+// class lengths l0 and l1 around the surface's metric: `own` between them, where the tables are
+// mixed in log l; the nearer of the two outside (a frame stretched beyond the classes, as a finer
+// level's on displaced coarser levels), so that the map carries the rest of the stretch to the
+// tables' relief. A non-finite or non-positive result falls back to `own`.
+inline float tableLengthPerU(float own, float l0, float l1) {
+  const float length = std::clamp(own, std::min(l0, l1), std::max(l0, l1));
+  return std::isfinite(length) && length > 0.0f ? length : own;
 }
 
 // sqrt(|P_u x P_v|): the isotropic length per unit of u that keeps areas (the metric class axis).
