@@ -47,7 +47,10 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       eye_(eye),
       pixelsPerRadian_(pixelsPerRadian),
       bound_(displacementBound(relief)),
-      lights_(lights.begin(), lights.end()) {}
+      lights_(lights.begin(), lights.end()) {
+  if (mode == DisplacementMode::ByTransition)
+    for (const ReliefLevel& level : relief.levels) visible_.emplace_back(level);
+}
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                   const Vec3& eye, float pixelsPerRadian,
@@ -101,6 +104,16 @@ Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i)
     offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
+  if (!visible_.empty()) {
+    const Vec3 toEye = eye_ - sp.P;
+    const float distance = glm::length(toEye);
+    const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
+    const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+    for (int i = 0; i < t.count; ++i)
+      if (t.disp[i] < 1.0f)
+        offset += ((1.0f - t.disp[i]) * visible_[i].at(glm::dot(t.frames[i].N, V), lengthPerU)) *
+                  t.frames[i].N;
+  }
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset
                                                                                        : Vec3(0.0f);

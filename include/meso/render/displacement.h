@@ -8,6 +8,7 @@
 #include "meso/relief/level_frames.h"
 #include "meso/render/relief_levels.h"
 #include "meso/render/transition.h"
+#include "meso/render/visible_height.h"
 #include "meso/scene/scene.h"
 
 #include <array>
@@ -59,7 +60,10 @@ struct LevelDisplacement {
 };
 
 // The vertex offsets of one material's relief: sum_i disp_i h_i(u, v) N_i, where N_i is the normal
-// of the surface after levels 1..i-1 were raised, P_u[i+1] = P_u[i] + disp_i B_u[i] N[i].
+// of the surface after levels 1..i-1 were raised, P_u[i+1] = P_u[i] + disp_i B_u[i] N[i]. In
+// ByTransition mode the part of a level drawn flat, 1 - disp_i, lies at the mean height of the
+// view's first hits on it (VisibleHeight), so that the silhouettes of flat-drawn relief reach as
+// far as the displaced relief's: sum_i (disp_i h_i + (1 - disp_i) E_i[h_hit](theta_V)) N_i.
 class ReliefDisplacement : public VertexDisplacement {
  public:
   // lights: those whose terminators count in T (levelTransitions); empty without shadows.
@@ -81,6 +85,7 @@ class ReliefDisplacement : public VertexDisplacement {
   float pixelsPerRadian_;
   float bound_ = 0.0f;
   std::vector<Light> lights_;
+  std::vector<VisibleHeight> visible_;  // per level, ByTransition mode only
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).

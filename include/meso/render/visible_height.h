@@ -1,0 +1,43 @@
+// Where the flat renderers put a relief level's surface (DESIGN.md section 5): at the mean height of
+// the relief the view's rays first hit, so that silhouettes of sub-pixel relief cover the pixels
+// displaced relief covers.
+#pragma once
+
+#include "meso/core/math.h"
+
+#include <array>
+#include <vector>
+
+namespace meso {
+
+struct ReliefLevel;
+
+// A level that BRDF, redistribution or bump draw is flat: its surface is a plane at some height.
+// At a silhouette or a mesh boundary, displaced relief covers the pixels beyond that plane as far
+// as its rays' first hits reach: a ray that would pass the boundary at height z (from the mean
+// plane) is stopped before it exactly when its first hit on the unbounded relief lies above z
+// (rays fall monotonically), so the edge moves out by E[h_hit], the mean height of first hits.
+// Smith's uncorrelated model gives the hit heights' distribution P(h_hit <= z) = C(z)^(1 + Lambda)
+// (C the heights' distribution, Lambda(a) the Gaussian-slope masking function, a = cot(theta) /
+// (sqrt(2) sigma)): E[h_hit] = 0 (the mean plane) seen from above and rises towards the highest
+// heights at grazing views. So the flat surface of a level is drawn at E[h_hit], not at 0.
+class VisibleHeight {
+ public:
+  VisibleHeight() = default;
+  // From 1024 fixed samples of the level's heights and slopes (world units per unit of u).
+  explicit VisibleHeight(const ReliefLevel& level);
+
+  // E[h_hit] in world units where cosTheta is the cosine between the view and the level's frame
+  // normal and lengthPerU the world length of one unit of u there.
+  float at(float cosTheta, float lengthPerU) const;
+
+  // Smith's Lambda for Gaussian slopes: (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)).
+  static float smithLambda(float a);
+
+ private:
+  static constexpr int kNodes = 57;  // log2(1 + Lambda) in [0, 14], quarter steps
+  std::array<float, kNodes> table_{};
+  float slopeRmsPerU_ = 0.0f;  // rms slope per direction (the larger of u and v), per unit of u
+};
+
+}  // namespace meso

@@ -1,0 +1,128 @@
+// The mean height of first hits on a relief level (visible_height.h) against rays marched through
+// the relief itself.
+#include "meso/render/visible_height.h"
+
+#include "meso/render/displacement.h"
+
+#include "meso/core/rng.h"
+#include "meso/render/relief_levels.h"
+#include "support/plane_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace meso {
+namespace {
+
+// E[h_hit] of rays at theta from the normal on a plane whose unit of u is lengthPerU long: rays
+// start above every height, fall cot(theta) world units per world unit across and stop at their
+// first point below the relief (bisected), over random starts and azimuths.
+struct Marched {
+  double mean = 0.0, standardError = 0.0;
+};
+
+Marched marchedHitHeight(const ReliefLevel& level, float theta, float lengthPerU, int rays) {
+  const float top = 2.0f * level.amplitude;
+  const float fall = lengthPerU / std::tan(theta);  // per unit of u
+  const float step = level.wavelength() / 16.0f;
+  Rng rng(7);
+  double sum = 0.0, squares = 0.0, mean = 0.0;
+  for (int r = 0; r < rays; ++r) {
+    const Vec2 start = Vec2(rng.uniform(), rng.uniform()) * 64.0f * level.wavelength();
+    const float phi = 2.0f * kPi * rng.uniform();
+    const Vec2 dir(std::cos(phi), std::sin(phi));
+    mean += level.height(start) / rays;
+    float lo = 0.0f, hi = 0.0f;
+    for (float s = step;; s += step)
+      if (top - s * fall <= level.height(start + s * dir)) {
+        lo = s - step, hi = s;
+        break;
+      }
+    for (int k = 0; k < 30; ++k) {
+      const float mid = 0.5f * (lo + hi);
+      (top - mid * fall <= level.height(start + mid * dir) ? hi : lo) = mid;
+    }
+    const double h = top - hi * fall;
+    sum += h / rays;
+    squares += h * h / rays;
+  }
+  return {sum - mean, std::sqrt(std::max(squares - sum * sum, 0.0) / rays)};
+}
+
+TEST(VisibleHeight, SmithLambdaKnownValues) {
+  // (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)).
+  EXPECT_NEAR(VisibleHeight::smithLambda(1.0f), 0.025133f, 2e-5f);
+  EXPECT_NEAR(VisibleHeight::smithLambda(0.5f), 0.19964f, 2e-5f);
+  EXPECT_LT(VisibleHeight::smithLambda(3.0f), 1e-5f);
+  EXPECT_GT(VisibleHeight::smithLambda(0.0f), 1e5f);
+  EXPECT_GT(VisibleHeight::smithLambda(-1.0f), 1e5f);
+  EXPECT_FALSE(std::isnan(VisibleHeight::smithLambda(std::nanf(""))));
+}
+
+// Smith's uncorrelated model against the relief itself, on the terrain's stones and a relief three
+// times as steep, on unit-speed and stretched (2 world units per unit of u) surfaces.
+TEST(VisibleHeight, MatchesRaysMarchedThroughTheRelief) {
+  for (float amplitude : {0.0375f, 0.1125f}) {
+    const ReliefLevel level = makeReliefLevel(testing::noiseLevel(amplitude, 1.0f, 3));
+    const VisibleHeight visible(level);
+    for (float lengthPerU : {1.0f, 2.0f})
+      for (float degrees : {80.0f, 85.0f, 88.0f}) {
+        const float theta = radians(degrees);
+        const Marched marched = marchedHitHeight(level, theta, lengthPerU, 600);
+        const float model = visible.at(std::cos(theta), lengthPerU);
+        EXPECT_NEAR(model, marched.mean, 4.0 * marched.standardError + 0.15 * marched.mean)
+            << "amplitude " << amplitude << ", " << lengthPerU << " per u, theta " << degrees;
+      }
+  }
+}
+
+// 0 seen from above, rising monotonically towards grazing views, below the highest height, and
+// finite at the extremes: exactly grazing, zero relief, a degenerate parameterization.
+TEST(VisibleHeight, RisesFromTheMeanPlaneTowardsGrazingViews) {
+  const ReliefLevel level = makeReliefLevel(testing::noiseLevel(0.05f, 2.0f, 3));
+  const VisibleHeight visible(level);
+  EXPECT_EQ(visible.at(1.0f, 1.0f), 0.0f);
+  float previous = 0.0f;
+  for (float degrees = 30.0f; degrees <= 90.0f; degrees += 2.0f) {
+    const float h = visible.at(std::cos(radians(degrees)), 1.0f);
+    EXPECT_GE(h, previous) << degrees;
+    previous = h;
+  }
+  EXPECT_GT(visible.at(0.0f, 1.0f), 0.02f);  // near the top of heights of amplitude 0.05
+  EXPECT_LE(visible.at(0.0f, 1.0f),
+            level.amplitude * (level.source->maxAbsHeight() + std::abs(level.midlevel)));
+  EXPECT_EQ(visible.at(0.0f, 0.0f), 0.0f);
+  EXPECT_TRUE(std::isfinite(visible.at(std::nanf(""), 1.0f)));
+  EXPECT_TRUE(std::isfinite(visible.at(0.5f, std::numeric_limits<float>::infinity())));
+  const VisibleHeight flat(makeReliefLevel(testing::noiseLevel(0.0f, 2.0f, 3)));
+  EXPECT_EQ(flat.at(0.0f, 1.0f), 0.0f);
+}
+
+// The hybrid's vertices: a level drawn flat (far away, disp = 0) lies at E[h_hit] along the normal,
+// a level raised completely (near, disp = 1) at its own height; the reference renderer (Full) never
+// moves to E[h_hit].
+TEST(VisibleHeight, FlatDrawnLevelsOfTheHybridLieAtTheMeanHitHeight) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.02f, 4.0f, 3)));
+  const ReliefLevel& level = relief.levels[0];
+  const VisibleHeight visible(level);
+  const SurfacePoint sp{Vec3(0.0f), Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  const TransitionSettings ts;
+  for (float distance : {0.2f, 400.0f}) {
+    const Vec3 eye = distance * glm::normalize(Vec3(1.0f, 0.0f, 0.05f));  // 87 degrees
+    const ReliefDisplacement hybrid(relief, DisplacementMode::ByTransition, ts, eye, 300.0f);
+    const ReliefDisplacement full(relief, DisplacementMode::Full, ts, eye, 300.0f);
+    const float disp = hybrid.levels(sp).disp[0];
+    const float raised = level.height(sp.uv);
+    const float hit = visible.at(glm::normalize(eye).z, 2.0f);
+    EXPECT_GT(hit, 1e-3f);
+    EXPECT_NEAR(hybrid.offset(0, sp.uv, sp).z, disp * raised + (1.0f - disp) * hit, 1e-6f);
+    EXPECT_FLOAT_EQ(full.offset(0, sp.uv, sp).z, raised);
+    EXPECT_EQ(disp, distance < 1.0f ? 1.0f : 0.0f) << distance;
+  }
+}
+
+}  // namespace
+}  // namespace meso
