@@ -48,8 +48,13 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       pixelsPerRadian_(pixelsPerRadian),
       bound_(displacementBound(relief)),
       lights_(lights.begin(), lights.end()) {
-  if (mode == DisplacementMode::ByTransition)
-    for (const ReliefLevel& level : relief.levels) visible_.emplace_back(level);
+  if (mode != DisplacementMode::ByTransition) return;
+  if (relief.visibleHeights.size() == relief.levels.size()) {
+    visible_ = relief.visibleHeights;
+    return;
+  }
+  for (const ReliefLevel& level : relief.levels) ownVisible_.emplace_back(level);
+  visible_ = ownVisible_;
 }
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
@@ -98,22 +103,58 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
   return out;
 }
 
+// The convex curvature (1 / world units) along the view's tangent direction of the levels raised
+// below `level`: a silhouette on a crest of radius R is grazed over a path about sqrt(2 R h)
+// long, not over the unbounded plane Smith's model assumes.
+float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
+                                         const SurfacePoint& sp, Vec3 V) const {
+  const int below = std::min(level, t.raised);
+  const Vec3 N = t.frames[0].N;
+  const Vec3 across = V - glm::dot(V, N) * N;
+  const float length = glm::length(across);
+  if (below == 0 || !(length > 1e-6f)) return 0.0f;
+  // The uv direction of one world unit along `across`: solve [P_u P_v] w = across / length.
+  const Vec3 dir = across / length;
+  const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
+  const float det = a * c - b * b;
+  if (!(std::abs(det) > 0.0f)) return 0.0f;
+  const float ru = glm::dot(sp.Pu, dir), rv = glm::dot(sp.Pv, dir);
+  const Vec2 w((c * ru - b * rv) / det, (a * rv - b * ru) / det);
+  float second = 0.0f;  // d2h/ds2 of the raised levels, s world length along `across`
+  for (int j = 0; j < below; ++j) {
+    const ReliefLevel& coarse = relief_.levels[j];
+    const float step = coarse.wavelength() / (16.0f * std::max(glm::length(w), 1e-12f));
+    const Vec2 slope = coarse.derivatives(sp.uv + step * w) - coarse.derivatives(sp.uv - step * w);
+    second += t.disp[j] * glm::dot(slope, w) / (2.0f * step);
+  }
+  return std::isfinite(second) ? std::max(-second, 0.0f) : 0.0f;
+}
+
+// (1 - disp_i) E_i[h_hit] N_i over the levels drawn flat (visible_height.h).
+Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp) const {
+  const Vec3 toEye = eye_ - sp.P;
+  const float distance = glm::length(toEye);
+  const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
+  const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+  Vec3 offset(0.0f);
+  for (int i = 0; i < t.count; ++i) {
+    if (!(t.disp[i] < 1.0f)) continue;
+    const float cosTheta = glm::dot(t.frames[i].N, V);
+    if (!visible_[i].grazing(cosTheta, lengthPerU)) continue;
+    const float curvature = crestCurvature(t, i, sp, V);
+    offset +=
+        ((1.0f - t.disp[i]) * visible_[i].at(cosTheta, lengthPerU, curvature)) * t.frames[i].N;
+  }
+  return offset;
+}
+
 Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
   const LevelTransitions t =
       levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i)
     offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
-  if (!visible_.empty()) {
-    const Vec3 toEye = eye_ - sp.P;
-    const float distance = glm::length(toEye);
-    const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
-    const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
-    for (int i = 0; i < t.count; ++i)
-      if (t.disp[i] < 1.0f)
-        offset += ((1.0f - t.disp[i]) * visible_[i].at(glm::dot(t.frames[i].N, V), lengthPerU)) *
-                  t.frames[i].N;
-  }
+  if (!visible_.empty()) offset += flatLevelsOffset(t, sp);
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset
                                                                                        : Vec3(0.0f);

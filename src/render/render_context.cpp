@@ -89,6 +89,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
                                          metricClassesFor(samples, scene.render.tables.metricStep));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
+    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m]);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
   }

@@ -51,6 +51,35 @@ Marched marchedHitHeight(const ReliefLevel& level, float theta, float lengthPerU
   return {sum - mean, std::sqrt(std::max(squares - sum * sum, 0.0) / rays)};
 }
 
+// How far relief moves the silhouette of a crest of radius R out (the cylinder -x^2 / (2 R), relief
+// added vertically, one world unit per unit of u): horizontal rays at clearance c above the crest's
+// top, blocked when the relief rises to them anywhere along them; the edge moves out by
+// int (P(blocked | c) - [c < 0]) dc, over random positions along the axis.
+Marched marchedCrestEdge(const ReliefLevel& level, float radius, int rays) {
+  const float top = 2.0f * level.amplitude;
+  const float reach = std::sqrt(2.0f * radius * 2.0f * top);  // the base is below the relief beyond
+  const float step = level.wavelength() / 16.0f;
+  constexpr int kClearances = 64;
+  Rng rng(11);
+  double sum = 0.0, squares = 0.0;
+  for (int r = 0; r < rays; ++r) {
+    const float y = rng.uniform() * 64.0f * level.wavelength();
+    const float shift = rng.uniform() * 64.0f * level.wavelength();
+    // The highest point of relief plus base along the ray's line: blocked exactly below it.
+    float highest = -1e30f;
+    for (float x = -reach; x <= reach; x += step)
+      highest = std::max(highest, -x * x / (2.0f * radius) + level.height({shift + x, y}));
+    double edge = 0.0;
+    for (int k = 0; k < kClearances; ++k) {
+      const float c = -top + 2.0f * top * (k + 0.5f) / kClearances;
+      edge += ((c <= highest ? 1.0 : 0.0) - (c < 0.0f ? 1.0 : 0.0)) * 2.0 * top / kClearances;
+    }
+    sum += edge / rays;
+    squares += edge * edge / rays;
+  }
+  return {sum, std::sqrt(std::max(squares - sum * sum, 0.0) / rays)};
+}
+
 TEST(VisibleHeight, SmithLambdaKnownValues) {
   // (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)).
   EXPECT_NEAR(VisibleHeight::smithLambda(1.0f), 0.025133f, 2e-5f);
@@ -76,6 +105,24 @@ TEST(VisibleHeight, MatchesRaysMarchedThroughTheRelief) {
             << "amplitude " << amplitude << ", " << lengthPerU << " per u, theta " << degrees;
       }
   }
+}
+
+// A crest's silhouette moves out less than an unbounded plane's, the less the tighter the crest.
+TEST(VisibleHeight, CrestsMatchRaysMarchedOverACurvedSurface) {
+  const ReliefLevel level = makeReliefLevel(testing::noiseLevel(0.0375f, 1.0f, 3));
+  const VisibleHeight visible(level);
+  const float plane = visible.at(0.0f, 1.0f);
+  float previous = 0.0f;
+  for (float radius : {0.05f, 0.3f, 2.0f, 10.0f}) {
+    const Marched marched = marchedCrestEdge(level, radius, 300);
+    const float model = visible.at(0.0f, 1.0f, 1.0f / radius);
+    EXPECT_NEAR(model, marched.mean, 4.0 * marched.standardError + 0.15 * marched.mean) << radius;
+    EXPECT_GT(model, previous) << radius;
+    EXPECT_LT(model, 0.7f * plane) << radius;
+    previous = model;
+  }
+  // A crest 4 times as long in u is the same crest on a surface of half the length per unit of u.
+  EXPECT_NEAR(visible.at(0.0f, 0.5f, 1.0f / 0.3f), visible.at(0.0f, 1.0f, 1.0f / 1.2f), 1e-6f);
 }
 
 // 0 seen from above, rising monotonically towards grazing views, below the highest height, and
@@ -122,6 +169,43 @@ TEST(VisibleHeight, FlatDrawnLevelsOfTheHybridLieAtTheMeanHitHeight) {
     EXPECT_FLOAT_EQ(full.offset(0, sp.uv, sp).z, raised);
     EXPECT_EQ(disp, distance < 1.0f ? 1.0f : 0.0f) << distance;
   }
+}
+
+// Stones drawn flat on displaced hills: on a crest of the hills (seen along the view) the stones'
+// surface lies at the crest's edge height, the hills' curvature taken from second differences of
+// their heights here, lower than on the unbounded plane.
+TEST(VisibleHeight, FlatLevelsOnDisplacedCrestsUseTheCrestsCurvature) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.3f, 0.125f, 3)));   // hills
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.0375f, 1.0f, 3)));  // stones
+  const ReliefLevel& hills = relief.levels[0];
+  const TransitionSettings ts;
+  const Vec3 eye(-20.0f, 0.0f, 1.0f);  // along +u, far: hills displaced, stones flat
+  const ReliefDisplacement hybrid(relief, DisplacementMode::ByTransition, ts, eye, 300.0f);
+  const VisibleHeight stones(relief.levels[1]);
+  int crests = 0;
+  for (float u = 0.0f; u < 4.0f && crests < 3; u += 0.01f) {
+    const Vec2 uv(u, 0.37f);
+    const SurfacePoint sp{Vec3(u, 0.37f, 0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), uv};
+    const LevelTransitions t =
+        levelTransitions(relief, sp, eye, 300.0f, ts, DisplacementMode::ByTransition);
+    ASSERT_EQ(t.disp[0], 1.0f);
+    ASSERT_EQ(t.disp[1], 0.0f);
+    const float e = 0.01f;
+    const float second =
+        (hills.height(uv + Vec2(e, 0)) - 2.0f * hills.height(uv) + hills.height(uv - Vec2(e, 0))) /
+        (e * e);
+    const Vec3 V = glm::normalize(eye - sp.P);
+    const float cosTheta = glm::dot(t.frames[1].N, V);
+    if (second > -1.0f || std::abs(cosTheta) > 0.05f) continue;  // a crest, seen grazing
+    ++crests;
+    const float crest = stones.at(cosTheta, 1.0f, -second);
+    const Vec3 expected = hills.height(uv) * t.frames[0].N + crest * t.frames[1].N;
+    const Vec3 got = hybrid.offset(0, uv, sp);
+    EXPECT_NEAR(got.z, expected.z, 0.1f * crest) << u;
+    EXPECT_LT(crest, 0.8f * stones.at(cosTheta, 1.0f)) << u;
+  }
+  EXPECT_EQ(crests, 3);
 }
 
 }  // namespace

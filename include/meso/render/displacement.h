@@ -85,7 +85,13 @@ class ReliefDisplacement : public VertexDisplacement {
   float pixelsPerRadian_;
   float bound_ = 0.0f;
   std::vector<Light> lights_;
-  std::vector<VisibleHeight> visible_;  // per level, ByTransition mode only
+  // Per level in ByTransition mode: the relief's own (MaterialRelief::visibleHeights) or built
+  // here.
+  std::vector<VisibleHeight> ownVisible_;
+  std::span<const VisibleHeight> visible_;
+
+  Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp) const;
+  float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp, Vec3 V) const;
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).

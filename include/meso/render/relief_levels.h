@@ -6,6 +6,7 @@
 #include "meso/relief/height_source.h"
 #include "meso/relief/slope_pyramid.h"
 #include "meso/render/synthesis_level.h"
+#include "meso/render/visible_height.h"
 #include "meso/scene/scene.h"
 
 #include <memory>
@@ -103,10 +104,16 @@ struct MaterialRelief {
   // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
   // material declares [materials.ndf].
   std::unique_ptr<SynthesisLevel> synthesis;
+  // Per level, where the hybrid draws it flat (visible_height.h); built once per render context
+  // (buildVisibleHeights), empty for the other renderers.
+  std::vector<VisibleHeight> visibleHeights;
   int tablesBuilt = 0;
   int tablesFromCache = 0;
   double tablesSeconds = 0.0;
 };
+
+// Fills relief.visibleHeights, one per level.
+void buildVisibleHeights(MaterialRelief& relief);
 
 // The library's table settings for a scene's [render.tables].
 TableSettings tableSettings(const TableResolution& resolution);
