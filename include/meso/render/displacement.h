@@ -70,6 +70,9 @@ class ReliefDisplacement : public VertexDisplacement {
   ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian,
                      std::span<const Light> lights = {});
+  // Not copied: visible_ may point into ownVisible_.
+  ReliefDisplacement(const ReliefDisplacement&) = delete;
+  ReliefDisplacement& operator=(const ReliefDisplacement&) = delete;
   Vec3 offset(int face, Vec2 st, const SurfacePoint& sp) const override;
   float bound() const override { return bound_; }
 
@@ -86,7 +89,8 @@ class ReliefDisplacement : public VertexDisplacement {
   float bound_ = 0.0f;
   std::vector<Light> lights_;
   // Per level in ByTransition mode: the relief's own (MaterialRelief::visibleHeights) or built
-  // here.
+  // here. The crest curvature is that of the raised coarser levels only: the limit surface's own
+  // is not known here, so a smooth object's silhouette takes the plane's (larger) value.
   std::vector<VisibleHeight> ownVisible_;
   std::span<const VisibleHeight> visible_;
 
