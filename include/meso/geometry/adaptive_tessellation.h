@@ -71,6 +71,9 @@ struct DicingSettings {
   // Cap on triangles: about 160 bytes each with the Embree scene (tools/bench_tessellation), so the
   // default keeps a frame's geometry within about half of a 24 GiB machine.
   size_t maxMicropolygons = 80'000'000;
+  // Split the interior of diced quad faces that are partly out of view or whose pixel density
+  // varies by more than 2x, each sub-quad at its own rate (mesh edges keep theirs, so no cracks).
+  bool splitFaces = true;
 };
 
 // What the caller knows per base face (vectors indexed by face; empty means the default for all).
@@ -109,6 +112,9 @@ struct AdaptiveTessellationStats {
   size_t vertices = 0;
   int facesDiced = 0;   // in view and needing dicing
   int facesCulled = 0;  // outside the view: their edges not shared with a visible face get rate 1
+  // Diced quad faces whose interior was split into sub-quads, each with its own rate, because
+  // part of the face is out of view or its pixel density varies by more than 2x across it.
+  int facesSplit = 0;
   int minEdgeRate = 0;
   int maxEdgeRate = 0;
   // The factor by which the cap coarsened every rate (1: not capped); the effective dicing rate is
