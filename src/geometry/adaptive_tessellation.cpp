@@ -81,8 +81,10 @@ bool ScreenMetric::pointInView(Vec3 p) const {
 }
 
 bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
-  lo -= Vec3(grow);
-  hi += Vec3(grow);
+  return boxNearView(lo - Vec3(grow), hi + Vec3(grow), 0.0f);
+}
+
+bool ScreenMetric::boxNearView(Vec3 lo, Vec3 hi, float distance) const {
   const float ty = tanHalfFovY;
   const float tx = ty * static_cast<float>(width) / static_cast<float>(height);
   // The box is outside a plane dot(n, p - eye) > c when its corner nearest the inside is.
@@ -98,7 +100,7 @@ bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
   for (const Plane& plane : planes) {
     const Vec3 nearest(plane.n.x > 0.0f ? lo.x : hi.x, plane.n.y > 0.0f ? lo.y : hi.y,
                        plane.n.z > 0.0f ? lo.z : hi.z);
-    if (glm::dot(plane.n, nearest - eye) > plane.c) return false;
+    if (glm::dot(plane.n, nearest - eye) > plane.c + distance * glm::length(plane.n)) return false;
   }
   return true;
 }

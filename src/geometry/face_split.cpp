@@ -19,8 +19,6 @@ using Cell = SplitPlan::Cell;
 
 // Split only where parts of a face differ by more than this in pixel density.
 constexpr float kSplitDensityRatio = 2.0f;
-// The cells that decide whether a face splits, along u and v (each sampled 3 x 3).
-constexpr int kProbeCells = 4;
 
 // ceil(x) clamped to [1, limit]; NaN gives 1 (as adaptive_tessellation.cpp's edge rates).
 int toRate(float x, int limit) {
@@ -41,8 +39,8 @@ float coarseSegments(const ScreenMetric& screen, Vec3 a0, Vec3 a1, Vec3 a2, floa
   return std::isfinite(deviation) ? std::sqrt(deviation / tolerance) : 0.0f;
 }
 
-// A cell is in view when the box of its samples, grown by the displacement bound and by half the
-// box's diagonal, is: samples are not a conservative hull, but the smooth limit patch between
+// A cell is in view when the box of its samples, grown by a ball of the displacement bound plus half
+// the box's diagonal, is: samples are not a conservative hull, but the smooth limit patch between
 // samples a quarter of the cell apart leaves their box by its sag only, far less than that. Its density is the largest
 // pixelDensity of its samples in view or, when none is (relief may rise into view), of all its
 // samples in front of the eye.
@@ -58,7 +56,7 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
       if (screen.pointInView(p)) seen = std::max(seen, screen.pixelDensity(p));
       if (screen.depth(p) >= screen.nearDistance) front = std::max(front, screen.pixelDensity(p));
     }
-  cell.inView = screen.boxInView(lo, hi, bound + 0.5f * glm::length(hi - lo));
+  cell.inView = screen.boxNearView(lo, hi, bound + 0.5f * glm::length(hi - lo));
   density = seen > 0.0f ? seen : front;
   if (!std::isfinite(density)) density = 0.0f;
   for (int k = 0; k < 3; ++k) {
@@ -138,21 +136,15 @@ SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
     if (!splittable(surface, faces, inView, f)) return;
     std::vector<Cell> cells;
     std::vector<float> densities;
-    // A cheap probe first: most faces are wholly in view with an even density.
-    measureCells(surface, screen, settings, f, kProbeCells, bound, cells, densities);
-    const auto anyOut = [&] {
-      return std::any_of(cells.begin(), cells.end(), [](const Cell& c) { return !c.inView; });
-    };
-    if (!anyOut() && !cellsDiffer(cells, densities, kProbeCells, true) &&
-        !cellsDiffer(cells, densities, kProbeCells, false))
-      return;
     measureCells(surface, screen, settings, f, kMaxSplit, bound, cells, densities);
+    const bool anyOut =
+        std::any_of(cells.begin(), cells.end(), [](const Cell& c) { return !c.inView; });
     SplitPlan::Face& face = plan.faces[f];
     face.nu = cellsDiffer(cells, densities, kMaxSplit, true) ? kMaxSplit : 1;
     face.nv = cellsDiffer(cells, densities, kMaxSplit, false) ? kMaxSplit : 1;
     // Wholly out of view though its hull is not (its edges are diced for the neighbours): the
     // least split, whose sub-quads all get the coarse rate.
-    if (face.nu * face.nv == 1 && anyOut()) face.nu = face.nv = 2;
+    if (face.nu * face.nv == 1 && anyOut) face.nu = face.nv = 2;
     if (face.nu * face.nv == 1) return;
     face.cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
     face.floor = faces.texelFloor.empty() ? 0 : faces.texelFloor[f];

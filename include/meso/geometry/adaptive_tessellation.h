@@ -59,6 +59,10 @@ struct ScreenMetric {
   // False when the box [lo - grow, hi + grow] lies wholly outside the view frustum (beyond one of
   // its four side planes or behind the near plane); conservative: true when unsure.
   bool boxInView(Vec3 lo, Vec3 hi, float grow) const;
+  // False when every point within `distance` of the box [lo, hi] lies outside the view frustum:
+  // the box grown by a ball, not a cube, so tighter than boxInView(lo, hi, distance) beside the
+  // frustum's slanted planes. Conservative.
+  bool boxNearView(Vec3 lo, Vec3 hi, float distance) const;
 };
 
 struct DicingSettings {
