@@ -349,8 +349,9 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   EdgeRateTessellator engine(surface);
   const std::vector<EdgeMeasure> measures =
       measureEdges(surface, engine, screen, settings, faces, inView);
-  const SplitPlan plan =
-      settings.splitFaces ? planSplits(surface, screen, settings, faces, inView, bound) : SplitPlan{};
+  const SplitPlan plan = settings.splitFaces
+                             ? planSplits(surface, screen, settings, faces, inView, bound)
+                             : SplitPlan{};
   std::vector<FaceSplit> splits;
   result.edgeRates = chooseRates(surface, engine, measures, plan, settings, result, splits);
   countFaces(surface, faces, inView, stats);

@@ -39,11 +39,11 @@ float coarseSegments(const ScreenMetric& screen, Vec3 a0, Vec3 a1, Vec3 a2, floa
   return std::isfinite(deviation) ? std::sqrt(deviation / tolerance) : 0.0f;
 }
 
-// A cell is in view when the box of its samples, grown by a ball of the displacement bound plus half
-// the box's diagonal, is: samples are not a conservative hull, but the smooth limit patch between
-// samples a quarter of the cell apart leaves their box by its sag only, far less than that. Its density is the largest
-// pixelDensity of its samples in view or, when none is (relief may rise into view), of all its
-// samples in front of the eye.
+// A cell is in view when the box of its samples, grown by a ball of the displacement bound plus
+// half the box's diagonal, is: samples are not a conservative hull, but the smooth limit patch
+// between samples a quarter of the cell apart leaves their box by its sag only, far less than that.
+// Its density is the largest pixelDensity of its samples in view or, when none is (relief may rise
+// into view), of all its samples in front of the eye.
 Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingSettings& s,
                  float bound, float& density) {
   Cell cell;
@@ -62,21 +62,25 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
   for (int k = 0; k < 3; ++k) {
     const Vec3 u[3] = {c.P[k][0], c.P[k][1], c.P[k][2]}, v[3] = {c.P[0][k], c.P[1][k], c.P[2][k]};
     const bool projected = s.metric == DicingMetric::Projected;
-    const float lu = projected ? screen.projectedLength(u[0], u[1]) + screen.projectedLength(u[1], u[2])
-                               : (glm::length(u[1] - u[0]) + glm::length(u[2] - u[1])) * density;
-    const float lv = projected ? screen.projectedLength(v[0], v[1]) + screen.projectedLength(v[1], v[2])
-                               : (glm::length(v[1] - v[0]) + glm::length(v[2] - v[1])) * density;
+    const float lu = projected
+                         ? screen.projectedLength(u[0], u[1]) + screen.projectedLength(u[1], u[2])
+                         : (glm::length(u[1] - u[0]) + glm::length(u[2] - u[1])) * density;
+    const float lv = projected
+                         ? screen.projectedLength(v[0], v[1]) + screen.projectedLength(v[1], v[2])
+                         : (glm::length(v[1] - v[0]) + glm::length(v[2] - v[1])) * density;
     cell.lengthU = std::max(cell.lengthU, std::isfinite(lu) ? lu : 0.0f);
     cell.lengthV = std::max(cell.lengthV, std::isfinite(lv) ? lv : 0.0f);
-    cell.coarseU = std::max(cell.coarseU, coarseSegments(screen, u[0], u[1], u[2], s.coarseTolerance));
-    cell.coarseV = std::max(cell.coarseV, coarseSegments(screen, v[0], v[1], v[2], s.coarseTolerance));
+    cell.coarseU =
+        std::max(cell.coarseU, coarseSegments(screen, u[0], u[1], u[2], s.coarseTolerance));
+    cell.coarseV =
+        std::max(cell.coarseV, coarseSegments(screen, v[0], v[1], v[2], s.coarseTolerance));
   }
   return cell;
 }
 
 // n x n cells of face f, row by row, from (2n + 1)^2 limit points; their densities beside.
-void measureCells(const LimitSurface& surface, const ScreenMetric& screen,
-                  const DicingSettings& s, int f, int n, float bound, std::vector<Cell>& cells,
+void measureCells(const LimitSurface& surface, const ScreenMetric& screen, const DicingSettings& s,
+                  int f, int n, float bound, std::vector<Cell>& cells,
                   std::vector<float>& densities) {
   const LimitSurface::Impl& impl = surface.impl();
   const int m = 2 * n + 1;

@@ -31,8 +31,8 @@ struct FaceSplit {
 struct SplitPattern {
   int nu = 1, nv = 1;
   int R[4] = {1, 1, 1, 1};
-  int bottom[kMaxSplit + 1] = {}, top[kMaxSplit + 1] = {};   // column i on edges 0 and 2
-  int right[kMaxSplit + 1] = {}, left[kMaxSplit + 1] = {};   // row j on edges 1 and 3
+  int bottom[kMaxSplit + 1] = {}, top[kMaxSplit + 1] = {};  // column i on edges 0 and 2
+  int right[kMaxSplit + 1] = {}, left[kMaxSplit + 1] = {};  // row j on edges 1 and 3
   std::vector<int> rowRate, colRate;    // row j (1..nv-1) segment i at (j-1) nu + i; column i
                                         // (1..nu-1) segment j at (i-1) nv + j
   std::vector<int> rowFirst, colFirst;  // first owned point of each segment (after the crossings)

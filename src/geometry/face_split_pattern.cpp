@@ -209,7 +209,8 @@ void EdgeRateTessellator::emitSplitFace(size_t k, const std::vector<int>& edgeRa
     for (int i = 0; i < p.nu; ++i) {
       p.subRates(i, j, scratch.rates.data());
       const Tessellation tess = subQuadTessellation(impl_.faces[f].param, scratch.rates.data());
-      const Vec2 c00 = scratch.nodeUv[j * (p.nu + 1) + i], c10 = scratch.nodeUv[j * (p.nu + 1) + i + 1];
+      const Vec2 c00 = scratch.nodeUv[j * (p.nu + 1) + i],
+                 c10 = scratch.nodeUv[j * (p.nu + 1) + i + 1];
       const Vec2 c01 = scratch.nodeUv[(j + 1) * (p.nu + 1) + i];
       const Vec2 c11 = scratch.nodeUv[(j + 1) * (p.nu + 1) + i + 1];
       const int numCoords = tess.GetNumCoords();

@@ -87,8 +87,7 @@ inline ControlMesh refinedCube(int n) {
             c[k][a] = corners[k][0];
             c[k][b] = corners[k][1];
           }
-          addFace(mesh,
-                        {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
+          addFace(mesh, {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
                          vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
         }
     }

@@ -147,11 +147,14 @@ struct AdaptiveTessellation {
 // or, by default (DicingMetric::Isotropic), the edge's footprint length and at least its world
 // length times the largest pixelDensity in view on those faces; where an adjacent face is in view,
 // at least the coarse rate that follows the limit surface to coarseTolerance pixels; elsewhere 1.
-// A face is in view when the box of its limit patch, grown by displacement->bound(), is. If the
-// triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they fit,
-// and `warning` says so. displacement may be null (the undisplaced limit surface). Throws
-// meso::Error on invalid settings or per-face vectors of the wrong size. The output is the same,
-// bit for bit, whatever the number of threads.
+// A face is in view when the box of its limit patch, grown by displacement->bound(), is. With
+// DicingSettings::splitFaces, a diced quad face partly out of view or whose pixel density varies
+// by more than 2x across it has its interior split into up to 8 x 8 sub-quads, each diced at the
+// rate of its own part (the coarse rate out of view) between the unchanged mesh edges (face_split.h
+// in src/geometry). If the triangles would exceed maxMicropolygons, every rate is coarsened by one
+// factor until they fit, and `warning` says so. displacement may be null (the undisplaced limit
+// surface). Throws meso::Error on invalid settings or per-face vectors of the wrong size. The
+// output is the same, bit for bit, whatever the number of threads.
 AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
                                         const DicingSettings& settings, const FaceDicing& faces,
                                         const VertexDisplacement* displacement);
