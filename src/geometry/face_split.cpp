@@ -128,6 +128,32 @@ bool splittable(const LimitSurface& surface, const FaceDicing& faces,
          surface.impl().faces[f].param.GetType() == OpenSubdiv::Bfr::Parameterization::QUAD;
 }
 
+// A cheap test first, since most faces need no split: the hull of the face's patch points (which
+// holds the limit patch) wholly in view, and pixel densities at 3 x 3 points within
+// kSplitDensityRatio of each other.
+bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, int f) {
+  const LimitSurface::Impl& impl = surface.impl();
+  const LimitSurface::Impl::Face& face = impl.faces[f];
+  Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
+  const float* p = &impl.patchPoints[face.patchOffset];
+  for (int i = 0; i < face.surface.GetNumPatchPoints(); ++i, p += 3) {
+    lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
+    hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
+  }
+  for (int c = 0; c < 8; ++c)
+    if (!screen.pointInView(Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)))
+      return false;
+  float least = std::numeric_limits<float>::infinity(), most = 0.0f;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const Vec2 uv(0.5f * float(i), 0.5f * float(j));
+      const float d = screen.pixelDensity(surface.evaluate(f, impl.bfrToChart(f, uv)).P);
+      least = std::min(least, d);
+      most = std::max(most, d);
+    }
+  return most <= kSplitDensityRatio * least;
+}
+
 }  // namespace
 
 SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
@@ -137,7 +163,7 @@ SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
   plan.faces.resize(surface.numFaces());
   std::vector<std::vector<Cell>> faceCells(surface.numFaces());
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {
-    if (!splittable(surface, faces, inView, f)) return;
+    if (!splittable(surface, faces, inView, f) || evenlyInView(surface, screen, f)) return;
     std::vector<Cell> cells;
     std::vector<float> densities;
     measureCells(surface, screen, settings, f, kMaxSplit, bound, cells, densities);
