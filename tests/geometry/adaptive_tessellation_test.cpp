@@ -484,5 +484,19 @@ TEST(ScreenMetric, BoxTestCullsOnlyBoxesOutsideTheFrustum) {
   EXPECT_TRUE(screen.boxInView(Vec3(-1.0f), Vec3(1.0f), 0.0f));
 }
 
+// Growing by a ball: a point 1 / sqrt(5) = 0.447 beside the right plane x = 2 depth is near the
+// view within 0.5 and not within 0.4, which the box grown as a cube by 0.4 still reaches.
+TEST(ScreenMetric, BallGrownBoxTestIsTighterBesideSlantedPlanes) {
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f), Vec3(0, 0, -1), Vec3(0, 1, 0), 90.0f, 200, 100);
+  const Vec3 p(3.0f, 0.0f, -1.0f);
+  EXPECT_FALSE(screen.boxNearView(p, p, 0.0f));
+  EXPECT_FALSE(screen.boxNearView(p, p, 0.4f));
+  EXPECT_TRUE(screen.boxNearView(p, p, 0.5f));
+  EXPECT_TRUE(screen.boxInView(p, p, 0.4f));
+  EXPECT_TRUE(screen.boxNearView(Vec3(-0.1f, -0.1f, -3.0f), Vec3(0.1f, 0.1f, -2.0f), 0.0f));
+  EXPECT_FALSE(screen.boxNearView(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 2.0f), 0.5f));
+}
+
 }  // namespace
 }  // namespace meso

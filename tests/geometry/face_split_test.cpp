@@ -139,6 +139,27 @@ TEST(FaceSplit, PlaneFacesStraddlingTheViewGetFewerMicropolygons) {
   EXPECT_EQ(openInnerEdges(split.t.mesh, 2.0f), 0);
 }
 
+// One unit face wholly in view, from 0.6 to 1.6 units deep: its near part needs about 2.7 times
+// the density of its far part, which whole-face dicing gives everywhere.
+TEST(FaceSplit, DeepFacesInViewAreDicedByTheirOwnDensity) {
+  const LimitSurface surface(test::grid(1), SubdivisionScheme::Bilinear);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(0.5f, -0.6f, 0.25f), Vec3(0.5f, 0.5f, 0.0f),
+                                                   Vec3(0, 0, 1), 60.0f, 160, 90);
+  const PlaneDicing whole = dicePlane(surface, screen, false);
+  const PlaneDicing split = dicePlane(surface, screen, true);
+  std::printf(
+      "  whole face: %zu micropolygons, legs p99 %.3f, max %.3f\n"
+      "  split %dx: %zu micropolygons, legs p99 %.3f, max %.3f\n",
+      whole.t.stats.micropolygons, whole.legP99, whole.worstLeg, split.t.stats.facesSplit,
+      split.t.stats.micropolygons, split.legP99, split.worstLeg);
+  EXPECT_EQ(whole.t.stats.offScreenMicropolygons, 0u);
+  EXPECT_EQ(split.t.stats.facesSplit, 1);
+  EXPECT_LT(split.t.stats.micropolygons, whole.t.stats.micropolygons * 3 / 4);
+  EXPECT_LE(split.legP99, 1.1f);
+  EXPECT_LE(split.worstLeg, 1.5f);
+  EXPECT_EQ(openInnerEdges(split.t.mesh, 1.0f), 0);
+}
+
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
