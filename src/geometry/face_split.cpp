@@ -257,7 +257,16 @@ std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& p
     // Split lines end on existing edge points, so a face splits at most as often as its rates.
     split.nu = std::min(face.nu, floorPow2(std::min(edgeRates[e[0]], edgeRates[e[2]])));
     split.nv = std::min(face.nv, floorPow2(std::min(edgeRates[e[1]], edgeRates[e[3]])));
-    if (split.split()) askRates(plan, face, settings, coarsening, split);
+    if (!split.split()) return;
+    askRates(plan, face, settings, coarsening, split);
+    // Where every sub-quad asks at least its share of the rate Bfr would give the whole face's
+    // interior (e.g. all capped by the texels), splitting would only add transition triangles.
+    const int innerU = (edgeRates[e[0]] + edgeRates[e[2]]) / 2;
+    const int innerV = (edgeRates[e[1]] + edgeRates[e[3]]) / 2;
+    bool pays = false;
+    for (size_t q = 0; q < split.askU.size() && !pays; ++q)
+      pays = split.askU[q] * split.nu < innerU || split.askV[q] * split.nv < innerV;
+    if (!pays) split = FaceSplit{};
   });
   for (const FaceSplit& split : splits) facesSplit += split.split();
   return splits;
