@@ -130,9 +130,10 @@ struct AdaptiveTessellationStats {
 
 struct AdaptiveTessellation {
   TessellatedMesh mesh;
-  // The interior of every quad face as a regular grid block of `mesh` (points row by row, cells
-  // split as Embree splits grid cells), for RayScene::addMesh(mesh, grids): most micropolygons
-  // then cost Embree grid memory instead of triangle memory.
+  // The interior of every quad face (of every sub-quad of a split face) as a regular grid block
+  // of `mesh` (points row by row, cells split as Embree splits grid cells), for
+  // RayScene::addMesh(mesh, grids): most micropolygons then cost Embree grid memory instead of
+  // triangle memory.
   std::vector<TriangleGrid> grids;
   // Segments on each mesh edge, in OpenSubdiv's base-level edge numbering; both faces of an edge
   // use its rate, which is why the mesh has no cracks.
