@@ -160,6 +160,22 @@ TEST(FaceSplit, DeepFacesInViewAreDicedByTheirOwnDensity) {
   EXPECT_EQ(openInnerEdges(split.t.mesh, 1.0f), 0);
 }
 
+// To the extremes: the eye almost on the plane, inside a face's hull, and far away; splits stay
+// finite and crack-free.
+TEST(FaceSplit, ExtremeViewsStayFiniteAndCrackFree) {
+  const LimitSurface surface(test::grid(2), SubdivisionScheme::Bilinear);
+  const test::WaveDisplacement wave;
+  for (float height : {1e-3f, 0.05f, 50.0f}) {
+    const ScreenMetric screen = ScreenMetric::lookAt(
+        Vec3(0.7f, 0.4f, height), Vec3(2.0f, 1.5f, 0.0f), Vec3(0, 0, 1), 50.0f, 160, 90);
+    const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, &wave);
+    std::printf("  eye %g above: %d split, %zu micropolygons\n", height, t.stats.facesSplit,
+                t.stats.micropolygons);
+    EXPECT_TRUE(finitePositions(t.mesh)) << height;
+    EXPECT_EQ(openInnerEdges(t.mesh, 2.0f), 0) << height;
+  }
+}
+
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
