@@ -128,6 +128,68 @@ bool splittable(const LimitSurface& surface, const FaceDicing& faces,
          surface.impl().faces[f].param.GetType() == OpenSubdiv::Bfr::Parameterization::QUAD;
 }
 
+// The asks of the nu x nv sub-quads of a face planned with kMaxSplit^2 cells: a sub-quad's length
+// along u is the largest over its cell rows of the sum along them; texel caps and floors are per
+// whole edge, so a sub-quad gets its share.
+void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettings& s,
+              float coarsening, FaceSplit& split) {
+  const int fu = kMaxSplit / split.nu, fv = kMaxSplit / split.nv;
+  const int edgeLimit = face.cap > 0 ? std::min(face.cap, s.maxEdgeRate) : s.maxEdgeRate;
+  const int limitU = (edgeLimit + split.nu - 1) / split.nu;
+  const int limitV = (edgeLimit + split.nv - 1) / split.nv;
+  const float floorU = std::ceil(float(face.floor) / float(split.nu));
+  const float floorV = std::ceil(float(face.floor) / float(split.nv));
+  split.askU.assign(static_cast<size_t>(split.nu) * split.nv, 1);
+  split.askV.assign(split.askU.size(), 1);
+  for (int j = 0; j < split.nv; ++j)
+    for (int i = 0; i < split.nu; ++i) {
+      bool inView = false;
+      float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
+      std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
+      for (int b = 0; b < fv; ++b)
+        for (int a = 0; a < fu; ++a) {
+          const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
+          inView = inView || c.inView;
+          rowU[b] += c.lengthU;
+          rowCoarseU[b] += c.coarseU;
+          colV[a] += c.lengthV;
+          colCoarseV[a] += c.coarseV;
+        }
+      for (int b = 0; b < fv; ++b) lengthU = std::max(lengthU, rowU[b]);
+      for (int b = 0; b < fv; ++b) coarseU = std::max(coarseU, rowCoarseU[b]);
+      for (int a = 0; a < fu; ++a) lengthV = std::max(lengthV, colV[a]);
+      for (int a = 0; a < fu; ++a) coarseV = std::max(coarseV, colCoarseV[a]);
+      // Out of view: only the coarse rate, as edges of faces in view that need no dicing.
+      int u = toRate(coarseU / coarsening, limitU), v = toRate(coarseV / coarsening, limitV);
+      if (inView) {
+        const float scale = s.dicingRate * coarsening;
+        u = std::max({u, toRate(lengthU / scale, limitU), toRate(floorU / coarsening, limitU)});
+        v = std::max({v, toRate(lengthV / scale, limitV), toRate(floorV / coarsening, limitV)});
+      }
+      split.askU[j * split.nu + i] = u;
+      split.askV[j * split.nu + i] = v;
+    }
+}
+
+// The split of a face with the fewest triangles, those outside the sub-quads' interior grids
+// counted twice (Embree triangles cost several times grid cells): finer splits follow the rate
+// more closely but add transitions around every sub-quad.
+void chooseSplit(const Cell* cells, SplitPlan::Face& face, const DicingSettings& s) {
+  double best = std::numeric_limits<double>::infinity();
+  const int mostU = face.nu, mostV = face.nv;
+  for (int nu = mostU > 1 ? 2 : 1; nu <= mostU; nu *= 2)
+    for (int nv = mostV > 1 ? 2 : 1; nv <= mostV; nv *= 2) {
+      FaceSplit trial;
+      trial.nu = nu;
+      trial.nv = nv;
+      askRates(cells, face, s, 1.0f, trial);
+      double cost = 0.0;
+      for (size_t q = 0; q < trial.askU.size(); ++q)
+        cost += 2.0 * trial.askU[q] * trial.askV[q] + 4.0 * (trial.askU[q] + trial.askV[q]);
+      if (cost < best) best = cost, face.nu = nu, face.nv = nv;
+    }
+}
+
 // A cheap test first, since most faces need no split: the hull of the face's patch points (which
 // holds the limit patch) wholly in view, and pixel densities at 3 x 3 points within
 // kSplitDensityRatio of each other.
@@ -178,6 +240,7 @@ SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
     if (face.nu * face.nv == 1) return;
     face.cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
     face.floor = faces.texelFloor.empty() ? 0 : faces.texelFloor[f];
+    chooseSplit(cells.data(), face, settings);
     faceCells[f] = std::move(cells);
   });
   // Concatenated in face order, so the plan does not depend on the threads.
@@ -194,50 +257,6 @@ int floorPow2(int x) {
   int p = 1;
   while (2 * p <= x) p *= 2;
   return p;
-}
-
-// The asks of the nu x nv sub-quads of a face planned with kMaxSplit^2 cells: a sub-quad's length
-// along u is the largest over its cell rows of the sum along them; texel caps and floors are per
-// whole edge, so a sub-quad gets its share.
-void askRates(const SplitPlan& plan, const SplitPlan::Face& face, const DicingSettings& s,
-              float coarsening, FaceSplit& split) {
-  const int fu = kMaxSplit / split.nu, fv = kMaxSplit / split.nv;
-  const int edgeLimit = face.cap > 0 ? std::min(face.cap, s.maxEdgeRate) : s.maxEdgeRate;
-  const int limitU = (edgeLimit + split.nu - 1) / split.nu;
-  const int limitV = (edgeLimit + split.nv - 1) / split.nv;
-  const float floorU = std::ceil(float(face.floor) / float(split.nu));
-  const float floorV = std::ceil(float(face.floor) / float(split.nv));
-  split.askU.assign(static_cast<size_t>(split.nu) * split.nv, 1);
-  split.askV.assign(split.askU.size(), 1);
-  const Cell* cells = &plan.cells[face.firstCell];
-  for (int j = 0; j < split.nv; ++j)
-    for (int i = 0; i < split.nu; ++i) {
-      bool inView = false;
-      float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
-      std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
-      for (int b = 0; b < fv; ++b)
-        for (int a = 0; a < fu; ++a) {
-          const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
-          inView = inView || c.inView;
-          rowU[b] += c.lengthU;
-          rowCoarseU[b] += c.coarseU;
-          colV[a] += c.lengthV;
-          colCoarseV[a] += c.coarseV;
-        }
-      for (int b = 0; b < fv; ++b) lengthU = std::max(lengthU, rowU[b]);
-      for (int b = 0; b < fv; ++b) coarseU = std::max(coarseU, rowCoarseU[b]);
-      for (int a = 0; a < fu; ++a) lengthV = std::max(lengthV, colV[a]);
-      for (int a = 0; a < fu; ++a) coarseV = std::max(coarseV, colCoarseV[a]);
-      // Out of view: only the coarse rate, as edges of faces in view that need no dicing.
-      int u = toRate(coarseU / coarsening, limitU), v = toRate(coarseV / coarsening, limitV);
-      if (inView) {
-        const float scale = s.dicingRate * coarsening;
-        u = std::max({u, toRate(lengthU / scale, limitU), toRate(floorU / coarsening, limitU)});
-        v = std::max({v, toRate(lengthV / scale, limitV), toRate(floorV / coarsening, limitV)});
-      }
-      split.askU[j * split.nu + i] = u;
-      split.askV[j * split.nu + i] = v;
-    }
 }
 
 }  // namespace
@@ -258,7 +277,7 @@ std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& p
     split.nu = std::min(face.nu, floorPow2(std::min(edgeRates[e[0]], edgeRates[e[2]])));
     split.nv = std::min(face.nv, floorPow2(std::min(edgeRates[e[1]], edgeRates[e[3]])));
     if (!split.split()) return;
-    askRates(plan, face, settings, coarsening, split);
+    askRates(&plan.cells[face.firstCell], face, settings, coarsening, split);
     // Where every sub-quad asks at least its share of the rate Bfr would give the whole face's
     // interior (e.g. all capped by the texels), splitting would only add transition triangles.
     const int innerU = (edgeRates[e[0]] + edgeRates[e[2]]) / 2;
