@@ -4,6 +4,7 @@
 // rates shared between neighbouring patches).
 #include "meso/geometry/adaptive_tessellation.h"
 
+#include "face_split.h"
 #include "limit_surface_impl.h"
 #include "meso/core/error.h"
 #include "meso/core/timer.h"
@@ -80,8 +81,10 @@ bool ScreenMetric::pointInView(Vec3 p) const {
 }
 
 bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
-  lo -= Vec3(grow);
-  hi += Vec3(grow);
+  return boxNearView(lo - Vec3(grow), hi + Vec3(grow), 0.0f);
+}
+
+bool ScreenMetric::boxNearView(Vec3 lo, Vec3 hi, float distance) const {
   const float ty = tanHalfFovY;
   const float tx = ty * static_cast<float>(width) / static_cast<float>(height);
   // The box is outside a plane dot(n, p - eye) > c when its corner nearest the inside is.
@@ -97,7 +100,7 @@ bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
   for (const Plane& plane : planes) {
     const Vec3 nearest(plane.n.x > 0.0f ? lo.x : hi.x, plane.n.y > 0.0f ? lo.y : hi.y,
                        plane.n.z > 0.0f ? lo.z : hi.z);
-    if (glm::dot(plane.n, nearest - eye) > plane.c) return false;
+    if (glm::dot(plane.n, nearest - eye) > plane.c + distance * glm::length(plane.n)) return false;
   }
   return true;
 }
@@ -277,9 +280,12 @@ std::string capWarning(size_t asked, const DicingSettings& s, float coarsening, 
 }
 
 // Rates for the measures, coarsened by one common factor until the triangles fit under the cap.
-// Triangles grow as the square of the rates, so the factor starts at sqrt(count / cap).
-std::vector<int> chooseRates(EdgeRateTessellator& engine, const std::vector<EdgeMeasure>& measures,
-                             const DicingSettings& s, AdaptiveTessellation& result) {
+// Triangles grow as the square of the rates, so the factor starts at sqrt(count / cap). The split
+// faces' sub-quads are coarsened with their edges and counted with them.
+std::vector<int> chooseRates(const LimitSurface& surface, EdgeRateTessellator& engine,
+                             const std::vector<EdgeMeasure>& measures, const SplitPlan& plan,
+                             const DicingSettings& s, AdaptiveTessellation& result,
+                             std::vector<FaceSplit>& splits) {
   std::vector<int> rates(measures.size());
   float coarsening = 1.0f;
   size_t asked = 0;
@@ -289,7 +295,8 @@ std::vector<int> chooseRates(EdgeRateTessellator& engine, const std::vector<Edge
       rates[e] = edgeRate(measures[e], s, coarsening);
       maxRate = std::max(maxRate, rates[e]);
     }
-    const size_t count = engine.countFacets(rates);
+    splits = splitsFor(surface, plan, rates, s, coarsening, result.stats.facesSplit);
+    const size_t count = engine.countFacets(rates, splits);
     if (iteration == 0) asked = count;
     if (count <= s.maxMicropolygons || maxRate == 1 || iteration == 64) {
       if (iteration > 0) result.warning = capWarning(asked, s, coarsening, count);
@@ -342,12 +349,16 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   EdgeRateTessellator engine(surface);
   const std::vector<EdgeMeasure> measures =
       measureEdges(surface, engine, screen, settings, faces, inView);
-  result.edgeRates = chooseRates(engine, measures, settings, result);
+  const SplitPlan plan = settings.splitFaces
+                             ? planSplits(surface, screen, settings, faces, inView, bound)
+                             : SplitPlan{};
+  std::vector<FaceSplit> splits;
+  result.edgeRates = chooseRates(surface, engine, measures, plan, settings, result, splits);
   countFaces(surface, faces, inView, stats);
   stats.rateSeconds = timer.seconds();
 
   timer.reset();
-  result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids);
+  result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
   stats.evaluateSeconds = timer.seconds();
   stats.micropolygons = result.mesh.numTriangles();
   stats.offScreenMicropolygons = countOffScreen(result.mesh, screen);

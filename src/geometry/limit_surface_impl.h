@@ -61,6 +61,8 @@ struct LimitSurface::Impl {
 
 class VertexDisplacement;  // meso/geometry/adaptive_tessellation.h
 struct TriangleGrid;       // meso/geometry/ray_scene.h
+struct FaceSplit;          // face_split.h
+struct SplitPattern;
 
 // The engine behind tessellateUniform and tessellateAdaptive (tessellation.cpp): Bfr tessellation
 // with one rate per base-level edge (OpenSubdiv's edge numbering). A rate is a property of the
@@ -81,23 +83,40 @@ class EdgeRateTessellator {
   int numEdges() const { return static_cast<int>(edgeOwner_.size()); }
   const Use& edgeOwner(int edge) const { return edgeOwner_[edge]; }
 
-  // Triangles the given rates produce (every rate >= 1), from Bfr's pattern counts alone.
-  size_t countFacets(const std::vector<int>& edgeRates);
+  // Triangles the given rates produce (every rate >= 1), from Bfr's pattern counts alone. `splits`
+  // (per base face, or empty: none) splits the interiors of quad faces (face_split.h).
+  size_t countFacets(const std::vector<int>& edgeRates, const std::vector<FaceSplit>& splits = {});
   // The mesh. Each output point is evaluated on the limit surface and, with a displacement, moved
   // by its offset once (in the face that created it). With `grids`, the interior points of each
   // quad face are stored row by row and its interior cells triangulated as Embree's grids are,
   // and each such block is listed in *grids (faces in index order); without, points and triangles
   // come in Bfr's order.
+  // Split faces list one grid per sub-quad interior.
   TessellatedMesh tessellate(const std::vector<int>& edgeRates,
                              const VertexDisplacement* displacement,
-                             std::vector<TriangleGrid>* grids = nullptr);
+                             std::vector<TriangleGrid>* grids = nullptr,
+                             const std::vector<FaceSplit>& splits = {});
 
  private:
   struct Sample {
     int face;
     Vec2 st;
   };
-  struct FaceScratch;
+  // Buffers of one task, reused from face to face.
+  struct FaceScratch {
+    std::vector<int> rates;      // of the face's (or sub-quad's) edges
+    std::vector<float> coords;   // Bfr (u, v) pairs: boundary first, then interior
+    std::vector<int> facets;     // 3 coordinate indices per triangle
+    std::vector<Vec2> st;        // meso's st of each coordinate
+    std::vector<int> point;      // output point of each coordinate
+    std::vector<int> gridCoord;  // coordinate at each interior grid slot, row by row
+    // Split faces: the face's boundary (point, st), its split-grid nodes (Bfr uv), and the points
+    // and st of its split lines (crossings first, then the segments' inner points).
+    std::vector<int> facePoint;
+    std::vector<Vec2> faceSt, nodeUv;
+    std::vector<int> linePoint;
+    std::vector<Vec2> lineSt;
+  };
   struct GridShape {
     int width = 0, height = 0;   // interior points per row and rows; 0: no grid
     int innerU = 0, innerV = 0;  // Bfr's inner rates
@@ -113,6 +132,19 @@ class EdgeRateTessellator {
                          const FaceScratch& scratch) const;
   void emitFace(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch,
                 TessellatedMesh& out, TriangleGrid* grid);
+  // Interior points and triangles of one Bfr pattern whose boundary points are placed; returns
+  // the next triangle. With `grid`, interior cells as Embree grid cells (see tessellate).
+  size_t emitPattern(int face, const OpenSubdiv::Bfr::Tessellation& tess, FaceScratch& scratch,
+                     int interiorBase, size_t t, TessellatedMesh& out, TriangleGrid* grid);
+  // Split faces (face_split_pattern.cpp): points and triangles a face creates, and its output.
+  void countSplitFace(size_t k, const std::vector<int>& edgeRates, const FaceSplit& split,
+                      FaceScratch& scratch);
+  void emitSplitFace(size_t k, const std::vector<int>& edgeRates, const FaceSplit& split,
+                     FaceScratch& scratch, TessellatedMesh& out, std::vector<TriangleGrid>* grids);
+  void placeSplitLines(int face, const SplitPattern& pattern, int base, FaceScratch& scratch);
+  void placeSubQuadBoundary(const SplitPattern& pattern, int i, int j, FaceScratch& scratch) const;
+  // Points the face creates on its mesh vertices and edges.
+  size_t ownedBoundaryPoints(int face, const std::vector<int>& edgeRates) const;
   void evaluatePoints(const VertexDisplacement* displacement, TessellatedMesh& out) const;
 
   const LimitSurface& surface_;

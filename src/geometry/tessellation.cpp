@@ -3,6 +3,7 @@
 // tutorial_2_2 (shared/DESIGN.md section 5). tessellateUniform is the case of equal rates.
 #include "meso/geometry/tessellation.h"
 
+#include "face_split.h"
 #include "limit_surface_impl.h"
 #include "meso/core/error.h"
 #include "meso/geometry/adaptive_tessellation.h"
@@ -19,16 +20,6 @@ namespace meso {
 
 using OpenSubdiv::Bfr::Tessellation;
 using OpenSubdiv::Far::ConstIndexArray;
-
-// Buffers of one task, reused from face to face.
-struct EdgeRateTessellator::FaceScratch {
-  std::vector<int> rates;      // of the face's edges
-  std::vector<float> coords;   // Bfr (u, v) pairs: boundary first, then interior
-  std::vector<int> facets;     // 3 coordinate indices per triangle
-  std::vector<Vec2> st;        // meso's st of each coordinate
-  std::vector<int> point;      // output point of each coordinate
-  std::vector<int> gridCoord;  // coordinate at each interior grid slot, row by row
-};
 
 EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
     : surface_(surface),
@@ -74,22 +65,32 @@ Tessellation EdgeRateTessellator::faceTessellation(int face, const std::vector<i
   return Tessellation(param, edges.size(), scratch.rates.data(), options);
 }
 
-size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates) {
+size_t EdgeRateTessellator::ownedBoundaryPoints(int f, const std::vector<int>& edgeRates) const {
+  size_t points = 0;
+  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  for (int i = 0; i < edges.size(); ++i) {
+    const Use& v = vertexOwner_[base_.GetFaceVertices(f)[i]];
+    const Use& e = edgeOwner_[edges[i]];
+    if (v.face == f && v.corner == i) ++points;
+    if (e.face == f && e.corner == i) points += edgeRates[edges[i]] - 1;
+  }
+  return points;
+}
+
+size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates,
+                                        const std::vector<FaceSplit>& splits) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 64),
                     [&](const tbb::blocked_range<size_t>& range) {
                       FaceScratch scratch;
                       for (size_t k = range.begin(); k != range.end(); ++k) {
                         const int f = faces_[k];
-                        const Tessellation tess = faceTessellation(f, edgeRates, scratch);
-                        size_t points = tess.GetNumInteriorCoords();
-                        const ConstIndexArray edges = base_.GetFaceEdges(f);
-                        for (int i = 0; i < edges.size(); ++i) {
-                          const Use& v = vertexOwner_[base_.GetFaceVertices(f)[i]];
-                          const Use& e = edgeOwner_[edges[i]];
-                          if (v.face == f && v.corner == i) ++points;
-                          if (e.face == f && e.corner == i) points += edgeRates[edges[i]] - 1;
+                        if (!splits.empty() && splits[f].split()) {
+                          countSplitFace(k, edgeRates, splits[f], scratch);
+                          continue;
                         }
-                        numPoints_[k] = points;
+                        const Tessellation tess = faceTessellation(f, edgeRates, scratch);
+                        numPoints_[k] = ownedBoundaryPoints(f, edgeRates) +
+                                        static_cast<size_t>(tess.GetNumInteriorCoords());
                         numFacets_[k] = static_cast<size_t>(tess.GetNumFacets());
                       }
                     });
@@ -150,8 +151,10 @@ EdgeRateTessellator::GridShape EdgeRateTessellator::interiorGrid(int face, const
   if (impl_.faces[face].param.GetType() != OpenSubdiv::Bfr::Parameterization::QUAD) return shape;
   const std::vector<int>& r = scratch.rates;
   const bool uniform = tess.IsUniform();
-  shape.innerU = uniform ? r[0] : (r[0] + r[2]) / 2;
-  shape.innerV = uniform ? r[0] : (r[1] + r[3]) / 2;
+  // Explicit inner rates follow the edge rates (split faces' sub-quads), else Bfr infers them.
+  const bool inner = r.size() == 6;
+  shape.innerU = uniform ? r[0] : inner ? r[4] : (r[0] + r[2]) / 2;
+  shape.innerV = uniform ? r[0] : inner ? r[5] : (r[1] + r[3]) / 2;
   const int width = shape.innerU - 1, height = shape.innerV - 1;
   if (width < 2 || height < 2 || tess.GetNumInteriorCoords() != width * height) return {};
   shape.width = width;
@@ -177,14 +180,12 @@ void writeTriangle(TessellatedMesh& out, size_t t, int face, int c0, int c1, int
 
 }  // namespace
 
-// Creates the samples of the points this face owns and its triangles. With `grid`, interior points
-// are stored row by row and the interior cells are triangulated last, two triangles a cell split as
-// Embree splits grid cells (see TriangleGrid); they are counter-clockwise in st by construction.
+// Creates the samples of the points this face owns and its triangles.
 void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
                                    FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) {
   const int f = faces_[k];
   const Tessellation tess = faceTessellation(f, edgeRates, scratch);
-  const int numCoords = tess.GetNumCoords(), numBoundary = tess.GetNumBoundaryCoords();
+  const int numCoords = tess.GetNumCoords();
   scratch.coords.resize(2 * static_cast<size_t>(numCoords));
   tess.GetCoords(scratch.coords.data());
   scratch.st.resize(numCoords);
@@ -192,9 +193,18 @@ void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
     scratch.st[j] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * j], scratch.coords[2 * j + 1]));
   scratch.point.resize(numCoords);
   placeBoundary(k, edgeRates, scratch);
+  const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - tess.GetNumInteriorCoords();
+  emitPattern(f, tess, scratch, interiorBase, facetOffset_[k], out, grid);
+}
 
+// With `grid`, interior points are stored row by row and the interior cells are triangulated last,
+// two triangles a cell split as Embree splits grid cells (see TriangleGrid); they are
+// counter-clockwise in st by construction. scratch.rates are the pattern's edge rates.
+size_t EdgeRateTessellator::emitPattern(int f, const Tessellation& tess, FaceScratch& scratch,
+                                        int interiorBase, size_t t, TessellatedMesh& out,
+                                        TriangleGrid* grid) {
+  const int numCoords = tess.GetNumCoords(), numBoundary = tess.GetNumBoundaryCoords();
   const GridShape shape = grid ? interiorGrid(f, tess, scratch) : GridShape{};
-  const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - (numCoords - numBoundary);
   scratch.gridCoord.assign(static_cast<size_t>(shape.width) * shape.height, -1);
   for (int j = numBoundary; j < numCoords; ++j) {
     int slot = j - numBoundary;
@@ -210,14 +220,13 @@ void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
 
   scratch.facets.resize(3 * static_cast<size_t>(tess.GetNumFacets()));
   tess.GetFacets(scratch.facets.data());
-  size_t t = facetOffset_[k];
   for (size_t q = 0; q < scratch.facets.size(); q += 3) {
     const int* c = &scratch.facets[q];
     if (shape.width > 0 && c[0] >= numBoundary && c[1] >= numBoundary && c[2] >= numBoundary)
       continue;  // an interior cell: written below in grid order
     writeTriangle(out, t++, f, c[0], c[1], c[2], scratch.point, scratch.st, true);
   }
-  if (shape.width == 0) return;
+  if (shape.width == 0) return t;
   *grid = {static_cast<uint32_t>(interiorBase), static_cast<uint32_t>(t),
            static_cast<uint16_t>(shape.width), static_cast<uint16_t>(shape.height)};
   const std::vector<int>& g = scratch.gridCoord;
@@ -228,6 +237,7 @@ void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
       writeTriangle(out, t++, f, p00, p10, p01, scratch.point, scratch.st, false);
       writeTriangle(out, t++, f, p11, p01, p10, scratch.point, scratch.st, false);
     }
+  return t;
 }
 
 void EdgeRateTessellator::evaluatePoints(const VertexDisplacement* displacement,
@@ -245,8 +255,9 @@ void EdgeRateTessellator::evaluatePoints(const VertexDisplacement* displacement,
 
 TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRates,
                                                 const VertexDisplacement* displacement,
-                                                std::vector<TriangleGrid>* grids) {
-  const size_t numFacets = countFacets(edgeRates);
+                                                std::vector<TriangleGrid>* grids,
+                                                const std::vector<FaceSplit>& splits) {
+  const size_t numFacets = countFacets(edgeRates, splits);
   const size_t numPoints = pointOffset_.back();
   if (numPoints > static_cast<size_t>(INT32_MAX))
     throw Error("tessellation needs " + std::to_string(numPoints) +
@@ -257,17 +268,27 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
   out.cornerSt.resize(3 * numFacets);
   out.triangleFace.resize(numFacets);
   samples_.resize(numPoints);
+  // Split faces have one grid per sub-quad; empty vectors cost no allocation.
   std::vector<TriangleGrid> faceGrids(grids ? faces_.size() : 0);
+  std::vector<std::vector<TriangleGrid>> splitGrids(grids && !splits.empty() ? faces_.size() : 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 16),
                     [&](const tbb::blocked_range<size_t>& range) {
                       FaceScratch scratch;
-                      for (size_t k = range.begin(); k != range.end(); ++k)
-                        emitFace(k, edgeRates, scratch, out, grids ? &faceGrids[k] : nullptr);
+                      for (size_t k = range.begin(); k != range.end(); ++k) {
+                        if (!splits.empty() && splits[faces_[k]].split())
+                          emitSplitFace(k, edgeRates, splits[faces_[k]], scratch, out,
+                                        grids ? &splitGrids[k] : nullptr);
+                        else
+                          emitFace(k, edgeRates, scratch, out, grids ? &faceGrids[k] : nullptr);
+                      }
                     });
   if (grids) {
     grids->clear();
-    for (const TriangleGrid& g : faceGrids)
-      if (g.width > 0) grids->push_back(g);
+    for (size_t k = 0; k < faceGrids.size(); ++k) {
+      if (faceGrids[k].width > 0) grids->push_back(faceGrids[k]);
+      if (!splitGrids.empty())
+        grids->insert(grids->end(), splitGrids[k].begin(), splitGrids[k].end());
+    }
   }
   out.positions.resize(numPoints);
   evaluatePoints(displacement, out);

@@ -22,49 +22,6 @@
 namespace meso {
 namespace {
 
-// The cube [-1, 1]^3 with n x n quads on each side, counter-clockwise seen from outside: many
-// faces, so near and far faces sit side by side.
-ControlMesh refinedCube(int n) {
-  ControlMesh mesh;
-  std::map<std::tuple<int, int, int>, int> index;
-  auto vertex = [&](int i, int j, int k) {
-    const auto [it, added] = index.try_emplace({i, j, k}, static_cast<int>(mesh.positions.size()));
-    if (added) mesh.positions.push_back(Vec3(i, j, k) * (2.0f / n) - Vec3(1.0f));
-    return it->second;
-  };
-  // Each side: a fixed axis at 0 or n, and two running axes (a, b) with a x b pointing outward.
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int a = (axis + (side ? 1 : 2)) % 3, b = (axis + (side ? 2 : 1)) % 3;
-      for (int p = 0; p < n; ++p)
-        for (int q = 0; q < n; ++q) {
-          int c[4][3];
-          const int corners[4][2] = {{p, q}, {p + 1, q}, {p + 1, q + 1}, {p, q + 1}};
-          for (int k = 0; k < 4; ++k) {
-            c[k][axis] = side * n;
-            c[k][a] = corners[k][0];
-            c[k][b] = corners[k][1];
-          }
-          test::addFace(mesh,
-                        {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
-                         vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
-        }
-    }
-  return mesh;
-}
-
-// A smooth relief of both signs along the limit normal: 0.05 sin sin sin of the limit position,
-// continuous across faces because P and N are.
-struct WaveDisplacement : VertexDisplacement {
-  float amplitude = 0.05f;
-  Vec3 offset(int, Vec2, const SurfacePoint& sp) const override {
-    const Vec3 p = sp.P;
-    return amplitude * std::sin(5.0f * p.x) * std::sin(4.0f * p.y + 1.0f) *
-           std::sin(3.0f * p.z + 2.0f) * sp.N;
-  }
-  float bound() const override { return amplitude; }
-};
-
 // Height field h(x, y) = A sin(a x) sin(b y) over the plane z = 0 (normal +z), whose exact normal
 // is normalize(-h_x, -h_y, 1).
 struct HeightField : VertexDisplacement {
@@ -86,19 +43,6 @@ Vec3 randomDirection(Rng& rng) {
   return Vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 
-// Every edge used by exactly two triangles, once in each direction: closed and oriented.
-int countOpenEdges(const TessellatedMesh& mesh) {
-  std::map<std::pair<uint32_t, uint32_t>, int> uses;  // +1 forward, +16 backward
-  for (size_t t = 0; t < mesh.numTriangles(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = mesh.indices[3 * t + k], b = mesh.indices[3 * t + (k + 1) % 3];
-      uses[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : 16;
-    }
-  int open = 0;
-  for (const auto& [edge, count] : uses) open += count != 17;
-  return open;
-}
-
 // Quads whose edges got different rates (the case that needs Bfr's non-uniform patterns): equal
 // rates R give 2 R^2 triangles.
 int nonUniformQuads(const LimitSurface& surface, const TessellatedMesh& mesh) {
@@ -116,7 +60,7 @@ int nonUniformQuads(const LimitSurface& surface, const TessellatedMesh& mesh) {
 void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, int numRays,
                       DicingMetric metric) {
   const LimitSurface surface(control, SubdivisionScheme::CatmullClark);
-  const WaveDisplacement wave;
+  const test::WaveDisplacement wave;
   // Diced faces (at every other index) next to coarse ones, on top of the rates the distance gives.
   FaceDicing faces;
   for (int f = 0; f < surface.numFaces(); ++f) faces.needsDicing.push_back(f % 2 == 0);
@@ -129,7 +73,7 @@ void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, in
   // also within single faces.
   EXPECT_GE(t.stats.maxEdgeRate, 8 * t.stats.minEdgeRate);
   EXPECT_GT(nonUniformQuads(surface, t.mesh), 0);
-  EXPECT_EQ(countOpenEdges(t.mesh), 0);
+  EXPECT_EQ(test::countOpenEdges(t.mesh), 0);
 
   // Embree's WatertightTest, on the triangles alone and with the face interiors as Embree grids.
   RayScene triangles, grids;
@@ -156,7 +100,7 @@ TEST(AdaptiveTessellation, DisplacedClosedSurfacesWithMixedRatesAreWatertight) {
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.3f, 0.2f, 2.3f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 320, 180);
   for (DicingMetric metric : {DicingMetric::Isotropic, DicingMetric::Projected}) {
-    expectWatertight(refinedCube(3), screen, 100000, metric);
+    expectWatertight(test::refinedCube(3), screen, 100000, metric);
     expectWatertight(test::mixedPrism(), screen, 100000, metric);
   }
 }
@@ -266,8 +210,8 @@ TEST(AdaptiveTessellation, FacetNormalsConvergeToTheDisplacedSurfaceNormal) {
 }
 
 TEST(AdaptiveTessellation, DisplacementStaysWithinItsBound) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
-  const WaveDisplacement wave;
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
+  const test::WaveDisplacement wave;
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(1.0f, 2.0f, 4.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 320, 180);
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, &wave);
@@ -290,7 +234,7 @@ size_t micropolygons(const LimitSurface& surface, float distance, const FaceDici
 }
 
 TEST(AdaptiveTessellation, MicropolygonsFallWithTheSquareOfDistance) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   const size_t near = micropolygons(surface, 6.0f, {}), far = micropolygons(surface, 12.0f, {});
   const double ratio = static_cast<double>(far) / static_cast<double>(near);
   std::printf("  distance 6: %zu, distance 12: %zu micropolygons (ratio %.3f)\n", near, far, ratio);
@@ -299,7 +243,7 @@ TEST(AdaptiveTessellation, MicropolygonsFallWithTheSquareOfDistance) {
 }
 
 TEST(AdaptiveTessellation, DistantCameraGivesTheCoarseTessellationOnly) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   FaceDicing none;
   none.needsDicing.assign(surface.numFaces(), 0);
   // At 6 units dicing adds triangles; at 5000 it has nothing left to add.
@@ -308,7 +252,7 @@ TEST(AdaptiveTessellation, DistantCameraGivesTheCoarseTessellationOnly) {
 }
 
 TEST(AdaptiveTessellation, CapCoarsensWithAWarning) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.0f, 1.0f, 5.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
   const AdaptiveTessellation full = tessellateAdaptive(surface, screen, {}, {}, nullptr);
@@ -334,7 +278,7 @@ bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
 
 TEST(AdaptiveTessellation, SameBitsForOneAndTwoThreads) {
   const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
-  const WaveDisplacement wave;
+  const test::WaveDisplacement wave;
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.5f, 1.0f, 3.0f), Vec3(0.0f), Vec3(0, 1, 0), 50.0f, 320, 180);
   FaceDicing faces;
@@ -369,7 +313,7 @@ TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
 }
 
 TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 2.5f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 640, 360);
   DicingSettings settings;
@@ -387,7 +331,7 @@ TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
 // A texel floor raises the rate of every diced edge in view to it (never above the cap), and
 // leaves faces out of view alone.
 TEST(AdaptiveTessellation, TexelFloorRaisesDicedEdgesUpToTheCap) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   // Far away, so pixel dicing asks for rate 1 or 2 only.
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 60.0f), Vec3(0.0f), Vec3(0, 1, 0), 30.0f, 160, 90);
@@ -427,8 +371,8 @@ TEST(AdaptiveTessellation, InvalidSettingsThrow) {
 // Grids change how Embree stores the mesh, not what a hit reports: the same triangle (but for rays
 // through a shared edge), distance and patch coordinates as the all-triangle scene.
 TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
-  const LimitSurface surface(refinedCube(2), SubdivisionScheme::CatmullClark);
-  const WaveDisplacement wave;
+  const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
+  const test::WaveDisplacement wave;
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(1.0f, 1.5f, 4.0f), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 320, 180);
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, {}, &wave);
@@ -538,6 +482,20 @@ TEST(ScreenMetric, BoxTestCullsOnlyBoxesOutsideTheFrustum) {
   EXPECT_FALSE(screen.boxInView(Vec3(-0.1f, 1.2f, -1.1f), Vec3(0.1f, 1.5f, -1.0f), 0.0f));
   // A box around the eye is always in view.
   EXPECT_TRUE(screen.boxInView(Vec3(-1.0f), Vec3(1.0f), 0.0f));
+}
+
+// Growing by a ball: a point 1 / sqrt(5) = 0.447 beside the right plane x = 2 depth is near the
+// view within 0.5 and not within 0.4, which the box grown as a cube by 0.4 still reaches.
+TEST(ScreenMetric, BallGrownBoxTestIsTighterBesideSlantedPlanes) {
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(Vec3(0.0f), Vec3(0, 0, -1), Vec3(0, 1, 0), 90.0f, 200, 100);
+  const Vec3 p(3.0f, 0.0f, -1.0f);
+  EXPECT_FALSE(screen.boxNearView(p, p, 0.0f));
+  EXPECT_FALSE(screen.boxNearView(p, p, 0.4f));
+  EXPECT_TRUE(screen.boxNearView(p, p, 0.5f));
+  EXPECT_TRUE(screen.boxInView(p, p, 0.4f));
+  EXPECT_TRUE(screen.boxNearView(Vec3(-0.1f, -0.1f, -3.0f), Vec3(0.1f, 0.1f, -2.0f), 0.0f));
+  EXPECT_FALSE(screen.boxNearView(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 2.0f), 0.5f));
 }
 
 }  // namespace

@@ -1,10 +1,17 @@
-// Small control meshes shared by the geometry tests.
+// Small control meshes, a relief and a mesh check shared by the geometry tests.
 #pragma once
 
+#include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/control_mesh.h"
+#include "meso/geometry/tessellation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
+#include <map>
+#include <tuple>
+#include <utility>
 
 namespace meso::test {
 
@@ -55,6 +62,61 @@ inline ControlMesh mixedPrism() {
   addFace(mesh, {0, 6, 5});
   for (int k = 1; k < 5; ++k) addFace(mesh, {k, (k + 1) % 5, (k + 1) % 5 + 5, k + 5});
   return mesh;
+}
+
+// The cube [-1, 1]^3 with n x n quads on each side, counter-clockwise seen from outside: many
+// faces, so near and far faces sit side by side.
+inline ControlMesh refinedCube(int n) {
+  ControlMesh mesh;
+  std::map<std::tuple<int, int, int>, int> index;
+  auto vertex = [&](int i, int j, int k) {
+    const auto [it, added] = index.try_emplace({i, j, k}, static_cast<int>(mesh.positions.size()));
+    if (added) mesh.positions.push_back(Vec3(i, j, k) * (2.0f / n) - Vec3(1.0f));
+    return it->second;
+  };
+  // Each side: a fixed axis at 0 or n, and two running axes (a, b) with a x b pointing outward.
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int a = (axis + (side ? 1 : 2)) % 3, b = (axis + (side ? 2 : 1)) % 3;
+      for (int p = 0; p < n; ++p)
+        for (int q = 0; q < n; ++q) {
+          int c[4][3];
+          const int corners[4][2] = {{p, q}, {p + 1, q}, {p + 1, q + 1}, {p, q + 1}};
+          for (int k = 0; k < 4; ++k) {
+            c[k][axis] = side * n;
+            c[k][a] = corners[k][0];
+            c[k][b] = corners[k][1];
+          }
+          addFace(mesh, {vertex(c[0][0], c[0][1], c[0][2]), vertex(c[1][0], c[1][1], c[1][2]),
+                         vertex(c[2][0], c[2][1], c[2][2]), vertex(c[3][0], c[3][1], c[3][2])});
+        }
+    }
+  return mesh;
+}
+
+// A smooth relief of both signs along the limit normal: 0.05 sin sin sin of the limit position,
+// continuous across faces because P and N are.
+struct WaveDisplacement : VertexDisplacement {
+  float amplitude = 0.05f;
+  Vec3 offset(int, Vec2, const SurfacePoint& sp) const override {
+    const Vec3 p = sp.P;
+    return amplitude * std::sin(5.0f * p.x) * std::sin(4.0f * p.y + 1.0f) *
+           std::sin(3.0f * p.z + 2.0f) * sp.N;
+  }
+  float bound() const override { return amplitude; }
+};
+
+// Every edge used by exactly two triangles, once in each direction: closed and oriented.
+inline int countOpenEdges(const TessellatedMesh& mesh) {
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;  // +1 forward, +16 backward
+  for (size_t t = 0; t < mesh.numTriangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.indices[3 * t + k], b = mesh.indices[3 * t + (k + 1) % 3];
+      uses[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : 16;
+    }
+  int open = 0;
+  for (const auto& [edge, count] : uses) open += count != 17;
+  return open;
 }
 
 }  // namespace meso::test

@@ -59,6 +59,10 @@ struct ScreenMetric {
   // False when the box [lo - grow, hi + grow] lies wholly outside the view frustum (beyond one of
   // its four side planes or behind the near plane); conservative: true when unsure.
   bool boxInView(Vec3 lo, Vec3 hi, float grow) const;
+  // False when every point within `distance` of the box [lo, hi] lies outside the view frustum:
+  // the box grown by a ball, not a cube, so tighter than boxInView(lo, hi, distance) beside the
+  // frustum's slanted planes. Conservative.
+  bool boxNearView(Vec3 lo, Vec3 hi, float distance) const;
 };
 
 struct DicingSettings {
@@ -71,6 +75,9 @@ struct DicingSettings {
   // Cap on triangles: about 160 bytes each with the Embree scene (tools/bench_tessellation), so the
   // default keeps a frame's geometry within about half of a 24 GiB machine.
   size_t maxMicropolygons = 80'000'000;
+  // Split the interior of diced quad faces that are partly out of view or whose pixel density
+  // varies by more than 2x, each sub-quad at its own rate (mesh edges keep theirs, so no cracks).
+  bool splitFaces = true;
 };
 
 // What the caller knows per base face (vectors indexed by face; empty means the default for all).
@@ -109,6 +116,9 @@ struct AdaptiveTessellationStats {
   size_t vertices = 0;
   int facesDiced = 0;   // in view and needing dicing
   int facesCulled = 0;  // outside the view: their edges not shared with a visible face get rate 1
+  // Diced quad faces whose interior was split into sub-quads, each with its own rate, because
+  // part of the face is out of view or its pixel density varies by more than 2x across it.
+  int facesSplit = 0;
   int minEdgeRate = 0;
   int maxEdgeRate = 0;
   // The factor by which the cap coarsened every rate (1: not capped); the effective dicing rate is
@@ -120,9 +130,10 @@ struct AdaptiveTessellationStats {
 
 struct AdaptiveTessellation {
   TessellatedMesh mesh;
-  // The interior of every quad face as a regular grid block of `mesh` (points row by row, cells
-  // split as Embree splits grid cells), for RayScene::addMesh(mesh, grids): most micropolygons
-  // then cost Embree grid memory instead of triangle memory.
+  // The interior of every quad face (of every sub-quad of a split face) as a regular grid block
+  // of `mesh` (points row by row, cells split as Embree splits grid cells), for
+  // RayScene::addMesh(mesh, grids): most micropolygons then cost Embree grid memory instead of
+  // triangle memory.
   std::vector<TriangleGrid> grids;
   // Segments on each mesh edge, in OpenSubdiv's base-level edge numbering; both faces of an edge
   // use its rate, which is why the mesh has no cracks.
@@ -137,11 +148,14 @@ struct AdaptiveTessellation {
 // or, by default (DicingMetric::Isotropic), the edge's footprint length and at least its world
 // length times the largest pixelDensity in view on those faces; where an adjacent face is in view,
 // at least the coarse rate that follows the limit surface to coarseTolerance pixels; elsewhere 1.
-// A face is in view when the box of its limit patch, grown by displacement->bound(), is. If the
-// triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they fit,
-// and `warning` says so. displacement may be null (the undisplaced limit surface). Throws
-// meso::Error on invalid settings or per-face vectors of the wrong size. The output is the same,
-// bit for bit, whatever the number of threads.
+// A face is in view when the box of its limit patch, grown by displacement->bound(), is. With
+// DicingSettings::splitFaces, a diced quad face partly out of view or whose pixel density varies
+// by more than 2x across it has its interior split into up to 8 x 8 sub-quads, each diced at the
+// rate of its own part (the coarse rate out of view) between the unchanged mesh edges (face_split.h
+// in src/geometry). If the triangles would exceed maxMicropolygons, every rate is coarsened by one
+// factor until they fit, and `warning` says so. displacement may be null (the undisplaced limit
+// surface). Throws meso::Error on invalid settings or per-face vectors of the wrong size. The
+// output is the same, bit for bit, whatever the number of threads.
 AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
                                         const DicingSettings& settings, const FaceDicing& faces,
                                         const VertexDisplacement* displacement);
