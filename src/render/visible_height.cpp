@@ -72,7 +72,13 @@ void VisibleHeight::buildCrestTable(const ReliefLevel& level, double lowest, dou
   for (int j = 0; j < kCrestNodes; ++j) {
     const float radius = wavelength / std::exp2(kCrestLog2Min + 0.5f * j);  // units of u
     // Beyond this the base has fallen below the lowest relief under the ray.
-    const int steps = static_cast<int>(std::ceil(std::sqrt(2.0f * radius * range) / step));
+    const float steps = std::ceil(std::sqrt(2.0f * radius * range) / step);
+    if (!(steps <= static_cast<float>(kMaxCrestSteps))) {
+      // Relief very tall for its wavelength: such wide crests are left to the plane's value (the
+      // smaller one is used), and the march stays bounded.
+      crest_[j] = std::numeric_limits<float>::max();
+      continue;
+    }
     Rng rng(0xc4e57 + j);
     double sum = 0.0;
     for (int r = 0; r < kRays; ++r) {
@@ -80,7 +86,7 @@ void VisibleHeight::buildCrestTable(const ReliefLevel& level, double lowest, dou
       const float phi = 2.0f * kPi * rng.uniform();
       const Vec2 dir(std::cos(phi), std::sin(phi));
       float top = -std::numeric_limits<float>::infinity();
-      for (int k = -steps; k <= steps; ++k) {
+      for (int k = -static_cast<int>(steps); k <= static_cast<int>(steps); ++k) {
         const float x = static_cast<float>(k) * step;
         top = std::max(top, level.height(at + x * dir) - x * x / (2.0f * radius));
       }
@@ -127,7 +133,7 @@ float VisibleHeight::at(float cosTheta, float lengthPerU, float curvature) const
                                kCrestNodes - 1.0f);
     const int c = std::min(static_cast<int>(y), kCrestNodes - 2);
     const float v = y - static_cast<float>(c);
-    h = std::min(h, crest_[c] + v * (crest_[c + 1] - crest_[c]));
+    h = std::min(h, v > 0.0f ? crest_[c] + v * (crest_[c + 1] - crest_[c]) : crest_[c]);
   }
   return std::isfinite(h) ? h : 0.0f;
 }

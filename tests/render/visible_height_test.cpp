@@ -145,6 +145,14 @@ TEST(VisibleHeight, RisesFromTheMeanPlaneTowardsGrazingViews) {
   EXPECT_TRUE(std::isfinite(visible.at(0.5f, std::numeric_limits<float>::infinity())));
   const VisibleHeight flat(makeReliefLevel(testing::noiseLevel(0.0f, 2.0f, 3)));
   EXPECT_EQ(flat.at(0.0f, 1.0f), 0.0f);
+  // Relief tall for its wavelength (amplitude 5 at wavelength 1/512): the crest march is bounded,
+  // wide crests take the plane's value, and nothing is infinite.
+  const VisibleHeight tall(makeReliefLevel(testing::noiseLevel(5.0f, 64.0f, 3)));
+  for (float curvature : {0.0f, 1e-4f, 1.0f, 1e4f}) {
+    EXPECT_TRUE(std::isfinite(tall.at(0.0f, 1.0f, curvature))) << curvature;
+    EXPECT_LE(tall.at(0.0f, 1.0f, curvature), tall.at(0.0f, 1.0f)) << curvature;
+  }
+  EXPECT_EQ(tall.at(0.0f, 1.0f, 1e-4f), tall.at(0.0f, 1.0f));
 }
 
 // The hybrid's vertices: a level drawn flat (far away, disp = 0) lies at E[h_hit] along the normal,

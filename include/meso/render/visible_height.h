@@ -1,6 +1,6 @@
-// Where the flat renderers put a relief level's surface (DESIGN.md section 5): at the mean height
-// of the relief the view's rays first hit, so that silhouettes of sub-pixel relief cover the pixels
-// displaced relief covers.
+// Where the hybrid (auto) puts a relief level it draws flat (DESIGN.md section 5): at the mean
+// height of the relief the view's rays first hit, so that silhouettes of sub-pixel relief cover the
+// pixels displaced relief covers.
 #pragma once
 
 #include "meso/core/math.h"
@@ -47,6 +47,7 @@ class VisibleHeight {
   // surface: log2 in [-10, 2], half steps (R from 1024 wavelengths to a quarter of one).
   static constexpr int kCrestNodes = 25;
   static constexpr float kCrestLog2Min = -10.0f;
+  static constexpr int kMaxCrestSteps = 2048;  // march steps each side of a crest's top
   std::array<float, kCrestNodes> crest_{};
   float wavelength_ = 0.0f;  // units of u
   void buildCrestTable(const ReliefLevel& level, double lowest, double highest, double mean);
