@@ -1,6 +1,7 @@
 // Private to src/geometry: what LimitSurface prepares per base face, shared with the tessellators.
 #pragma once
 
+#include "face_split.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/tessellation.h"
 
@@ -61,8 +62,6 @@ struct LimitSurface::Impl {
 
 class VertexDisplacement;  // meso/geometry/adaptive_tessellation.h
 struct TriangleGrid;       // meso/geometry/ray_scene.h
-struct FaceSplit;          // face_split.h
-struct SplitPattern;
 
 // The engine behind tessellateUniform and tessellateAdaptive (tessellation.cpp): Bfr tessellation
 // with one rate per base-level edge (OpenSubdiv's edge numbering). A rate is a property of the
