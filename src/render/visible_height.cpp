@@ -53,6 +53,7 @@ VisibleHeight::VisibleHeight(const ReliefLevel& level) {
     }
     table_[j] = std::isfinite(sum) ? static_cast<float>(sum) : 0.0f;
   }
+  table_[0] = 0.0f;  // Lambda = 0: the heights' own mean, the mean plane (0 up to rounding)
   buildCrestTable(level, heights.front(), heights.back(), mean);
 }
 
