@@ -193,9 +193,7 @@ void EdgeRateTessellator::emitSplitFace(size_t k, const std::vector<int>& edgeRa
   const int numBoundary = faceTess.GetNumBoundaryCoords();
   scratch.coords.resize(2 * static_cast<size_t>(numBoundary));
   faceTess.GetBoundaryCoords(scratch.coords.data());
-  scratch.st.resize(numBoundary);
-  for (int b = 0; b < numBoundary; ++b)
-    scratch.st[b] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * b], scratch.coords[2 * b + 1]));
+  coordsToSt(f, numBoundary, scratch);
   scratch.point.resize(numBoundary);
   placeBoundary(k, edgeRates, scratch);
   scratch.facePoint = scratch.point;

@@ -144,6 +144,7 @@ class EdgeRateTessellator {
   void placeSubQuadBoundary(const SplitPattern& pattern, int i, int j, FaceScratch& scratch) const;
   // Points the face creates on its mesh vertices and edges.
   size_t ownedBoundaryPoints(int face, const std::vector<int>& edgeRates) const;
+  void coordsToSt(int face, int count, FaceScratch& scratch) const;
   void evaluatePoints(const VertexDisplacement* displacement, TessellatedMesh& out) const;
 
   const LimitSurface& surface_;

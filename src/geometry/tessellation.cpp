@@ -180,6 +180,13 @@ void writeTriangle(TessellatedMesh& out, size_t t, int face, int c0, int c1, int
 
 }  // namespace
 
+// scratch.st: meso's st of the first `count` Bfr (u, v) pairs of scratch.coords in face f.
+void EdgeRateTessellator::coordsToSt(int f, int count, FaceScratch& scratch) const {
+  scratch.st.resize(count);
+  for (int j = 0; j < count; ++j)
+    scratch.st[j] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * j], scratch.coords[2 * j + 1]));
+}
+
 // Creates the samples of the points this face owns and its triangles.
 void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
                                    FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) {
@@ -188,9 +195,7 @@ void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
   const int numCoords = tess.GetNumCoords();
   scratch.coords.resize(2 * static_cast<size_t>(numCoords));
   tess.GetCoords(scratch.coords.data());
-  scratch.st.resize(numCoords);
-  for (int j = 0; j < numCoords; ++j)
-    scratch.st[j] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * j], scratch.coords[2 * j + 1]));
+  coordsToSt(f, numCoords, scratch);
   scratch.point.resize(numCoords);
   placeBoundary(k, edgeRates, scratch);
   const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - tess.GetNumInteriorCoords();

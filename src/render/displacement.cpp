@@ -5,7 +5,6 @@
 #include "meso/relief/level_frames.h"
 #include "meso/render/shading.h"
 #include "meso/render/transition.h"
-#include "meso/core/rng.h"
 
 #include <tbb/parallel_for.h>
 
@@ -179,19 +178,14 @@ float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
 float reliefSlopeRmsPerU(const MaterialRelief& relief) {
   double sum = 0.0;
   for (const ReliefLevel& level : relief.levels) {
-    // 1024 points spread over 64 shortest wavelengths (or one period of a height table).
-    const bool table = dynamic_cast<const HeightTable*>(level.source.get()) != nullptr;
-    const float span =
-        table && level.scale > 0.0f ? 1.0f / level.scale : 64.0f * level.wavelength();
-    Rng rng(0x51073);
+    const std::vector<Vec2> points = levelSamplePoints(level);
     double uu = 0.0, vv = 0.0;
-    constexpr int kPoints = 1024;
-    for (int k = 0; k < kPoints; ++k) {
-      const Vec2 B = level.derivatives(Vec2(rng.uniform(), rng.uniform()) * span);
+    for (const Vec2& uv : points) {
+      const Vec2 B = level.derivatives(uv);
       uu += static_cast<double>(B.x) * B.x;
       vv += static_cast<double>(B.y) * B.y;
     }
-    sum += std::max(uu, vv) / kPoints;
+    sum += std::max(uu, vv) / static_cast<double>(points.size());
   }
   const float rms = static_cast<float>(std::sqrt(sum));
   return std::isfinite(rms) ? rms : std::numeric_limits<float>::infinity();

@@ -2,6 +2,8 @@
 
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
+#include "meso/core/rng.h"
+#include "meso/relief/height_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +28,15 @@ std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
     if (d.loc.line > 0) throw Error(d.loc, "relief", e.what());
     throw;
   }
+}
+
+std::vector<Vec2> levelSamplePoints(const ReliefLevel& level) {
+  const bool table = dynamic_cast<const HeightTable*>(level.source.get()) != nullptr;
+  const float span = table && level.scale > 0.0f ? 1.0f / level.scale : 64.0f * level.wavelength();
+  Rng rng(0x51073);
+  std::vector<Vec2> points(1024);
+  for (Vec2& p : points) p = Vec2(rng.uniform(), rng.uniform()) * span;
+  return points;
 }
 
 ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {

@@ -2,7 +2,6 @@
 #include "meso/render/visible_height.h"
 
 #include "meso/core/rng.h"
-#include "meso/relief/height_table.h"
 #include "meso/render/relief_levels.h"
 
 #include <algorithm>
@@ -24,19 +23,16 @@ float VisibleHeight::smithLambda(float a) {
 }
 
 VisibleHeight::VisibleHeight(const ReliefLevel& level) {
-  // The points reliefSlopeRmsPerU uses: 64 shortest wavelengths, or one period of a height table.
-  const bool table = dynamic_cast<const HeightTable*>(level.source.get()) != nullptr;
-  const float span = table && level.scale > 0.0f ? 1.0f / level.scale : 64.0f * level.wavelength();
-  constexpr int kPoints = 1024;
-  std::vector<double> heights(kPoints);
-  Rng rng(0x51073);
+  // The points reliefSlopeRmsPerU uses.
+  const std::vector<Vec2> points = levelSamplePoints(level);
+  const int kPoints = static_cast<int>(points.size());
+  std::vector<double> heights(points.size());
   double uu = 0.0, vv = 0.0, mean = 0.0;
   for (int k = 0; k < kPoints; ++k) {
-    const Vec2 uv = Vec2(rng.uniform(), rng.uniform()) * span;
-    const Vec2 B = level.derivatives(uv);
+    const Vec2 B = level.derivatives(points[k]);
     uu += static_cast<double>(B.x) * B.x;
     vv += static_cast<double>(B.y) * B.y;
-    heights[k] = level.height(uv);
+    heights[k] = level.height(points[k]);
     mean += heights[k] / kPoints;
   }
   wavelength_ = level.wavelength();

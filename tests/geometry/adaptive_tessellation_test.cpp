@@ -123,25 +123,9 @@ GrazingDicing diceGrazing(const LimitSurface& surface, const ScreenMetric& scree
   settings.maxEdgeRate = 4096;
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, nullptr);
   GrazingDicing out{t.edgeRates, t.stats.micropolygons, t.stats.offScreenMicropolygons, 0.0f, 0.0f};
-  // The two shorter edges of a triangle are its legs (the grid cells' sides); the third is the
-  // diagonal of the cell.
-  std::vector<float> legs;
-  const TessellatedMesh& m = t.mesh;
-  for (size_t k = 0; k < m.numTriangles(); ++k) {
-    const Vec3 p[3] = {m.positions[m.indices[3 * k]], m.positions[m.indices[3 * k + 1]],
-                       m.positions[m.indices[3 * k + 2]]};
-    if (!screen.pointInView(p[0]) || !screen.pointInView(p[1]) || !screen.pointInView(p[2]))
-      continue;
-    float e[3];
-    for (int i = 0; i < 3; ++i) e[i] = screen.footprintLength(p[i], p[(i + 1) % 3]);
-    std::sort(e, e + 3);
-    legs.push_back(e[1]);
-  }
-  std::sort(legs.begin(), legs.end());
-  if (!legs.empty()) {
-    out.worstLeg = legs.back();
-    out.legP99 = legs[legs.size() * 99 / 100];
-  }
+  const test::InViewLegs legs = test::inViewLegs(t.mesh, screen);
+  out.legP99 = legs.p99;
+  out.worstLeg = legs.worst;
   return out;
 }
 

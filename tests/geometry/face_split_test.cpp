@@ -92,23 +92,9 @@ PlaneDicing dicePlane(const LimitSurface& surface, const ScreenMetric& screen, b
   settings.splitFaces = split;
   settings.maxEdgeRate = 4096;
   PlaneDicing out{tessellateAdaptive(surface, screen, settings, {}, nullptr)};
-  const TessellatedMesh& m = out.t.mesh;
-  std::vector<float> legs;
-  for (size_t k = 0; k < m.numTriangles(); ++k) {
-    const Vec3 p[3] = {m.positions[m.indices[3 * k]], m.positions[m.indices[3 * k + 1]],
-                       m.positions[m.indices[3 * k + 2]]};
-    if (!screen.pointInView(p[0]) || !screen.pointInView(p[1]) || !screen.pointInView(p[2]))
-      continue;
-    float e[3];
-    for (int i = 0; i < 3; ++i) e[i] = screen.footprintLength(p[i], p[(i + 1) % 3]);
-    std::sort(e, e + 3);
-    legs.push_back(e[1]);
-  }
-  std::sort(legs.begin(), legs.end());
-  if (!legs.empty()) {
-    out.worstLeg = legs.back();
-    out.legP99 = legs[legs.size() * 99 / 100];
-  }
+  const test::InViewLegs legs = test::inViewLegs(out.t.mesh, screen);
+  out.legP99 = legs.p99;
+  out.worstLeg = legs.worst;
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace meso::test {
 
@@ -117,6 +118,28 @@ inline int countOpenEdges(const TessellatedMesh& mesh) {
   int open = 0;
   for (const auto& [edge, count] : uses) open += count != 17;
   return open;
+}
+
+// The legs (two shorter edges: a grid cell's sides) of the triangles wholly in view, in pixel
+// footprints: their 99th percentile and largest.
+struct InViewLegs {
+  float p99 = 0.0f, worst = 0.0f;
+};
+inline InViewLegs inViewLegs(const TessellatedMesh& m, const ScreenMetric& screen) {
+  std::vector<float> legs;
+  for (size_t k = 0; k < m.numTriangles(); ++k) {
+    const Vec3 p[3] = {m.positions[m.indices[3 * k]], m.positions[m.indices[3 * k + 1]],
+                       m.positions[m.indices[3 * k + 2]]};
+    if (!screen.pointInView(p[0]) || !screen.pointInView(p[1]) || !screen.pointInView(p[2]))
+      continue;
+    float e[3];
+    for (int i = 0; i < 3; ++i) e[i] = screen.footprintLength(p[i], p[(i + 1) % 3]);
+    std::sort(e, e + 3);
+    legs.push_back(e[1]);
+  }
+  std::sort(legs.begin(), legs.end());
+  if (legs.empty()) return {};
+  return {legs[legs.size() * 99 / 100], legs.back()};
 }
 
 }  // namespace meso::test

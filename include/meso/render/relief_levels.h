@@ -36,6 +36,10 @@ struct ReliefLevel {
   Vec2 derivatives(Vec2 uv) const { return (amplitude * scale) * source->gradient(scale * uv); }
 };
 
+// 1024 fixed points of a level's (u, v), over 64 shortest wavelengths or one period of a height
+// table: where the level's statistics (rms slope, height distribution) are sampled.
+std::vector<Vec2> levelSamplePoints(const ReliefLevel& level);
+
 // Throws meso::Error naming the level's file and line for unreadable height images.
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
 ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
