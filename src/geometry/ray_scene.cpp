@@ -223,6 +223,7 @@ bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
+  hit.Ng = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   const Impl::Part& part = impl_->parts[rh.hit.geomID];
   hit.mesh = part.mesh;
   if (part.isGrid && rh.hit.primID < part.grids.size()) {

@@ -84,7 +84,8 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
-      out.frames[i + 1] = nextFrame(f, out.disp[i] * level.derivatives(sp.uv));
+      out.B[i] = level.derivatives(sp.uv);
+      out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
     } else {
       flat = true;
       out.frames[i + 1] = f;

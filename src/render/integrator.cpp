@@ -80,19 +80,13 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   const int face = object.mesh.triangleFace[hit.triangle];
   SurfacePoint sp =
       object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
-  Vec3 facet(0.0f);
+  // The triangle's unit normal (either orientation: its users turn it towards the eye).
+  const float ngLength = glm::length(hit.Ng);
+  const Vec3 facet = ngLength > 0.0f && std::isfinite(ngLength) ? hit.Ng / ngLength : sp.N;
   const Vec3 limitP = sp.P;
-  if (object.displaced) {
+  if (object.displaced)
     sp.P =
         ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
-    if (ctx.facetNormals) {
-      const uint32_t* k = &object.mesh.indices[3 * static_cast<size_t>(hit.triangle)];
-      const Vec3& p0 = object.mesh.positions[k[0]];
-      const Vec3 n = glm::cross(object.mesh.positions[k[1]] - p0, object.mesh.positions[k[2]] - p0);
-      const float len = glm::length(n);
-      facet = len > 0.0f && std::isfinite(len) ? n / len : sp.N;
-    }
-  }
   Footprint footprint;
   if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
     footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy),
@@ -100,20 +94,17 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   // Macro shadows: occlusion rays from the hit on the very triangles this frame traced.
   LightShadows shadows;
   if (ctx.shadows && !ctx.scene->lights.empty()) {
-    const uint32_t* k = &object.mesh.indices[3 * static_cast<size_t>(hit.triangle)];
-    const Vec3& p0 = object.mesh.positions[k[0]];
-    const Vec3 n = glm::cross(object.mesh.positions[k[1]] - p0, object.mesh.positions[k[2]] - p0);
-    const float len = glm::length(n);
     ShadowOrigin o;
     o.hit = ray.origin + hit.t * ray.direction;
-    o.facetN = len > 0.0f && std::isfinite(len) ? n / len : sp.N;
+    o.facetN = facet;
     o.V = -ray.direction;
     o.rayT = hit.t;
     o.limitP = object.displaced ? nullptr : &limitP;
     shadows = traceShadows(*ctx.rays, ctx.scene->lights, o);
   }
   const ShadeResult r =
-      shadeSurface(ctx, object, sp, -ray.direction, ctx.facetNormals ? &facet : nullptr, &footprint,
+      shadeSurface(ctx, object, sp, -ray.direction,
+                   ctx.facetNormals && object.displaced ? &facet : nullptr, &footprint,
                    &limitP, ctx.shadows ? &shadows : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;

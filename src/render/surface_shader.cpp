@@ -101,13 +101,16 @@ Vec3 levelRedistribution(const LevelContext& c, size_t i, const LevelFrame& f, f
   return len > 1e-6f && std::isfinite(len) ? n / len : at(c.metric.k0);
 }
 
-// The level's Blinn normal on frame f and the frame of the next level.
-Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
-  const Vec2 B = level.derivatives(uv);
+// The level's Blinn normal on frame f for its bump derivatives B, and the frame of the next level.
+Vec3 bumpNormal(Vec2 B, LevelFrame& f) {
   const Vec3 n = blinnNormal(f.Pu, f.Pv, f.N, B.x, B.y);
   f.Pu += B.x * f.N;
   f.Pv += B.y * f.N;
   return n;
+}
+
+Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
+  return bumpNormal(level.derivatives(uv), f);
 }
 
 // Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
@@ -144,7 +147,11 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
 // `shadows` is the light that reaches level i (macro visibility times the coarser levels'
 // self-shadowing); level i adds its own factor where it is not displaced (mixed towards 1 by disp:
 // raised geometry casts real shadows).
-ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows) {
+// `raisedFrame`: f is exactly the raised geometric frame transitions->frames[i] (every coarser level
+// was raised whole and the front side is shaded), so a level raised whole takes its next frame from
+// there instead of evaluating its Blinn normal again.
+ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows,
+                      bool raisedFrame) {
   if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
   ShadeResult r;
   const ReliefLevel& level = c.relief.levels[i];
@@ -161,16 +168,28 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
   r.normal = f.N;
   if (w.brdf < 1.0f) {
     LevelFrame next = f;
-    const Vec3 nBump = bumpNormal(level, c.sp.uv, next);
-    next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
+    raisedFrame = raisedFrame && disp >= 1.0f;
+    if (raisedFrame) {
+      // nextFrame(frames[i], B_i): the same tangents and Blinn normal as bumpNormal's.
+      const SurfaceFrame& g = c.transitions->frames[i + 1];
+      next = {g.Pu, g.Pv, g.N};
+    } else {
+      // Raised levels' derivatives were evaluated with T (levelTransitions), at the same uv.
+      const Vec3 nBump = static_cast<int>(i) < c.transitions->raised
+                             ? bumpNormal(c.transitions->B[i], next)
+                             : bumpNormal(level, c.sp.uv, next);
+      next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
+    }
     LightShadows below;
-    if (shadows) {
+    if (shadows && disp >= 1.0f) {
+      below = *shadows;  // a level raised whole casts real shadows: its factor mixes to 1
+    } else if (shadows) {
       below = levelShadowing(c, i, f, shadows);
       for (LightShadow& s : below.light)
         s = {s.diffuse + disp * (1.0f - s.diffuse), s.specular + disp * (1.0f - s.specular)};
       below *= *shadows;
     }
-    const ShadeResult finer = shadeAuto(c, i + 1, next, shadows ? &below : nullptr);
+    const ShadeResult finer = shadeAuto(c, i + 1, next, shadows ? &below : nullptr, raisedFrame);
     r.colour += (1.0f - w.brdf) * finer.colour;
     const Vec3 own =
         glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
@@ -349,7 +368,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
         ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
   const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
                                       relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows);
-  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows)
+  return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);
 }
 

@@ -24,6 +24,9 @@ struct RayHit {
   int triangle = -1;  // primitive index in that mesh
   float b1 = 0.0f;    // Embree barycentrics (u, v) of corners 1 and 2
   float b2 = 0.0f;
+  // Embree's geometric normal of the hit triangle (not normalized; its sign is Embree's winding,
+  // so callers orient it themselves): it saves reading the triangle's corners back from memory.
+  Vec3 Ng{0.0f};
 };
 
 // A block of a TessellatedMesh whose points and triangles form a regular grid, so that RayScene can
