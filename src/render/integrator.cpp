@@ -102,10 +102,9 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
     o.limitP = object.displaced ? nullptr : &limitP;
     shadows = traceShadows(*ctx.rays, ctx.scene->lights, o);
   }
-  const ShadeResult r =
-      shadeSurface(ctx, object, sp, -ray.direction,
-                   ctx.facetNormals && object.displaced ? &facet : nullptr, &footprint,
-                   &limitP, ctx.shadows ? &shadows : nullptr);
+  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction,
+                                     ctx.facetNormals && object.displaced ? &facet : nullptr,
+                                     &footprint, &limitP, ctx.shadows ? &shadows : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;

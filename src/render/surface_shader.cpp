@@ -147,9 +147,9 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
 // `shadows` is the light that reaches level i (macro visibility times the coarser levels'
 // self-shadowing); level i adds its own factor where it is not displaced (mixed towards 1 by disp:
 // raised geometry casts real shadows).
-// `raisedFrame`: f is exactly the raised geometric frame transitions->frames[i] (every coarser level
-// was raised whole and the front side is shaded), so a level raised whole takes its next frame from
-// there instead of evaluating its Blinn normal again.
+// `raisedFrame`: f is exactly the raised geometric frame transitions->frames[i] (every coarser
+// level was raised whole and the front side is shaded), so a level raised whole takes its next
+// frame from there instead of evaluating its Blinn normal again.
 ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows,
                       bool raisedFrame) {
   if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
