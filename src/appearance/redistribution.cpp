@@ -14,7 +14,7 @@ constexpr BinShape kTheta = BinShape::SolidAngle;
 
 float thetaW(float thetaV, float disp) {
   disp = std::clamp(std::isfinite(disp) ? disp : 0.0f, 0.0f, 1.0f);
-  return std::atan2(disp * std::sin(thetaV), std::max(std::cos(thetaV), 0.0f));
+  return fastAtan2(disp * std::sin(thetaV), std::max(std::cos(thetaV), 0.0f));
 }
 
 Redistribution::Redistribution(const VisibleNormalHistogram& distr, RedistributionVariant variant)

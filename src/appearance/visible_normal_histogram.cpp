@@ -37,7 +37,7 @@ VisibleNormalHistogram::VisibleNormalHistogram(HistogramResolution res, float th
 
 NormalAngles anglesOf(const Vec3& n) {
   const float z = std::clamp(n.z, -1.0f, 1.0f);
-  return {std::acos(z), (n.x == 0.0f && n.y == 0.0f) ? 0.0f : std::atan2(n.y, n.x)};
+  return {fastAcos(z), (n.x == 0.0f && n.y == 0.0f) ? 0.0f : fastAtan2(n.y, n.x)};
 }
 
 Vec3 normalOf(NormalAngles a) {

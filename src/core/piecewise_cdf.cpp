@@ -1,5 +1,7 @@
 #include "meso/core/piecewise_cdf.h"
 
+#include "meso/core/math.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -102,7 +104,7 @@ float positionIn(size_t i, float lo, float width, float f, BinShape shape,
   if (shape == BinShape::Uniform) return x0 + f * width;
   const float c0 = cosines ? cosines->lower[i] : std::cos(x0);
   const float c1 = cosines ? cosines->upper[i] : std::cos(x0 + width);
-  return std::acos(std::clamp(c0 - f * (c0 - c1), -1.0f, 1.0f));
+  return fastAcos(c0 - f * (c0 - c1));
 }
 
 // The largest edge i < n with mix(i) < p (0 when there is none): the bin of the inverse at p.

@@ -20,7 +20,7 @@ ViewFrame makeViewFrame(const Vec3& N, const Vec3& V, const Vec3& tangentHint) {
   ViewFrame f;
   f.N = N;
   const float c = std::clamp(glm::dot(V, N), 0.0f, 1.0f);
-  f.thetaV = std::acos(c);
+  f.thetaV = fastAcos(c);
   Vec3 t = V - glm::dot(V, N) * N;
   float len = glm::length(t);
   if (len < 1e-6f) {
@@ -48,7 +48,7 @@ float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv) {
       !(b > 1e-6f * (glm::length(Pu) + glm::length(Pv))))
     return -1.0f;
   const float c = glm::dot(Vn, Ln) / (a * b);
-  return std::isfinite(c) ? std::acos(std::clamp(c, -1.0f, 1.0f)) : -1.0f;
+  return std::isfinite(c) ? fastAcos(c) : -1.0f;
 }
 
 Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
@@ -59,10 +59,10 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
     const LightSample s = sampleLight(light, P);
     const Vec3 l = toFrame(f, s.L);
     if (l.z <= 0.0f) continue;
-    const float thetaL = std::acos(std::min(l.z, 1.0f));
+    const float thetaL = fastAcos(l.z);
     const float eq2 = Pu && Pv ? azimuthEq2(V, s.L, *Pu, *Pv) : -1.0f;
     const float phiVL =
-        eq2 >= 0.0f ? eq2 : std::abs(std::atan2(l.y, l.x));  // V has azimuth 0 in the frame
+        eq2 >= 0.0f ? eq2 : std::abs(fastAtan2(l.y, l.x));  // V has azimuth 0 in the frame
     const BrdfTable::Value v = brdf.lookup(f.thetaV, thetaL, phiVL);
     I += s.radiance * (material.kd * v.diffuse + material.ks * v.specular);
   }
@@ -92,7 +92,7 @@ Vec3 redistributeNormal(const Redistribution& r, const TileMap& m, const Vec3& V
   const ViewFrame f = tileViewFrame(vt);
   const Vec3 nTile = normalizedOr(m.normalToTile(nBump), Vec3(0, 0, 1));
   const NormalAngles out =
-      r.partial(f.thetaV, std::atan2(f.T.y, f.T.x), disp, anglesOf(toFrame(f, nTile)));
+      r.partial(f.thetaV, fastAtan2(f.T.y, f.T.x), disp, anglesOf(toFrame(f, nTile)));
   return normalizedOr(m.normalToWorld(fromFrame(f, normalOf(out))), m.N);
 }
 

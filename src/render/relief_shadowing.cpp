@@ -19,15 +19,15 @@ struct TileAngles {
 TileAngles tileAngles(const TileMap& m, const Vec3& V) {
   TileAngles a;
   a.f = tileViewFrame(m.toTile(V));
-  a.phiV = std::atan2(a.f.T.y, a.f.T.x);  // the view's azimuth about the relief's axes
+  a.phiV = fastAtan2(a.f.T.y, a.f.T.x);  // the view's azimuth about the relief's axes
   return a;
 }
 
 // theta_L and phi_V - phi_L of a tile-space light direction lt (unit).
 void lightAngles(const TileAngles& a, const Vec3& lt, float& thetaL, float& phiVL) {
   const Vec3 l = toFrame(a.f, lt);
-  thetaL = std::acos(std::min(l.z, 1.0f));
-  phiVL = -std::atan2(l.y, l.x);
+  thetaL = fastAcos(l.z);
+  phiVL = -fastAtan2(l.y, l.x);
 }
 
 bool blocked(const LightShadows* macro, size_t i) {
