@@ -37,8 +37,9 @@ bool blocked(const LightShadows* macro, size_t i) {
 // The levels' factor for one light at its angles, times `start`: start * S_0 * S_1 ..., each S the
 // two metric classes' tables mixed by w and clamped to [0, 1].
 LightShadow levelsFactor(const ShadowingLevels& levels, LightShadow start, float thetaV, float phiV,
-                         float thetaL, float phiVL) {
-  for (size_t k = 0; k < levels.count; ++k) {
+                         float thetaL, float phiVL, size_t first = 0,
+                         size_t last = kMaxReliefLevels) {
+  for (size_t k = first; k < std::min(levels.count, last); ++k) {
     const ShadowingTable& s0 = *levels.s0[k];
     const ShadowingTable& s1 = *levels.s1[k];
     if (s0.empty()) continue;
@@ -79,7 +80,9 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
 
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
-                       float w, const LightShadows& macro, const ShadowingLevels& levels) {
+                       float w, const LightShadows& macro, const ShadowingLevels& levels,
+                       LightShadows* firstLevel) {
+  if (firstLevel) *firstLevel = {};
   Vec3 I = material.ka;
   const TileAngles a = tileAngles(m, V);
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -90,9 +93,19 @@ Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, 
     if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
     float thetaL, phiVL;
     lightAngles(a, lt / len, thetaL, phiVL);
-    const LightShadow sh = i < static_cast<size_t>(kMaxShadowedLights)
-                               ? levelsFactor(levels, macro[i], a.f.thetaV, a.phiV, thetaL, phiVL)
-                               : macro[i];
+    LightShadow sh = macro[i];
+    if (i < static_cast<size_t>(kMaxShadowedLights)) {
+      if (firstLevel) {
+        // The first level's own factor, then the others on top of macro times it: the same
+        // products in the same order as one pass from macro.
+        const LightShadow own = levelsFactor(levels, {}, a.f.thetaV, a.phiV, thetaL, phiVL, 0, 1);
+        firstLevel->light[i] = own;
+        sh = levelsFactor(levels, {sh.diffuse * own.diffuse, sh.specular * own.specular},
+                          a.f.thetaV, a.phiV, thetaL, phiVL, 1);
+      } else {
+        sh = levelsFactor(levels, sh, a.f.thetaV, a.phiV, thetaL, phiVL);
+      }
+    }
     if (sh.diffuse <= 0.0f && sh.specular <= 0.0f) continue;
     BrdfTable::Value v = t0.lookup(a.f.thetaV, a.phiV, thetaL, phiVL);
     if (w > 0.0f && &t1 != &t0) {

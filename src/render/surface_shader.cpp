@@ -71,16 +71,18 @@ LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f
 
 // The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
 // With shadows, each light is scaled by `shadows` times the self-shadowing of this level and of
-// every finer one (the BRDF stands for all of them), looked up at this frame's angles.
+// every finer one (the BRDF stands for all of them), looked up at this frame's angles; `own` (may
+// be null) receives levelShadowing(c, i, shaped, shadows) from the same lookups.
 Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped,
-               const LightShadows* shadows) {
+               const LightShadows* shadows, LightShadows* own = nullptr) {
   const TileMap m = brdfTileMap(c, shaped);
   const BrdfTable& t0 = c.relief.tables(i, c.metric.k0).brdf;
   const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
   return shadeBrdfShadowed(
       c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w,
       shadows ? *shadows : LightShadows{},
-      shadows ? shadowingLevels(c, i, c.relief.levels.size()) : ShadowingLevels{});
+      shadows ? shadowingLevels(c, i, c.relief.levels.size()) : ShadowingLevels{},
+      shadows ? own : nullptr);
 }
 
 // The level's redistributed normal on frame f. Each class's map is exact in distribution; near the
@@ -160,8 +162,11 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
   const bool finest = i + 1 == c.relief.levels.size();
   const float disp = c.raised ? c.transitions->disp[i] : 0.0f;
   r.disp[i] = disp;
+  // This level's self-shadowing, when both the BRDF and the finer levels need it.
+  LightShadows own;
+  const bool shareOwn = shadows && w.brdf > 0.0f && w.brdf < 1.0f && disp < 1.0f;
   if (w.brdf > 0.0f) {
-    r.colour = w.brdf * levelBrdf(c, i, f, shadows);
+    r.colour = w.brdf * levelBrdf(c, i, f, shadows, shareOwn ? &own : nullptr);
     r.algorithm = w.brdf * algorithm_colour::kBrdf;
   }
   r.T = T;
@@ -184,7 +189,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
     if (shadows && disp >= 1.0f) {
       below = *shadows;  // a level raised whole casts real shadows: its factor mixes to 1
     } else if (shadows) {
-      below = levelShadowing(c, i, f, shadows);
+      below = shareOwn ? own : levelShadowing(c, i, f, shadows);
       for (LightShadow& s : below.light)
         s = {s.diffuse + disp * (1.0f - s.diffuse), s.specular + disp * (1.0f - s.specular)};
       below *= *shadows;

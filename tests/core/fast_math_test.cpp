@@ -16,7 +16,7 @@ TEST(FastMath, AcosWithinOneMicroradianEverywhere) {
     worst = std::max(worst, std::abs(static_cast<double>(fastAcos(x)) - std::acos(double(x))));
   }
   EXPECT_LT(worst, 1e-6);
-  EXPECT_GT(worst, 0.0);  // a polynomial, not libm: the sweep sees its error
+  EXPECT_GT(worst, 0.0);            // a polynomial, not libm: the sweep sees its error
   EXPECT_EQ(fastAcos(1.0f), 0.0f);  // a normal facing the view is exactly theta 0
   EXPECT_NEAR(fastAcos(0.0f), kPi / 2, 2e-7);
   EXPECT_NEAR(fastAcos(-1.0f), kPi, 1e-6);

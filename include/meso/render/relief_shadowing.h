@@ -41,9 +41,11 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
 // and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N. Each light's
 // diffuse and specular terms are scaled by `macro` times the self-shadowing of `levels` (macro
 // first, then each level in order), looked up at the same angles; without shadows, all-lit macro
-// shadows ({}) and no levels.
+// shadows ({}) and no levels. `firstLevel` (may be null) receives what reliefShadowing(lights, P,
+// m, V, the first of `levels` alone, &macro) gives, from the same lookups.
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
-                       float w, const LightShadows& macro, const ShadowingLevels& levels);
+                       float w, const LightShadows& macro, const ShadowingLevels& levels,
+                       LightShadows* firstLevel = nullptr);
 
 }  // namespace meso
