@@ -1,7 +1,8 @@
 // Whole frames of shipped scenes, in one run (issue 15's per-sample and per-frame ratios): per
 // scene and resolution, the hybrid (auto) frame, the bump-mapped frame, full displacement at the
 // default dicing, and the hybrid's own camera rays traced with Embree alone
-// (RenderOptions::traceOnly, on the hybrid's geometry). Geometry and tables are prepared once per
+// (RenderOptions::traceOnly, on the hybrid's geometry), and those rays with each hit's shadow rays
+// (trace_all: every ray the shaded frame traces). Geometry and tables are prepared once per
 // case, outside the timing; each iteration is renderFrame. Counters: micropolygons and samples;
 // tools/bench prints the ratios hybrid / bump and hybrid / trace-only from them. Run:
 // ./build/tools/bench_frame [--benchmark_filter=default]
@@ -23,7 +24,7 @@ using namespace meso;
 
 const std::filesystem::path kScenes = MESO_SCENES_DIR;
 
-enum class Mode { Hybrid, Bump, Displacement, TraceOnly };
+enum class Mode { Hybrid, Bump, Displacement, TraceOnly, TraceAll };
 
 struct Case {
   Case(const std::string& name, int width, int height, Algorithm algorithm)
@@ -61,7 +62,8 @@ void BM_Frame(benchmark::State& state, const std::string& name, int width, int h
   o.spp = c.scene.camera.spp;
   o.seed = c.scene.render.seed;
   o.progress = false;
-  o.traceOnly = mode == Mode::TraceOnly;
+  o.traceOnly = mode == Mode::TraceOnly || mode == Mode::TraceAll;
+  o.traceShadowRays = mode == Mode::TraceAll;
   for (auto _ : state) {
     RenderCounters counters;
     benchmark::DoNotOptimize(renderFrame(*c.ctx, o, counters));
@@ -82,7 +84,8 @@ const bool kRegistered = [] {
   } modes[] = {{"hybrid", Mode::Hybrid},
                {"bump", Mode::Bump},
                {"displacement", Mode::Displacement},
-               {"trace_only", Mode::TraceOnly}};
+               {"trace_only", Mode::TraceOnly},
+               {"trace_all", Mode::TraceAll}};
   for (const auto& f : frames)
     for (const auto& m : modes)
       benchmark::RegisterBenchmark(

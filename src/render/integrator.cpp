@@ -158,9 +158,19 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
     const float filmX = static_cast<float>(x) + fx, filmY = static_cast<float>(y) + fy;
     if (options.traceOnly) {  // no shading: no renderer to count either
       RayHit hit;
-      if (ctx.rays->intersect(ctx.camera.generateRay(filmX, filmY), hit)) {
+      const Ray ray = ctx.camera.generateRay(filmX, filmY);
+      if (ctx.rays->intersect(ray, hit)) {
         sum.depth += hit.t;
         sum.hits += 1;
+        if (options.traceShadowRays && ctx.shadows && !ctx.scene->lights.empty()) {
+          ShadowOrigin o;
+          o.hit = ray.origin + hit.t * ray.direction;
+          const float len = glm::length(hit.Ng);
+          o.facetN = len > 0.0f && std::isfinite(len) ? hit.Ng / len : -ray.direction;
+          o.V = -ray.direction;
+          o.rayT = hit.t;
+          traceShadows(*ctx.rays, ctx.scene->lights, o);  // Embree's calls: never elided
+        }
       }
       continue;
     }

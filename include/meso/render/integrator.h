@@ -26,6 +26,10 @@ struct RenderOptions {
   // shading, no shadow rays; beauty is black, depth.Z as usual). The cost of tracing exactly the
   // frame's rays against its geometry: the baseline tools/bench_frame measures renderers against.
   bool traceOnly = false;
+  // With traceOnly: also each hit's shadow rays towards the lights (when the context has shadows),
+  // from the hit moved off its triangle along Embree's geometric normal: every ray the shaded
+  // frame traces, without its shading (tools/bench_frame's trace_all).
+  bool traceShadowRays = false;
 };
 
 // Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.
