@@ -108,7 +108,7 @@ class TradeTest : public meso::testing::TempDirTest {
 };
 
 TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
-  const RunResult r = run("trade " + scene("default.toml") + " " + tiny());
+  const RunResult r = run("trade " + scene("torus_floor.toml") + " " + tiny());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::vector<std::string> rows = dataLines(dir_ / "trade/trade.csv");
   ASSERT_FALSE(rows.empty());
@@ -189,7 +189,7 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
 
 // Tolerances the tiny default scene meets after one refinement (2 px 4 spp -> 1 px 8 spp).
 TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
-  const RunResult r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+  const RunResult r = run("trade " + scene("torus_floor.toml") + " " + referenceOnly() +
                           "--reference-tolerance 1 --reference-rmse-tolerance 10");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find("WARNING"), std::string::npos) << r.output;
@@ -234,7 +234,7 @@ TEST_F(TradeTest, ReferenceThatConvergesIsReportedConverged) {
 // A budget of one refinement and a tolerance no render meets: a loud warning with the last change,
 // exit status 0, the sweep still written. A micropolygon budget below the next level stops earlier.
 TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
-  RunResult r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+  RunResult r = run("trade " + scene("torus_floor.toml") + " " + referenceOnly() +
                     "--reference-max-refinements 1 --reference-tolerance 0.0001 "
                     "--reference-rmse-tolerance 0.0001");
   ASSERT_EQ(r.status, 0) << r.output;
@@ -255,7 +255,7 @@ TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
             1u + 2u + 1u + 2u);  // header, levels, hybrid, displacement (relief samples 0, 4)
 
   // Level 0 has 4204 micropolygons here; the next would need about 4x.
-  r = run("trade " + scene("default.toml") + " " + referenceOnly() +
+  r = run("trade " + scene("torus_floor.toml") + " " + referenceOnly() +
           "--reference-max-micropolygons 10000");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("over --reference-max-micropolygons 10000"), std::string::npos)
@@ -268,7 +268,7 @@ TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
 // corrupt cache file is reported, re-rendered and replaced.
 TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
   const std::string args =
-      "trade " + scene("default.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
+      "trade " + scene("torus_floor.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
   const RunResult first = run(args);
   ASSERT_EQ(first.status, 0) << first.output;
   EXPECT_EQ(count(first.output, "from cache"), 0u) << first.output;
@@ -317,7 +317,7 @@ TEST_F(TradeTest, TemporalBandsOnAPath) {
 
 TEST_F(TradeTest, BadValuesExitTwoNamingTheOption) {
   const std::string base =
-      "trade " + scene("default.toml") + " --width 48 --height 27 -o " + out() + " ";
+      "trade " + scene("torus_floor.toml") + " --width 48 --height 27 -o " + out() + " ";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--d-values -1", "--d-values"},
       {"--spp-values 4,0", "--spp-values"},
