@@ -4,6 +4,8 @@
 #include "meso/core/rng.h"
 #include "meso/render/relief_levels.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,7 +14,9 @@ namespace meso {
 
 void buildVisibleHeights(MaterialRelief& relief) {
   relief.visibleHeights.clear();
-  for (const ReliefLevel& level : relief.levels) relief.visibleHeights.emplace_back(level);
+  // Only levels above the first ride on crests of coarser ones (crestCurvature).
+  for (size_t i = 0; i < relief.levels.size(); ++i)
+    relief.visibleHeights.emplace_back(relief.levels[i], i > 0);
 }
 
 float VisibleHeight::smithLambda(float a) {
@@ -22,7 +26,7 @@ float VisibleHeight::smithLambda(float a) {
   return std::clamp(lambda, 0.0f, kLargest);
 }
 
-VisibleHeight::VisibleHeight(const ReliefLevel& level) {
+VisibleHeight::VisibleHeight(const ReliefLevel& level, bool crests) {
   // The points reliefSlopeRmsPerU uses.
   const std::vector<Vec2> points = levelSamplePoints(level);
   const int kPoints = static_cast<int>(points.size());
@@ -50,7 +54,10 @@ VisibleHeight::VisibleHeight(const ReliefLevel& level) {
     table_[j] = std::isfinite(sum) ? static_cast<float>(sum) : 0.0f;
   }
   table_[0] = 0.0f;  // Lambda = 0: the heights' own mean, the mean plane (0 up to rounding)
-  buildCrestTable(level, heights.front(), heights.back(), mean);
+  if (crests)
+    buildCrestTable(level, heights.front(), heights.back(), mean);
+  else
+    crest_.fill(std::numeric_limits<float>::max());
 }
 
 // The crest's edge, marched through the relief itself (Smith's uncorrelated model underestimates
@@ -66,7 +73,8 @@ void VisibleHeight::buildCrestTable(const ReliefLevel& level, double lowest, dou
   const float step = wavelength / 8.0f;
   const float range = static_cast<float>(highest - lowest);
   if (!(range > 0.0f) || !(wavelength > 0.0f) || !std::isfinite(range)) return;
-  for (int j = 0; j < kCrestNodes; ++j) {
+  // Each node is its own march with its own seed: the same table for any thread count.
+  tbb::parallel_for(0, kCrestNodes, [&](int j) {
     const float radius = wavelength / std::exp2(kCrestLog2Min + 0.5f * j);  // units of u
     // Beyond this the base has fallen below the lowest relief under the ray.
     const float steps = std::ceil(std::sqrt(2.0f * radius * range) / step);
@@ -74,7 +82,7 @@ void VisibleHeight::buildCrestTable(const ReliefLevel& level, double lowest, dou
       // Relief very tall for its wavelength: such wide crests are left to the plane's value (the
       // smaller one is used), and the march stays bounded.
       crest_[j] = std::numeric_limits<float>::max();
-      continue;
+      return;
     }
     Rng rng(0xc4e57 + j);
     double sum = 0.0;
@@ -90,7 +98,7 @@ void VisibleHeight::buildCrestTable(const ReliefLevel& level, double lowest, dou
       sum += (static_cast<double>(top) - mean) / kRays;
     }
     crest_[j] = std::isfinite(sum) ? static_cast<float>(sum) : 0.0f;
-  }
+  });
 }
 
 // a = cot / (sqrt(2) sigma) with sigma the world rms slope; +infinity for zero relief.

@@ -25,7 +25,9 @@ class VisibleHeight {
  public:
   VisibleHeight() = default;
   // From 1024 fixed samples of the level's heights and slopes (world units per unit of u).
-  explicit VisibleHeight(const ReliefLevel& level);
+  // crests false: no crest table (the plane's value at every curvature), for a material's first
+  // level, which has no coarser level to ride on (buildVisibleHeights).
+  explicit VisibleHeight(const ReliefLevel& level, bool crests = true);
 
   // E[h_hit] in world units where cosTheta is the cosine between the view and the level's frame
   // normal and lengthPerU the world length of one unit of u there. On a crest (convex curvature
