@@ -267,8 +267,8 @@ TEST_F(TradeTest, ReferenceOverItsBudgetWarnsWithTheLastChange) {
 // The second run takes every reference level from the cache and gets the same CSV rows for them; a
 // corrupt cache file is reported, re-rendered and replaced.
 TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
-  const std::string args =
-      "trade " + scene("torus_floor.toml") + " " + referenceOnly() + "--reference-max-refinements 2";
+  const std::string args = "trade " + scene("torus_floor.toml") + " " + referenceOnly() +
+                           "--reference-max-refinements 2";
   const RunResult first = run(args);
   ASSERT_EQ(first.status, 0) << first.output;
   EXPECT_EQ(count(first.output, "from cache"), 0u) << first.output;
