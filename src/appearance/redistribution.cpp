@@ -163,7 +163,9 @@ NormalAngles Redistribution::toBump(float thetaV, float phiV, NormalAngles n) co
 NormalAngles Redistribution::partial(float thetaV, float phiV, float disp, NormalAngles n) const {
   if (!(disp > 0.0f)) return toVisible(thetaV, phiV, n);
   if (disp >= 1.0f) return n;
-  return toVisible(thetaV, phiV, toBump(thetaW(thetaV, disp), phiV, n));
+  // R_thetaV o R_thetaW^-1 = G_thetaV^-1 o F o F^-1 o G_thetaW, and F o F^-1 is the identity on
+  // [0, 1] (the inverse lands inside the support): one map from theta_W's slices to theta_V's.
+  return mapBetween(locate(thetaW(thetaV, disp), phiV), locate(thetaV, phiV), n);
 }
 
 }  // namespace meso
