@@ -69,17 +69,30 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
   const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
   out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
+  // The directions to the lights, once for every level (a few; more are sampled per level).
+  constexpr size_t kKeptLights = 8;
+  std::array<Vec3, kKeptLights> L;
+  const size_t kept = std::min(lights.size(), kKeptLights);
+  for (size_t k = 0; k < kept; ++k) L[k] = sampleLight(lights[k], sp.P).L;
   bool flat =
       false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
   for (int i = 0; i < n; ++i) {
     const ReliefLevel& level = relief.levels[i];
     const SurfaceFrame& f = out.frames[i];
-    out.T[i] =
-        levelTransition(level, lengthPerU, glm::dot(f.N, V), distance, pixelsPerRadian, settings);
-    for (const Light& light : lights)  // the terminator, like the silhouette (section 4.2)
-      out.T[i] = std::max(
-          out.T[i], levelTransition(level, lengthPerU, glm::dot(f.N, sampleLight(light, sp.P).L),
-                                    distance, pixelsPerRadian, settings));
+    // T is the largest over the view and the lights (the terminator, like the silhouette, section
+    // 4.2). (nu - D) / (|cos| + eps) is monotone in |cos| (falling when nu > D, rising when
+    // nu < D), so the largest T is T at the smallest or the largest |cos|: one evaluation.
+    float lo = std::abs(glm::dot(f.N, V)), hi = lo;
+    for (size_t k = 0; k < lights.size(); ++k) {
+      const float c =
+          std::abs(glm::dot(f.N, k < kept ? L[k] : sampleLight(lights[k], sp.P).L));
+      lo = std::min(lo, c);
+      hi = std::max(hi, c);
+    }
+    const float atLo = levelTransition(level, lengthPerU, lo, distance, pixelsPerRadian, settings);
+    out.T[i] = atLo > 0.0f ? atLo
+                             : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
+                                                                pixelsPerRadian, settings));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {

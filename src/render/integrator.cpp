@@ -65,6 +65,13 @@ void countSample(const RenderContext& ctx, const PreparedObject& object, float T
   shares[static_cast<int>(SampleRenderer::Redistribution)] += kShareUnit - brdf - disp;
 }
 
+// The hit triangle's unit normal from Embree (either orientation: its users turn it towards the
+// eye), or `fallback` for a degenerate triangle.
+Vec3 facetNormal(const RayHit& hit, const Vec3& fallback) {
+  const float length = glm::length(hit.Ng);
+  return length > 0.0f && std::isfinite(length) ? hit.Ng / length : fallback;
+}
+
 // Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
 // coordinates, never from the triangle (Chan 2002).
 // footprintScale 0: no footprint (unfiltered bump lookups).
@@ -80,9 +87,7 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   const int face = object.mesh.triangleFace[hit.triangle];
   SurfacePoint sp =
       object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
-  // The triangle's unit normal (either orientation: its users turn it towards the eye).
-  const float ngLength = glm::length(hit.Ng);
-  const Vec3 facet = ngLength > 0.0f && std::isfinite(ngLength) ? hit.Ng / ngLength : sp.N;
+  const Vec3 facet = facetNormal(hit, sp.N);
   const Vec3 limitP = sp.P;
   if (object.displaced)
     sp.P =
@@ -165,8 +170,7 @@ void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, 
         if (options.traceShadowRays && ctx.shadows && !ctx.scene->lights.empty()) {
           ShadowOrigin o;
           o.hit = ray.origin + hit.t * ray.direction;
-          const float len = glm::length(hit.Ng);
-          o.facetN = len > 0.0f && std::isfinite(len) ? hit.Ng / len : -ray.direction;
+          o.facetN = facetNormal(hit, -ray.direction);
           o.V = -ray.direction;
           o.rayT = hit.t;
           traceShadows(*ctx.rays, ctx.scene->lights, o);  // Embree's calls: never elided

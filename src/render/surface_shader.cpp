@@ -365,12 +365,13 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
   // coordinates), exactly as the tessellator raised the geometry.
   const SurfacePoint limit{limitP ? *limitP : sp.P, sp.Pu, sp.Pv, sp.N, sp.uv};
-  LevelTransitions transitions;
-  if (ctx.algorithm == Algorithm::Auto)
-    transitions = levelTransitions(
-        relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
-        ctx.scene->render.transition, DisplacementMode::ByTransition,
-        ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
+  const LevelTransitions transitions =
+      ctx.algorithm == Algorithm::Auto
+          ? levelTransitions(
+                relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
+                ctx.scene->render.transition, DisplacementMode::ByTransition,
+                ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>())
+          : LevelTransitions{};
   const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
                                       relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
