@@ -14,6 +14,7 @@ constexpr float kMaxSlope = 1e15f;
 
 // The unit direction displacement follows: N, else P_u x P_v, else +z.
 Vec3 unitNormal(const SurfaceFrame& f) {
+  if (std::abs(glm::dot(f.N, f.N) - 1.0f) < 1e-6f) return f.N;  // unit already (to 5e-7)
   for (const Vec3& v : {f.N, glm::cross(f.Pu, f.Pv)}) {
     const float len = glm::length(v);
     if (len > 1e-30f && std::isfinite(len)) return v / len;

@@ -84,15 +84,14 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     // nu < D), so the largest T is T at the smallest or the largest |cos|: one evaluation.
     float lo = std::abs(glm::dot(f.N, V)), hi = lo;
     for (size_t k = 0; k < lights.size(); ++k) {
-      const float c =
-          std::abs(glm::dot(f.N, k < kept ? L[k] : sampleLight(lights[k], sp.P).L));
+      const float c = std::abs(glm::dot(f.N, k < kept ? L[k] : sampleLight(lights[k], sp.P).L));
       lo = std::min(lo, c);
       hi = std::max(hi, c);
     }
     const float atLo = levelTransition(level, lengthPerU, lo, distance, pixelsPerRadian, settings);
     out.T[i] = atLo > 0.0f ? atLo
-                             : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
-                                                                pixelsPerRadian, settings));
+                           : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
+                                                            pixelsPerRadian, settings));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {
