@@ -22,6 +22,45 @@ using Descriptor = OpenSubdiv::Far::TopologyDescriptor;
 using RefinerFactory = OpenSubdiv::Far::TopologyRefinerFactory<Descriptor>;
 using PointDesc = OpenSubdiv::Bfr::Surface<float>::PointDescriptor;
 
+// The bilinear quad of D-dimensional points p[0 .. 3] at Bfr's (0, 0), (1, 0), (1, 1), (0, 1):
+// its value and first derivatives at c.
+template <int D>
+void bilinearQuad(const float* p, Vec2 c, float* value, float* d0, float* d1) {
+  const float u = c.x, v = c.y;
+  for (int k = 0; k < D; ++k) {
+    const float p0 = p[k], p1 = p[D + k], p2 = p[2 * D + k], p3 = p[3 * D + k];
+    value[k] = (1.0f - v) * ((1.0f - u) * p0 + u * p1) + v * ((1.0f - u) * p3 + u * p2);
+    d0[k] = (1.0f - v) * (p1 - p0) + v * (p2 - p3);
+    d1[k] = (1.0f - u) * (p3 - p0) + u * (p2 - p1);
+  }
+}
+
+// Whether `surface` is exactly that bilinear quad of its 4 patch points: a regular patch of 4
+// points that agrees with bilinearQuad at a few points inside and on the edges (to float rounding
+// of the patch's size). Any other patch (a B-spline or Loop patch, an irregular face) is left to
+// Bfr.
+template <int D>
+bool isBilinearQuad(const OpenSubdiv::Bfr::Surface<float>& surface,
+                    const std::vector<float>& points, size_t offset) {
+  if (!surface.IsValid() || !surface.IsRegular() || surface.GetNumPatchPoints() != 4 ||
+      surface.GetParameterization().GetType() != Parameterization::QUAD)
+    return false;
+  const float* p = &points[offset];
+  float size = 0.0f;
+  for (int i = 0; i < 4 * D; ++i) size = std::max(size, std::abs(p[i]));
+  const float tolerance = 1e-5f * std::max(size, 1e-30f);
+  for (const Vec2 c : {Vec2(0.0f), Vec2(1.0f), Vec2(0.3f, 0.8f), Vec2(0.9f, 0.2f), Vec2(0.5f)}) {
+    float bv[D], b0[D], b1[D], v[D], d0[D], d1[D];
+    surface.Evaluate(&c.x, p, PointDesc(D), v, d0, d1);
+    bilinearQuad<D>(p, c, bv, b0, b1);
+    for (int k = 0; k < D; ++k)
+      if (!(std::abs(bv[k] - v[k]) <= tolerance) || !(std::abs(b0[k] - d0[k]) <= tolerance) ||
+          !(std::abs(b1[k] - d1[k]) <= tolerance))
+        return false;
+  }
+  return true;
+}
+
 OpenSubdiv::Sdc::SchemeType toSdc(SubdivisionScheme scheme) {
   switch (scheme) {
     case SubdivisionScheme::Loop:
@@ -234,6 +273,10 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     face.uvSurface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2),
                                       &impl_->uvPatchPoints[face.uvPatchOffset], PointDesc(2));
   }
+  for (Impl::Face& face : impl_->faces) {
+    face.bilinear = isBilinearQuad<3>(face.surface, impl_->patchPoints, face.patchOffset);
+    face.uvBilinear = isBilinearQuad<2>(face.uvSurface, impl_->uvPatchPoints, face.uvPatchOffset);
+  }
 }
 
 LimitSurface::~LimitSurface() = default;
@@ -266,8 +309,11 @@ namespace {
 // Derivatives with respect to Bfr's coordinates at c.
 void evaluateDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
                          Vec3& P, Vec3& dPdc0, Vec3& dPdc1) {
-  f.surface.Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x, &dPdc0.x,
-                     &dPdc1.x);
+  if (f.bilinear)
+    bilinearQuad<3>(&impl.patchPoints[f.patchOffset], c, &P.x, &dPdc0.x, &dPdc1.x);
+  else
+    f.surface.Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x, &dPdc0.x,
+                       &dPdc1.x);
 }
 
 bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {
@@ -312,8 +358,11 @@ Vec3 limitNormal(const LimitSurface::Impl& impl, int face, Vec2 st, const Vec3& 
 bool textureDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
                         const Vec3& dPdc0, const Vec3& dPdc1, SurfacePoint& sp) {
   Vec2 dUv0, dUv1;
-  f.uvSurface.Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2), &sp.uv.x, &dUv0.x,
-                       &dUv1.x);
+  if (f.uvBilinear)
+    bilinearQuad<2>(&impl.uvPatchPoints[f.uvPatchOffset], c, &sp.uv.x, &dUv0.x, &dUv1.x);
+  else
+    f.uvSurface.Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2), &sp.uv.x,
+                         &dUv0.x, &dUv1.x);
   const float det = cross2(dUv0, dUv1);
   // A folded or collapsed uv map has no inverse; the caller then keeps patch derivatives.
   if (!(std::abs(det) > 1e-8f * glm::length(dUv0) * glm::length(dUv1)) || !(det != 0.0f))

@@ -35,6 +35,10 @@ struct LimitSurface::Impl {
     size_t patchOffset = 0;  // first float of this face's patch points
     size_t uvPatchOffset = 0;
     int chartOffset = -1;  // first chart point (N vertices, then the centre); -1: st is Bfr's
+    // The patch is the bilinear quad of its 4 patch points (regular faces of the bilinear scheme,
+    // checked against Bfr when the surface is made): evaluated directly, without Bfr's generic
+    // basis and point combination (the hybrid's shading evaluates the limit surface at every hit).
+    bool bilinear = false, uvBilinear = false;
     Vec3 centroid{0.0f};
     Vec3 averageNormal{0.0f, 0.0f, 1.0f};  // fallback where the limit normal is undefined
   };

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <vector>
@@ -153,6 +154,45 @@ TEST(LimitSurface, TextureDerivativesFollowTheChainRule) {
       EXPECT_LT(glm::length(ref.Pv - (sp.Pu * duvdst[1][0] + sp.Pv * duvdst[1][1])), 1e-5f);
       EXPECT_LT(glm::length(sp.N - Vec3(0.0f, 0.0f, 1.0f)), 1e-5f);
     }
+}
+
+// A bilinear-scheme quad is the bilinear interpolation of its corners (evaluated directly, without
+// Bfr's generic patch, since it is the hybrid's per-hit cost): a twisted, non-planar quad with a
+// sheared, stretched uv map, so that every term of P, uv, P_u and P_v is exercised.
+TEST(LimitSurface, BilinearQuadIsTheBilinearInterpolationOfItsCorners) {
+  ControlMesh mesh;
+  mesh.positions = {Vec3(0, 0, 0), Vec3(3, 0.2f, 0.5f), Vec3(2.5f, 1.5f, -0.4f),
+                    Vec3(-0.3f, 1, 0.9f)};
+  test::addFace(mesh, {0, 1, 2, 3});
+  mesh.uvs = {Vec2(0.1f, 0.2f), Vec2(8.0f, 0.9f), Vec2(9.5f, 2.6f), Vec2(1.2f, 2.0f)};
+  mesh.uvIndices = mesh.faceVertices;
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  // Corner k sits at st = cornerSt(0, k); st is the bilinear parameter of the corners in that
+  // order.
+  std::array<Vec2, 4> at;
+  for (int k = 0; k < 4; ++k) at[k] = surface.cornerSt(0, k);
+  ASSERT_EQ(at[0], Vec2(0, 0));
+  ASSERT_EQ(at[1], Vec2(1, 0));
+  ASSERT_EQ(at[2], Vec2(1, 1));
+  ASSERT_EQ(at[3], Vec2(0, 1));
+  auto lerp4 = [](auto c0, auto c1, auto c2, auto c3, float s, float t) {
+    return (1 - t) * ((1 - s) * c0 + s * c1) + t * ((1 - s) * c3 + s * c2);
+  };
+  const auto& p = mesh.positions;
+  const auto& q = mesh.uvs;
+  for (Vec2 st : domainSamples(6, false)) {
+    const float s = st.x, t = st.y;
+    const SurfacePoint sp = surface.evaluate(0, st);
+    EXPECT_LT(glm::length(sp.P - lerp4(p[0], p[1], p[2], p[3], s, t)), 1e-5f);
+    EXPECT_LT(glm::length(sp.uv - lerp4(q[0], q[1], q[2], q[3], s, t)), 1e-5f);
+    const Vec3 dPds = (1 - t) * (p[1] - p[0]) + t * (p[2] - p[3]);
+    const Vec3 dPdt = (1 - s) * (p[3] - p[0]) + s * (p[2] - p[1]);
+    const Vec2 duvds = (1 - t) * (q[1] - q[0]) + t * (q[2] - q[3]);
+    const Vec2 duvdt = (1 - s) * (q[3] - q[0]) + s * (q[2] - q[1]);
+    EXPECT_LT(glm::length(dPds - (sp.Pu * duvds.x + sp.Pv * duvds.y)), 1e-4f);
+    EXPECT_LT(glm::length(dPdt - (sp.Pu * duvdt.x + sp.Pv * duvdt.y)), 1e-4f);
+    EXPECT_LT(glm::length(sp.N - glm::normalize(glm::cross(dPds, dPdt))), 1e-5f);
+  }
 }
 
 TEST(LimitSurface, UvScaledByTwoHalvesTheDerivatives) {
