@@ -144,7 +144,9 @@ TEST(Shadows, ShadowRayStartsJustOffTheSurface) {
 }
 
 // render.shadows = false renders exactly what meso rendered before shadows existed: the pixels of
-// tests/render/data/golden_no_shadows.exr (written by the unshadowed meso from shadow_golden.toml).
+// tests/render/data/golden_no_shadows.exr (written by the unshadowed meso from shadow_golden.toml;
+// written again, with --no-shadows, when the floor's bilinear quads came to be evaluated without
+// Bfr, which changed its pixels by float rounding only).
 TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
   const fs::path dir = fs::path(MESO_SOURCE_DIR) / "tests/render/data";
   const fs::path out =
