@@ -198,6 +198,20 @@ void gridHit(const TriangleGrid& g, float u, float v, RayHit& hit) {
   hit.triangle = lower ? first : first + 1;
   hit.b1 = lower ? fu : 1.0f - fu;
   hit.b2 = lower ? fv : 1.0f - fv;
+  hit.face = g.face;
+  if (g.face < 0) return;
+  // The hit triangle's corners' st from the grid's bilinear map, interpolated as the mesh would.
+  const float ri = 1.0f / float(g.width - 1), rj = 1.0f / float(g.height - 1);
+  const auto at = [&](int pi, int pj) {
+    const float a = float(pi) * ri, b = float(pj) * rj;
+    return (1.0f - b) * ((1.0f - a) * g.cornerSt[0] + a * g.cornerSt[1]) +
+           b * ((1.0f - a) * g.cornerSt[2] + a * g.cornerSt[3]);
+  };
+  // Corners (p00, p10, p01) of the lower triangle, (p11, p01, p10) of the upper one.
+  const Vec2 c0 = lower ? at(i, j) : at(i + 1, j + 1);
+  const Vec2 c1 = lower ? at(i + 1, j) : at(i, j + 1);
+  const Vec2 c2 = lower ? at(i, j + 1) : at(i + 1, j);
+  hit.st = (1.0f - hit.b1 - hit.b2) * c0 + hit.b1 * c1 + hit.b2 * c2;
 }
 
 }  // namespace
@@ -232,6 +246,7 @@ bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   }
   hit.b1 = rh.hit.u;
   hit.b2 = rh.hit.v;
+  hit.face = -1;
   if (!part.isGrid) {
     hit.triangle = static_cast<int>(rh.hit.primID);
     return true;

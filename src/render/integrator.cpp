@@ -84,9 +84,11 @@ void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
     return;
   }
   const PreparedObject& object = ctx.objects[hit.mesh];
-  const int face = object.mesh.triangleFace[hit.triangle];
-  SurfacePoint sp =
-      object.surface.evaluate(face, object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
+  // A grid hit knows its face and patch coordinates; other triangles read the mesh's arrays.
+  const bool fromGrid = hit.face >= 0;
+  const int face = fromGrid ? hit.face : object.mesh.triangleFace[hit.triangle];
+  SurfacePoint sp = object.surface.evaluate(
+      face, fromGrid ? hit.st : object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
   const Vec3 facet = facetNormal(hit, sp.N);
   const Vec3 limitP = sp.P;
   if (object.displaced)

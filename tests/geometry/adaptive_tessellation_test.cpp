@@ -372,7 +372,7 @@ TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
   grids.commit();
   EXPECT_EQ(grids.numTriangles(), t.mesh.numTriangles());
   Rng rng(99);
-  int sameTriangle = 0, hits = 0;
+  int sameTriangle = 0, hits = 0, gridKnows = 0;
   for (int i = 0; i < 20000; ++i) {
     const Ray ray{Vec3(0.0f), randomDirection(rng)};
     RayHit a, b;
@@ -387,8 +387,15 @@ TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
     if (t.mesh.triangleFace[a.triangle] == t.mesh.triangleFace[b.triangle]) {
       EXPECT_LT(glm::length(stA - stB), 1e-4f) << "ray " << i;
     }
+    // A grid hit's own face and st (affine over the grid) are the mesh's for its triangle.
+    if (b.face >= 0) {
+      ++gridKnows;
+      EXPECT_EQ(b.face, t.mesh.triangleFace[b.triangle]) << "ray " << i;
+      EXPECT_LT(glm::length(b.st - stB), 1e-5f) << "ray " << i;
+    }
   }
   EXPECT_GT(sameTriangle, hits * 99 / 100);
+  EXPECT_GT(gridKnows, hits / 2);
 }
 
 TEST(AdaptiveTessellation, GridsThatDoNotFitTheMeshThrow) {

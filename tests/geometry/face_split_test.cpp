@@ -41,6 +41,34 @@ int escapes(const AdaptiveTessellation& t, bool useGrids, int numRays) {
   return missed;
 }
 
+// Grid hits that report their face and st (TriangleGrid::face) report the mesh's: the sub-quads'
+// grids of split faces too. Returns the share of hits in grids that did.
+double gridHitsWithTheirOwnSt(const AdaptiveTessellation& t, int numRays) {
+  RayScene scene;
+  scene.addMesh(t.mesh, t.grids);
+  scene.commit();
+  Rng rng(78);
+  int known = 0, inGrids = 0;
+  for (int i = 0; i < numRays; ++i) {
+    const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    RayHit hit;
+    if (!scene.intersect(Ray{Vec3(0.0f), Vec3(r * std::cos(phi), r * std::sin(phi), z)}, hit))
+      continue;
+    inGrids += std::any_of(t.grids.begin(), t.grids.end(), [&](const TriangleGrid& g) {
+      return size_t(hit.triangle) >= g.firstTriangle &&
+             size_t(hit.triangle) < g.firstTriangle + 2 * size_t(g.width - 1) * (g.height - 1);
+    });
+    if (hit.face < 0) continue;
+    ++known;
+    EXPECT_EQ(hit.face, t.mesh.triangleFace[hit.triangle]) << "ray " << i;
+    EXPECT_LT(glm::length(hit.st - t.mesh.patchCoords(hit.triangle, hit.b1, hit.b2)), 1e-5f)
+        << "ray " << i;
+  }
+  std::printf("  %d of %d hits in grids know their face and st\n", known, inGrids);
+  return inGrids > 0 ? double(known) / inGrids : 0.0;
+}
+
 // The eye close to the +z side of the displaced cube, looking past its corner: faces straddle the
 // view's border, and near faces recede steeply in depth.
 TEST(FaceSplit, DisplacedClosedSurfacesWithSplitFacesAreWatertight) {
@@ -61,6 +89,7 @@ TEST(FaceSplit, DisplacedClosedSurfacesWithSplitFacesAreWatertight) {
       EXPECT_EQ(test::countOpenEdges(t.mesh), 0);  // no cracks, no T-junctions, oriented
       EXPECT_EQ(escapes(t, false, 20000), 0) << "triangles";
       EXPECT_EQ(escapes(t, true, 20000), 0) << "grids";
+      EXPECT_GT(gridHitsWithTheirOwnSt(t, 5000), 0.99);
     }
 }
 

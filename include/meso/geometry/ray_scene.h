@@ -4,6 +4,7 @@
 #include "meso/core/math.h"
 #include "meso/geometry/tessellation.h"
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -24,6 +25,11 @@ struct RayHit {
   int triangle = -1;  // primitive index in that mesh
   float b1 = 0.0f;    // Embree barycentrics (u, v) of corners 1 and 2
   float b2 = 0.0f;
+  // A hit in a grid that knows its face (TriangleGrid::face): that face and the patch coordinates
+  // of the hit, which the mesh's triangleFace and patchCoords would give (to float rounding)
+  // without reading their per-triangle arrays, a cache miss each. -1: use the mesh.
+  int face = -1;
+  Vec2 st{0.0f};
   // Embree's geometric normal of the hit triangle (not normalized; its sign is Embree's winding,
   // so callers orient it themselves): it saves reading the triangle's corners back from memory.
   Vec3 Ng{0.0f};
@@ -40,6 +46,13 @@ struct TriangleGrid {
   uint32_t firstTriangle = 0;
   uint16_t width = 0;   // 2 .. 32767
   uint16_t height = 0;  // 2 .. 32767
+  // Optional: the base face of every triangle of the grid and its patch coordinates, bilinear over
+  // the grid: point (i, j) is at the bilinear blend of the corner points' st, cornerSt[0 .. 3] at
+  // (0, 0), (width - 1, 0), (0, height - 1), (width - 1, height - 1), by i / (width - 1) and
+  // j / (height - 1) (the tessellator checks this when it makes the grid). face -1: unknown (hits
+  // then read the mesh's arrays).
+  int32_t face = -1;
+  std::array<Vec2, 4> cornerSt{};
 };
 
 class RayScene {
