@@ -387,7 +387,7 @@ TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
     if (t.mesh.triangleFace[a.triangle] == t.mesh.triangleFace[b.triangle]) {
       EXPECT_LT(glm::length(stA - stB), 1e-4f) << "ray " << i;
     }
-    // A grid hit's own face and st (affine over the grid) are the mesh's for its triangle.
+    // A grid hit's own face and st (bilinear over the grid) are the mesh's for its triangle.
     if (b.face >= 0) {
       ++gridKnows;
       EXPECT_EQ(b.face, t.mesh.triangleFace[b.triangle]) << "ray " << i;
