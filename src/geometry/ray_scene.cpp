@@ -201,16 +201,10 @@ void gridHit(const TriangleGrid& g, float u, float v, RayHit& hit) {
   hit.face = g.face;
   if (g.face < 0) return;
   // The hit triangle's corners' st from the grid's bilinear map, interpolated as the mesh would.
-  const float ri = 1.0f / float(g.width - 1), rj = 1.0f / float(g.height - 1);
-  const auto at = [&](int pi, int pj) {
-    const float a = float(pi) * ri, b = float(pj) * rj;
-    return (1.0f - b) * ((1.0f - a) * g.cornerSt[0] + a * g.cornerSt[1]) +
-           b * ((1.0f - a) * g.cornerSt[2] + a * g.cornerSt[3]);
-  };
   // Corners (p00, p10, p01) of the lower triangle, (p11, p01, p10) of the upper one.
-  const Vec2 c0 = lower ? at(i, j) : at(i + 1, j + 1);
-  const Vec2 c1 = lower ? at(i + 1, j) : at(i, j + 1);
-  const Vec2 c2 = lower ? at(i, j + 1) : at(i + 1, j);
+  const Vec2 c0 = lower ? g.stAt(i, j) : g.stAt(i + 1, j + 1);
+  const Vec2 c1 = lower ? g.stAt(i + 1, j) : g.stAt(i, j + 1);
+  const Vec2 c2 = lower ? g.stAt(i, j + 1) : g.stAt(i + 1, j);
   hit.st = (1.0f - hit.b1 - hit.b2) * c0 + hit.b1 * c1 + hit.b2 * c2;
 }
 

@@ -182,22 +182,19 @@ void writeTriangle(TessellatedMesh& out, size_t t, int face, int c0, int c1, int
 // The grid's face and its st corners (TriangleGrid), when every grid point's st is their bilinear
 // blend to 4e-6, a few roundings (interior grids of quads are, in Bfr's coordinates and in the
 // split faces' sub-quads, whose corners need not form a rectangle).
-void setGridPatchCoords(int face, int width, int height, const std::vector<int>& coord,
-                        const std::vector<Vec2>& st, TriangleGrid& grid) {
+void setGridPatchCoords(int face, const std::vector<int>& coord, const std::vector<Vec2>& st,
+                        TriangleGrid& grid) {
+  const int width = grid.width, height = grid.height;
   const size_t w = size_t(width), last = size_t(height - 1) * w;
-  const std::array<Vec2, 4> c = {st[coord[0]], st[coord[w - 1]], st[coord[last]],
-                                 st[coord[last + w - 1]]};
-  const float ri = 1.0f / float(width - 1), rj = 1.0f / float(height - 1);
+  TriangleGrid g = grid;
+  g.cornerSt = {st[coord[0]], st[coord[w - 1]], st[coord[last]], st[coord[last + w - 1]]};
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i) {
-      const float a = float(i) * ri, b = float(j) * rj;
-      const Vec2 d =
-          st[coord[size_t(j) * w + size_t(i)]] -
-          ((1.0f - b) * ((1.0f - a) * c[0] + a * c[1]) + b * ((1.0f - a) * c[2] + a * c[3]));
+      const Vec2 d = st[coord[size_t(j) * w + size_t(i)]] - g.stAt(i, j);
       if (!(std::abs(d.x) <= 4e-6f && std::abs(d.y) <= 4e-6f)) return;  // not bilinear: no face
     }
-  grid.face = face;
-  grid.cornerSt = c;
+  g.face = face;
+  grid = g;
 }
 
 }  // namespace
@@ -257,7 +254,7 @@ size_t EdgeRateTessellator::emitPattern(int f, const Tessellation& tess, FaceScr
   *grid = {static_cast<uint32_t>(interiorBase), static_cast<uint32_t>(t),
            static_cast<uint16_t>(shape.width), static_cast<uint16_t>(shape.height)};
   const std::vector<int>& g = scratch.gridCoord;
-  setGridPatchCoords(f, shape.width, shape.height, g, scratch.st, *grid);
+  setGridPatchCoords(f, g, scratch.st, *grid);
   for (int v = 0; v + 1 < shape.height; ++v)
     for (int u = 0; u + 1 < shape.width; ++u) {
       const int p00 = g[v * shape.width + u], p10 = g[v * shape.width + u + 1];

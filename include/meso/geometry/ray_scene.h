@@ -53,6 +53,12 @@ struct TriangleGrid {
   // then read the mesh's arrays).
   int32_t face = -1;
   std::array<Vec2, 4> cornerSt{};
+  // The bilinear blend of cornerSt at grid point (i, j).
+  Vec2 stAt(int i, int j) const {
+    const float a = float(i) / float(width - 1), b = float(j) / float(height - 1);
+    return (1.0f - b) * ((1.0f - a) * cornerSt[0] + a * cornerSt[1]) +
+           b * ((1.0f - a) * cornerSt[2] + a * cornerSt[3]);
+  }
 };
 
 class RayScene {
