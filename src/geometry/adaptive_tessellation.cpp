@@ -141,6 +141,11 @@ void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDi
   if (!faces.texelFloor.empty() && faces.texelFloor.size() != n)
     throw Error("texelFloor has " + std::to_string(faces.texelFloor.size()) + " entries for " +
                 std::to_string(n) + " faces");
+  if (!faces.raiseDistance.empty() && faces.raiseDistance.size() != n)
+    throw Error("raiseDistance has " + std::to_string(faces.raiseDistance.size()) +
+                " entries for " + std::to_string(n) + " faces");
+  for (float d : faces.raiseDistance)
+    if (!(d >= 0.0f)) throw Error("raise distances must be >= 0 (infinity: everywhere)");
   for (int cap : faces.texelCap)
     if (cap < 0) throw Error("texel caps must be 0 (none) or positive rates");
   for (int floor : faces.texelFloor)
@@ -171,17 +176,22 @@ std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& s
 // stay within `tolerance` pixels of it: a chord's deviation from a smooth curve falls as 1/n^2 with
 // n segments. Deviations are scaled by the pixels per unit at their depth, which is conservative
 // (it ignores foreshortening).
+// `lo`, `hi`: the box of those points.
 void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
                       EdgeRateTessellator::Use owner, DicingMetric metric, float tolerance,
-                      EdgeMeasure& m) {
+                      EdgeMeasure& m, Vec3& lo, Vec3& hi) {
   constexpr int kSegments = 4;
   const LimitSurface::Impl& impl = surface.impl();
   const int n = surface.faceSize(owner.face);
   const Vec2 s0 = impl.cornerSt(owner.face, owner.corner);
   const Vec2 s1 = impl.cornerSt(owner.face, (owner.corner + 1) % n);
   Vec3 P[kSegments + 1];
-  for (int k = 0; k <= kSegments; ++k)
+  lo = Vec3(std::numeric_limits<float>::infinity()), hi = -lo;
+  for (int k = 0; k <= kSegments; ++k) {
     P[k] = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments)).P;
+    lo = glm::min(lo, P[k]);
+    hi = glm::max(hi, P[k]);
+  }
   float length = 0.0f, deviationPx = 0.0f;
   for (int k = 0; k < kSegments; ++k)
     length += metric == DicingMetric::Projected ? screen.projectedLength(P[k], P[k + 1])
@@ -223,19 +233,29 @@ void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDic
   }
 }
 
+// An edge is diced for the faces in view that need dicing and may raise relief near it: its
+// points' box grown by the displacement bound plus half its diagonal (the limit edge between the
+// points sags by far less).
 std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
                                       const EdgeRateTessellator& engine, const ScreenMetric& screen,
                                       const DicingSettings& settings, const FaceDicing& faces,
-                                      const std::vector<char>& inView) {
+                                      const std::vector<char>& inView, float bound) {
   const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
   std::vector<EdgeMeasure> measures(engine.numEdges());
   tbb::parallel_for(0, engine.numEdges(), [&](int e) {
     EdgeMeasure& m = measures[e];
+    const ConstIndexArray edgeFaces = base.GetEdgeFaces(e);
+    if (std::none_of(edgeFaces.begin(), edgeFaces.end(), [&](int f) { return inView[f]; })) return;
+    Vec3 lo, hi;
+    measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
+                     settings.coarseTolerance, m, lo, hi);
+    const float grow = bound + 0.5f * glm::length(hi - lo);
+    m.kind = EdgeMeasure::Coarse;
     bool uncapped = false;
-    for (int f : base.GetEdgeFaces(e)) {
+    for (int f : edgeFaces) {
       if (!inView[f]) continue;
-      m.kind = std::max(m.kind, EdgeMeasure::Coarse);
       if (!faces.needsDicing.empty() && !faces.needsDicing[f]) continue;
+      if (!faces.raisesBox(f, screen.eye, lo, hi, grow)) continue;
       m.kind = EdgeMeasure::Diced;
       const int cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
       uncapped = uncapped || cap == 0;
@@ -243,9 +263,6 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
       if (!faces.texelFloor.empty()) m.floor = std::max(m.floor, faces.texelFloor[f]);
     }
     if (uncapped) m.cap = 0;
-    if (m.kind != EdgeMeasure::Culled)
-      measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
-                       settings.coarseTolerance, m);
   });
   if (settings.metric == DicingMetric::Isotropic) spreadFaceDensity(base, faces, inView, measures);
   return measures;
@@ -348,7 +365,7 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   const std::vector<char> inView = facesInView(surface, screen, bound);
   EdgeRateTessellator engine(surface);
   const std::vector<EdgeMeasure> measures =
-      measureEdges(surface, engine, screen, settings, faces, inView);
+      measureEdges(surface, engine, screen, settings, faces, inView, bound);
   const SplitPlan plan = settings.splitFaces
                              ? planSplits(surface, screen, settings, faces, inView, bound)
                              : SplitPlan{};

@@ -40,12 +40,16 @@ float coarseSegments(const ScreenMetric& screen, Vec3 a0, Vec3 a1, Vec3 a2, floa
 }
 
 // A cell is in view when the box of its samples, grown by a ball of the displacement bound plus
-// half the box's diagonal, is: samples are not a conservative hull, but the smooth limit patch
-// between samples a quarter of the cell apart leaves their box by its sag only, far less than that.
-// Its density is the largest pixelDensity of its samples in view or, when none is (relief may rise
-// into view), of all its samples in front of the eye.
+// twice its sag, is: samples are not a conservative hull, but the smooth limit patch between
+// samples half a cell apart leaves their box by its sag only. The sag is the largest deviation of
+// a middle sample from the chord of its row or column (a quadratic between the samples leaves
+// their polyline by a quarter of that), plus 1e-3 of the box's diagonal for rounding; on a plane
+// the box holds the patch exactly, so a cell just below the view is not diced for it.
+// It is diced when it is in view and relief may be raised in that grown box (FaceDicing::
+// raisesBox). Its density is the largest pixelDensity of its samples in view or, when none is
+// (relief may rise into view), of all its samples in front of the eye.
 Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingSettings& s,
-                 float bound, float& density) {
+                 const FaceDicing& faces, int f, float bound, float& density) {
   Cell cell;
   Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
   float seen = 0.0f, front = 0.0f;
@@ -56,7 +60,13 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
       if (screen.pointInView(p)) seen = std::max(seen, screen.pixelDensity(p));
       if (screen.depth(p) >= screen.nearDistance) front = std::max(front, screen.pixelDensity(p));
     }
-  cell.inView = screen.boxNearView(lo, hi, bound + 0.5f * glm::length(hi - lo));
+  float sag = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    sag = std::max(sag, glm::length(c.P[k][1] - 0.5f * (c.P[k][0] + c.P[k][2])));
+    sag = std::max(sag, glm::length(c.P[1][k] - 0.5f * (c.P[0][k] + c.P[2][k])));
+  }
+  const float grow = bound + 2.0f * sag + 1e-3f * glm::length(hi - lo);
+  cell.diced = screen.boxNearView(lo, hi, grow) && faces.raisesBox(f, screen.eye, lo, hi, grow);
   density = seen > 0.0f ? seen : front;
   if (!std::isfinite(density)) density = 0.0f;
   for (int k = 0; k < 3; ++k) {
@@ -80,7 +90,7 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
 
 // n x n cells of face f, row by row, from (2n + 1)^2 limit points; their densities beside.
 void measureCells(const LimitSurface& surface, const ScreenMetric& screen, const DicingSettings& s,
-                  int f, int n, float bound, std::vector<Cell>& cells,
+                  const FaceDicing& faces, int f, int n, float bound, std::vector<Cell>& cells,
                   std::vector<float>& densities) {
   const LimitSurface::Impl& impl = surface.impl();
   const int m = 2 * n + 1;
@@ -97,12 +107,12 @@ void measureCells(const LimitSurface& surface, const ScreenMetric& screen, const
       CellSamples c;
       for (int y = 0; y < 3; ++y)
         for (int x = 0; x < 3; ++x) c.P[y][x] = P[(2 * b + y) * m + 2 * a + x];
-      cells[b * n + a] = measureCell(c, screen, s, bound, densities[b * n + a]);
+      cells[b * n + a] = measureCell(c, screen, s, faces, f, bound, densities[b * n + a]);
     }
 }
 
-// Whether the n x n cells differ along u (alongU) or v: in view or not, or in density by more than
-// kSplitDensityRatio among those in view.
+// Whether the n x n cells differ along u (alongU) or v: diced or not, or in density by more than
+// kSplitDensityRatio among those diced.
 bool cellsDiffer(const std::vector<Cell>& cells, const std::vector<float>& densities, int n,
                  bool alongU) {
   for (int line = 0; line < n; ++line) {
@@ -110,9 +120,9 @@ bool cellsDiffer(const std::vector<Cell>& cells, const std::vector<float>& densi
     float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
     for (int k = 0; k < n; ++k) {
       const int c = alongU ? line * n + k : k * n + line;
-      anyIn = anyIn || cells[c].inView;
-      anyOut = anyOut || !cells[c].inView;
-      if (!cells[c].inView) continue;
+      anyIn = anyIn || cells[c].diced;
+      anyOut = anyOut || !cells[c].diced;
+      if (!cells[c].diced) continue;
       lo = std::min(lo, densities[c]);
       hi = std::max(hi, densities[c]);
     }
@@ -143,13 +153,13 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
   split.askV.assign(split.askU.size(), 1);
   for (int j = 0; j < split.nv; ++j)
     for (int i = 0; i < split.nu; ++i) {
-      bool inView = false;
+      bool diced = false;
       float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
       std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
       for (int b = 0; b < fv; ++b)
         for (int a = 0; a < fu; ++a) {
           const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
-          inView = inView || c.inView;
+          diced = diced || c.diced;
           rowU[b] += c.lengthU;
           rowCoarseU[b] += c.coarseU;
           colV[a] += c.lengthV;
@@ -159,9 +169,10 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
       for (int b = 0; b < fv; ++b) coarseU = std::max(coarseU, rowCoarseU[b]);
       for (int a = 0; a < fu; ++a) lengthV = std::max(lengthV, colV[a]);
       for (int a = 0; a < fu; ++a) coarseV = std::max(coarseV, colCoarseV[a]);
-      // Out of view: only the coarse rate, as edges of faces in view that need no dicing.
+      // Not diced (out of view or too far to raise relief): only the coarse rate, as edges of faces
+      // in view that need no dicing.
       int u = toRate(coarseU / coarsening, limitU), v = toRate(coarseV / coarsening, limitV);
-      if (inView) {
+      if (diced) {
         const float scale = s.dicingRate * coarsening;
         u = std::max({u, toRate(lengthU / scale, limitU), toRate(floorU / coarsening, limitU)});
         v = std::max({v, toRate(lengthV / scale, limitV), toRate(floorV / coarsening, limitV)});
@@ -191,9 +202,11 @@ void chooseSplit(const Cell* cells, SplitPlan::Face& face, const DicingSettings&
 }
 
 // A cheap test first, since most faces need no split: the hull of the face's patch points (which
-// holds the limit patch) wholly in view, and pixel densities at 3 x 3 points within
+// holds the limit patch) wholly in view and, grown by the displacement bound, wholly near enough
+// to raise relief (its farthest corner), and pixel densities at 3 x 3 points within
 // kSplitDensityRatio of each other.
-bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, int f) {
+bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, const FaceDicing& faces,
+                  int f, float bound) {
   const LimitSurface::Impl& impl = surface.impl();
   const LimitSurface::Impl::Face& face = impl.faces[f];
   Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
@@ -205,6 +218,11 @@ bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, int f
   for (int c = 0; c < 8; ++c)
     if (!screen.pointInView(Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)))
       return false;
+  if (!faces.raiseDistance.empty()) {
+    const Vec3 far =
+        glm::max(glm::abs(lo - Vec3(bound) - screen.eye), glm::abs(hi + Vec3(bound) - screen.eye));
+    if (!(glm::length(far) < faces.raiseDistance[static_cast<size_t>(f)])) return false;
+  }
   float least = std::numeric_limits<float>::infinity(), most = 0.0f;
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) {
@@ -225,17 +243,18 @@ SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
   plan.faces.resize(surface.numFaces());
   std::vector<std::vector<Cell>> faceCells(surface.numFaces());
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {
-    if (!splittable(surface, faces, inView, f) || evenlyInView(surface, screen, f)) return;
+    if (!splittable(surface, faces, inView, f) || evenlyInView(surface, screen, faces, f, bound))
+      return;
     std::vector<Cell> cells;
     std::vector<float> densities;
-    measureCells(surface, screen, settings, f, kMaxSplit, bound, cells, densities);
+    measureCells(surface, screen, settings, faces, f, kMaxSplit, bound, cells, densities);
     const bool anyOut =
-        std::any_of(cells.begin(), cells.end(), [](const Cell& c) { return !c.inView; });
+        std::any_of(cells.begin(), cells.end(), [](const Cell& c) { return !c.diced; });
     SplitPlan::Face& face = plan.faces[f];
     face.nu = cellsDiffer(cells, densities, kMaxSplit, true) ? kMaxSplit : 1;
     face.nv = cellsDiffer(cells, densities, kMaxSplit, false) ? kMaxSplit : 1;
-    // Wholly out of view though its hull is not (its edges are diced for the neighbours): the
-    // least split, whose sub-quads all get the coarse rate.
+    // Wholly undiced though its hull is in view and near (its edges are diced for the
+    // neighbours): the least split, whose sub-quads all get the coarse rate.
     if (face.nu * face.nv == 1 && anyOut) face.nu = face.nv = 2;
     if (face.nu * face.nv == 1) return;
     face.cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];

@@ -11,8 +11,9 @@
 
 namespace meso {
 
-// Most sub-quads along u or v of one face.
-inline constexpr int kMaxSplit = 8;
+// Most sub-quads along u or v of one face (16: a face much larger than the view, near the eye,
+// keeps its diced part within a sixteenth of the face).
+inline constexpr int kMaxSplit = 16;
 
 // How one quad face is split for given edge rates: nu x nv sub-quads (powers of two, nu at most the
 // rates of edges 0 and 2, nv those of edges 1 and 3); 1 x 1 is the whole face, diced as before.
@@ -54,7 +55,7 @@ SplitPattern splitPattern(const int R[4], const FaceSplit& split);
 // edge rates follow (splitsFor).
 struct SplitPlan {
   struct Cell {
-    bool inView = false;
+    bool diced = false;  // in view and near enough to raise relief (FaceDicing::raisesBox)
     float lengthU = 0.0f, lengthV = 0.0f;  // pixel lengths by DicingSettings::metric
     float coarseU = 0.0f, coarseV = 0.0f;  // segments following the limit surface to tolerance
   };
@@ -67,8 +68,9 @@ struct SplitPlan {
   std::vector<Cell> cells;  // row by row within each face
 };
 
-// Cells of the diced quad faces in view whose parts differ: some part out of view, or pixel
-// densities more than kSplitDensityRatio apart. `bound` is the displacement bound.
+// Cells of the diced quad faces in view whose parts differ: some part out of view or too far to
+// raise relief (FaceDicing::raiseDistance), or pixel densities more than kSplitDensityRatio apart.
+// `bound` is the displacement bound.
 SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
                      const DicingSettings& settings, const FaceDicing& faces,
                      const std::vector<char>& inView, float bound);

@@ -258,6 +258,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   out.needsDicing.assign(static_cast<size_t>(n), 0);
   out.texelCap.assign(static_cast<size_t>(n), 0);
   out.texelFloor.assign(static_cast<size_t>(n), 0);
+  if (mode == DisplacementMode::ByTransition)
+    out.raiseDistance.assign(static_cast<size_t>(n), std::numeric_limits<float>::infinity());
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
   const float threshold =
@@ -292,6 +294,11 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     };
     out.needsDicing[face] = !(maxNu(relief.levels.front()) <= threshold);
     if (!out.needsDicing[face]) return;
+    // maxNu is wavelength-per-distance over distance: no part of the face farther than this from
+    // the eye raises its coarsest level (the tessellator dices such parts coarsely).
+    const float raise =
+        relief.levels.front().wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / threshold;
+    if (threshold > 0.0f && raise >= 0.0f) out.raiseDistance[face] = raise;
     // Texels of the finest level that can be raised here: a finer one is drawn flat (BRDF or
     // redistribution) on this face, so dicing below its texels would buy nothing.
     for (size_t i = relief.levels.size(); i-- > 0;)

@@ -103,23 +103,35 @@ TEST(Displacement, EveryVertexStaysWithinTheBound) {
   EXPECT_GT(largest, 0.25f * bound);
 }
 
-// Micropolygons are about a pixel wide, so a camera twice as far gives about a quarter of them,
-// and one far enough that T stays below e3 leaves auto mode with the coarse tessellation only.
+// Micropolygons are about a pixel wide. A plane wholly in view gets about a quarter of them from
+// twice as far; a plane that fills the view gets about two a pixel from any distance (the parts
+// out of view are split off and diced coarsely). A camera far enough that T stays below e3 leaves
+// auto mode with the coarse tessellation only.
 TEST(Displacement, MicropolygonsFollowTheScreenAndTheTransition) {
-  Scene near = planeScene("displacement");
-  near.materials[0].relief = {noiseLevel(0.004f, 16.0f)};  // texels far below a pixel: no texel cap
-  near.camera.position = {0.0f, 0.0f, 2.0f};
-  near.camera.lookAt = {0.0f, 0.0f, 0.0f};
-  near.camera.up = {0.0f, 1.0f, 0.0f};
-  near.camera.fovY = 20.0f;          // the plane (8 units) fills the view from both distances
-  near.render.reliefSamples = 0.0f;  // pixel dicing only (the floor is the next test's)
-  Scene far = near;
-  far.camera.position.z = 4.0f;
-  const size_t a = render(near).geometry.micropolygons, b = render(far).geometry.micropolygons;
-  std::printf("  distance 2: %zu micropolygons, distance 4: %zu (ratio %.3f)\n", a, b,
-              double(b) / a);
-  EXPECT_GT(static_cast<double>(b) / a, 0.2);
-  EXPECT_LT(static_cast<double>(b) / a, 0.32);
+  Scene s = planeScene("displacement");
+  s.materials[0].relief = {noiseLevel(0.004f, 16.0f)};  // texels far below a pixel: no texel cap
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.up = {0.0f, 1.0f, 0.0f};
+  s.camera.fovY = 20.0f;  // the plane (8 units) fills the view from 2 and 4, not from 30 and 60
+  s.render.reliefSamples = 0.0f;  // pixel dicing only (the floor is the next test's)
+  size_t count[4];
+  const float distances[4] = {30.0f, 60.0f, 2.0f, 4.0f};
+  for (int k = 0; k < 4; ++k) {
+    s.camera.position = {0.0f, 0.0f, distances[k]};
+    count[k] = render(s).geometry.micropolygons;
+  }
+  const double pixels = double(s.camera.width) * s.camera.height;
+  std::printf(
+      "  wholly in view, distance 30: %zu micropolygons, 60: %zu (ratio %.3f)\n"
+      "  filling the view (%.0f pixels), distance 2: %zu, 4: %zu\n",
+      count[0], count[1], double(count[1]) / count[0], pixels, count[2], count[3]);
+  EXPECT_GT(static_cast<double>(count[1]) / count[0], 0.2);
+  EXPECT_LT(static_cast<double>(count[1]) / count[0], 0.32);
+  // Two a pixel, and at most four times that where sub-quads straddle the view's border.
+  for (int k : {2, 3}) {
+    EXPECT_GT(static_cast<double>(count[k]), 2.0 * pixels) << distances[k];
+    EXPECT_LT(static_cast<double>(count[k]), 8.0 * pixels) << distances[k];
+  }
 
   Scene distant = planeScene("auto");
   distant.camera.position = {0.0f, 0.0f, 400.0f};

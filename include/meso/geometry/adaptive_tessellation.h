@@ -92,6 +92,20 @@ struct FaceDicing {
   // resolve the relief where it is smaller than a pixel); 0 = none, at most texelCap. Default:
   // none.
   std::vector<int> texelFloor;
+  // Where relief is raised only near the eye (the hybrid's T falls with distance): a part of a
+  // diced face whose surface, grown by the displacement bound, lies wholly farther than this from
+  // the eye (world units) is not displaced, so it gets only the coarse rate. Split faces dice such
+  // parts so (as DiagSplit splits where the rate changes); a face's mesh edges are diced when some
+  // of the edge is near enough. Infinity: the whole face. Default: infinity for all.
+  std::vector<float> raiseDistance;
+
+  // Whether relief may be raised somewhere in the box [lo - grow, hi + grow] of face f: its
+  // distance from the eye is below raiseDistance[f] (true when unsure: NaN distances).
+  bool raisesBox(int f, Vec3 eye, Vec3 lo, Vec3 hi, float grow) const {
+    if (raiseDistance.empty()) return true;
+    const Vec3 d = glm::max(glm::max(lo - Vec3(grow) - eye, eye - hi - Vec3(grow)), Vec3(0.0f));
+    return !(glm::length(d) >= raiseDistance[static_cast<size_t>(f)]);
+  }
 };
 
 // How tessellated vertices move off the limit surface; the caller implements it (meso's renderer:

@@ -128,6 +128,9 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // itself: where the most grazing view of the face's corners and centre has cot(theta_V) below
 // 3 times the relief's world rms slope. Elsewhere under-resolved relief already shows its normals
 // with their true distribution, and the floor would only cost micropolygons.
+// In ByTransition mode also the raise distance: the distance from the eye beyond which that nu
+// (with the face's largest length per u) falls to D + e3 * eps, so that the parts of a face
+// beyond it are diced coarsely (FaceDicing::raiseDistance).
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, float reliefSamples = 0.0f);
