@@ -326,19 +326,40 @@ std::vector<int> chooseRates(const LimitSurface& surface, EdgeRateTessellator& e
   return rates;
 }
 
-size_t countOffScreen(const TessellatedMesh& m, const ScreenMetric& screen) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, m.numTriangles()), size_t{0},
+// Triangles none of whose corners is in view: the mesh's, and those only its grids hold.
+size_t countOffScreen(const TessellatedMesh& m, const std::vector<TriangleGrid>& grids,
+                      const ScreenMetric& screen) {
+  const size_t inGrids = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, grids.size()), size_t{0},
       [&](const tbb::blocked_range<size_t>& range, size_t count) {
-        for (size_t t = range.begin(); t != range.end(); ++t) {
-          bool seen = false;
-          for (int k = 0; k < 3 && !seen; ++k)
-            seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
-          count += !seen;
+        for (size_t k = range.begin(); k != range.end(); ++k) {
+          const TriangleGrid& g = grids[k];
+          if (g.firstTriangle != TriangleGrid::kNotInMesh) continue;
+          const auto seen = [&](int i, int j) {
+            return screen.pointInView(m.positions[g.firstVertex + size_t(j) * g.width + i]);
+          };
+          for (int j = 0; j + 1 < g.height; ++j)
+            for (int i = 0; i + 1 < g.width; ++i) {
+              const bool p01 = seen(i, j + 1), p10 = seen(i + 1, j);
+              count += !(seen(i, j) || p10 || p01);          // (p00, p10, p01)
+              count += !(seen(i + 1, j + 1) || p01 || p10);  // (p11, p01, p10)
+            }
         }
         return count;
       },
       [](size_t a, size_t b) { return a + b; });
+  return inGrids + tbb::parallel_reduce(
+                       tbb::blocked_range<size_t>(0, m.numTriangles()), size_t{0},
+                       [&](const tbb::blocked_range<size_t>& range, size_t count) {
+                         for (size_t t = range.begin(); t != range.end(); ++t) {
+                           bool seen = false;
+                           for (int k = 0; k < 3 && !seen; ++k)
+                             seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
+                           count += !seen;
+                         }
+                         return count;
+                       },
+                       [](size_t a, size_t b) { return a + b; });
 }
 
 void countFaces(const LimitSurface& surface, const FaceDicing& faces,
@@ -364,6 +385,7 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   const float bound = displacement ? std::max(displacement->bound(), 0.0f) : 0.0f;
   const std::vector<char> inView = facesInView(surface, screen, bound);
   EdgeRateTessellator engine(surface);
+  engine.setGridsOnly(settings.gridsOnly);
   const std::vector<EdgeMeasure> measures =
       measureEdges(surface, engine, screen, settings, faces, inView, bound);
   const SplitPlan plan = settings.splitFaces
@@ -375,10 +397,16 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   stats.rateSeconds = timer.seconds();
 
   timer.reset();
-  result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
+  try {
+    result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
+  } catch (const EdgeRateTessellator::NotBilinearGrid&) {
+    // A degenerate chart: hits in such a grid need the mesh's triangles, so store them all.
+    engine.setGridsOnly(false);
+    result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
+  }
   stats.evaluateSeconds = timer.seconds();
-  stats.micropolygons = result.mesh.numTriangles();
-  stats.offScreenMicropolygons = countOffScreen(result.mesh, screen);
+  stats.micropolygons = result.mesh.numMicropolygons();
+  stats.offScreenMicropolygons = countOffScreen(result.mesh, result.grids, screen);
   stats.vertices = result.mesh.positions.size();
   if (!result.edgeRates.empty()) {
     const auto [lo, hi] = std::minmax_element(result.edgeRates.begin(), result.edgeRates.end());

@@ -85,17 +85,19 @@ void EdgeRateTessellator::countSplitFace(size_t k, const std::vector<int>& edgeR
   faceTessellation(f, edgeRates, scratch);  // the face's rates
   const SplitPattern pattern = splitPattern(scratch.rates.data(), split);
   size_t points = ownedBoundaryPoints(f, edgeRates) + static_cast<size_t>(pattern.numLinePoints);
-  size_t facets = 0;
+  size_t facets = 0, gridOnly = 0;
+  scratch.rates.resize(6);
   for (int j = 0; j < pattern.nv; ++j)
     for (int i = 0; i < pattern.nu; ++i) {
-      int r[6];
-      pattern.subRates(i, j, r);
-      const Tessellation tess = subQuadTessellation(impl_.faces[f].param, r);
+      pattern.subRates(i, j, scratch.rates.data());
+      const Tessellation tess = subQuadTessellation(impl_.faces[f].param, scratch.rates.data());
       points += static_cast<size_t>(tess.GetNumInteriorCoords());
       facets += static_cast<size_t>(tess.GetNumFacets());
+      gridOnly += gridOnlyFacets(f, tess, scratch);
     }
   numPoints_[k] = points;
-  numFacets_[k] = facets;
+  numFacets_[k] = facets - gridOnly;
+  numGridOnly_[k] = gridOnly;
 }
 
 // The split grid's nodes (Bfr uv; the boundary ones are the face's own boundary coordinates) and

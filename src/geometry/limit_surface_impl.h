@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace meso {
@@ -86,8 +87,17 @@ class EdgeRateTessellator {
   int numEdges() const { return static_cast<int>(edgeOwner_.size()); }
   const Use& edgeOwner(int edge) const { return edgeOwner_[edge]; }
 
-  // Triangles the given rates produce (every rate >= 1), from Bfr's pattern counts alone. `splits`
-  // (per base face, or empty: none) splits the interiors of quad faces (face_split.h).
+  // With grids only (tessellate with `grids`), the triangles of the interior grids are not stored
+  // in the mesh's per-triangle arrays (TriangleGrid::kNotInMesh, DicingSettings::gridsOnly).
+  // tessellate then throws NotBilinearGrid when a grid's patch coordinates are not bilinear over
+  // it (a degenerate chart), so that the caller can tessellate again without.
+  void setGridsOnly(bool gridsOnly) { gridsOnly_ = gridsOnly; }
+  struct NotBilinearGrid : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
+  // Triangles the given rates produce (every rate >= 1), from Bfr's pattern counts alone, those of
+  // grids only included. `splits` (per base face, or empty: none) splits the interiors of quad
+  // faces (face_split.h).
   size_t countFacets(const std::vector<int>& edgeRates, const std::vector<FaceSplit>& splits = {});
   // The mesh. Each output point is evaluated on the limit surface and, with a displacement, moved
   // by its offset once (in the face that created it). With `grids`, the interior points of each
@@ -133,6 +143,9 @@ class EdgeRateTessellator {
   void placeBoundary(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch);
   GridShape interiorGrid(int face, const OpenSubdiv::Bfr::Tessellation& tess,
                          const FaceScratch& scratch) const;
+  // Triangles of the pattern's interior grid that only the grid holds (0 unless gridsOnly_).
+  size_t gridOnlyFacets(int face, const OpenSubdiv::Bfr::Tessellation& tess,
+                        const FaceScratch& scratch) const;
   void emitFace(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch,
                 TessellatedMesh& out, TriangleGrid* grid);
   // Interior points and triangles of one Bfr pattern whose boundary points are placed; returns
@@ -158,7 +171,9 @@ class EdgeRateTessellator {
   std::vector<Use> vertexOwner_, edgeOwner_;
   // Per entry of faces_: points the face creates (its share of the boundary and its interior) and
   // triangles, then their prefix sums.
-  std::vector<size_t> numPoints_, numFacets_, pointOffset_, facetOffset_;
+  // numFacets_ counts the triangles stored in the mesh, numGridOnly_ those only grids hold.
+  std::vector<size_t> numPoints_, numFacets_, numGridOnly_, pointOffset_, facetOffset_;
+  bool gridsOnly_ = false;
   std::vector<int> vertexPoint_, edgePoint_;  // output point of each vertex, first of each edge
   std::vector<Sample> samples_;               // where each output point lies
 };

@@ -69,7 +69,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
       }
     }();
     times.tessellate += tess.seconds();
-    ctx.objects.push_back(PreparedObject{std::move(surface), {}, object.material, false});
+    ctx.objects.push_back(PreparedObject{std::move(surface), {}, {}, object.material, false});
   }
   Timer tables;
   const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder()
@@ -123,6 +123,7 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
   d.dicing.dicingRate = rs.dicingRate;
   d.dicing.metric = rs.dicingMetric;
   d.dicing.maxEdgeRate = 4096;
+  d.dicing.gridsOnly = true;  // hits in grids know their face and st (40 bytes a micropolygon)
   return d;
 }
 
@@ -131,9 +132,8 @@ size_t meshBytes(const TessellatedMesh& m) {
          m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
 }
 
-// Dices and displaces object k for this frame; its grids go to `grids`, its figures to `stats`.
-void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryStats& stats,
-                    std::vector<TriangleGrid>& grids) {
+// Dices and displaces object k for this frame; its figures go to `stats`.
+void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryStats& stats) {
   const RenderSettings& rs = ctx.scene->render;
   PreparedObject& object = ctx.objects[k];
   object.mesh = {};
@@ -156,7 +156,7 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
   d.budget = d.budget > t.stats.micropolygons ? d.budget - t.stats.micropolygons : 1;
   stats.meshBytes += meshBytes(t.mesh);
   object.mesh = std::move(t.mesh);
-  grids = std::move(t.grids);
+  object.grids = std::move(t.grids);
 }
 
 }  // namespace
@@ -173,18 +173,17 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   Timer tess;
   ctx.rays.reset();  // the previous frame's scene goes before this one's is built (peak memory)
   auto rays = std::make_unique<RayScene>();
-  std::vector<std::vector<TriangleGrid>> grids(ctx.objects.size());
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
     if (object.displaced)
-      displaceObject(ctx, k, d, stats, grids[k]);
+      displaceObject(ctx, k, d, stats);
     else if (object.mesh.numTriangles() == 0)
       object.mesh = tessellateUniform(object.surface, ctx.scene->render.tessellationRate);
   }
   stats.tessellateSeconds = tess.seconds();
 
   Timer bvh;
-  for (size_t k = 0; k < ctx.objects.size(); ++k) rays->addMesh(ctx.objects[k].mesh, grids[k]);
+  for (const PreparedObject& object : ctx.objects) rays->addMesh(object.mesh, object.grids);
   rays->commit();
   stats.bvhSeconds = bvh.seconds();
   stats.triangles = rays->numTriangles();

@@ -398,6 +398,107 @@ TEST(AdaptiveTessellation, GridScenesReportTheSameHitsAsTriangleScenes) {
   EXPECT_GT(gridKnows, hits / 2);
 }
 
+// DicingSettings::gridsOnly leaves the grids' triangles out of the mesh's arrays: the same points,
+// grids and other triangles, and the same hits (face and st from the grid), on a curved surface
+// with split faces and on a plane split at the view's border.
+TEST(AdaptiveTessellation, GridsOnlyMeshesGiveTheSameHitsWithoutTheGridTriangles) {
+  const LimitSurface cube(test::refinedCube(3), SubdivisionScheme::CatmullClark);
+  const LimitSurface plane(test::grid(2), SubdivisionScheme::Bilinear);
+  const test::WaveDisplacement wave;
+  const struct {
+    const LimitSurface* surface;
+    ScreenMetric screen;
+    Vec3 from;  // rays from here to random points of the box [-1, 3]^3
+  } cases[] = {{&cube,
+                ScreenMetric::lookAt(Vec3(0.4f, 0.3f, 1.9f), Vec3(1.0f, 0.8f, 0.0f), Vec3(0, 1, 0),
+                                     40.0f, 320, 180),
+                Vec3(0.0f)},
+               {&plane,
+                ScreenMetric::lookAt(Vec3(1.0f, -0.2f, 0.4f), Vec3(1.0f, 2.0f, 0.0f), Vec3(0, 0, 1),
+                                     40.0f, 160, 90),
+                Vec3(1.0f, -0.2f, 0.4f)}};
+  for (const auto& c : cases) {
+    DicingSettings settings;
+    const AdaptiveTessellation full = tessellateAdaptive(*c.surface, c.screen, settings, {}, &wave);
+    settings.gridsOnly = true;
+    const AdaptiveTessellation only = tessellateAdaptive(*c.surface, c.screen, settings, {}, &wave);
+    // The grids' triangles and the rest, from the full mesh.
+    std::vector<char> inGrid(full.mesh.numTriangles(), 0);
+    size_t gridTriangles = 0;
+    for (const TriangleGrid& g : full.grids) {
+      const size_t n = 2 * size_t(g.width - 1) * (g.height - 1);
+      std::fill_n(inGrid.begin() + g.firstTriangle, n, 1);
+      gridTriangles += n;
+    }
+    std::printf(
+        "  %zu micropolygons, %zu in %zu grids; %zu stored with gridsOnly, %d faces split\n",
+        full.stats.micropolygons, gridTriangles, full.grids.size(), only.mesh.numTriangles(),
+        only.stats.facesSplit);
+    EXPECT_GT(only.stats.facesSplit, 0);
+    EXPECT_GT(gridTriangles, full.mesh.numTriangles() / 2);
+    EXPECT_EQ(only.stats.micropolygons, full.stats.micropolygons);
+    EXPECT_EQ(only.stats.offScreenMicropolygons, full.stats.offScreenMicropolygons);
+    EXPECT_EQ(only.mesh.gridOnlyTriangles, gridTriangles);
+    EXPECT_EQ(only.mesh.numTriangles() + gridTriangles, full.mesh.numTriangles());
+    EXPECT_TRUE(sameBits(only.mesh.positions, full.mesh.positions));
+    ASSERT_EQ(only.grids.size(), full.grids.size());
+    for (size_t k = 0; k < full.grids.size(); ++k) {
+      const TriangleGrid &a = full.grids[k], &b = only.grids[k];
+      EXPECT_EQ(b.firstTriangle, TriangleGrid::kNotInMesh);
+      EXPECT_EQ(std::tie(a.firstVertex, a.width, a.height, a.face),
+                std::tie(b.firstVertex, b.width, b.height, b.face));
+      EXPECT_GE(b.face, 0);
+    }
+    size_t next = 0;  // the stored triangles are the full mesh's outside grids, in order
+    for (size_t t = 0; t < full.mesh.numTriangles() && next < only.mesh.numTriangles(); ++t) {
+      if (inGrid[t]) continue;
+      EXPECT_EQ(only.mesh.triangleFace[next], full.mesh.triangleFace[t]);
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_EQ(only.mesh.indices[3 * next + j], full.mesh.indices[3 * t + j]);
+        EXPECT_EQ(only.mesh.cornerSt[3 * next + j], full.mesh.cornerSt[3 * t + j]);
+      }
+      ++next;
+    }
+    EXPECT_EQ(next, only.mesh.numTriangles());
+
+    RayScene a, b;
+    a.addMesh(full.mesh, full.grids);
+    b.addMesh(only.mesh, only.grids);
+    a.commit();
+    b.commit();
+    EXPECT_EQ(b.numTriangles(), a.numTriangles());
+    Rng rng(123);
+    int hits = 0, inGrids = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const Vec3 to(4.0f * rng.uniform() - 1.0f, 4.0f * rng.uniform() - 1.0f,
+                    4.0f * rng.uniform() - 1.0f);
+      const Ray ray{c.from, glm::normalize(to - c.from)};
+      RayHit ha, hb;
+      const bool hitA = a.intersect(ray, ha);
+      ASSERT_EQ(hitA, b.intersect(ray, hb)) << "ray " << i;
+      if (!hitA) continue;
+      ++hits;
+      EXPECT_EQ(ha.t, hb.t) << "ray " << i;
+      EXPECT_EQ(ha.face, hb.face) << "ray " << i;
+      if (hb.face >= 0) {
+        ++inGrids;
+        EXPECT_EQ(hb.triangle, -1);
+        EXPECT_EQ(ha.st, hb.st) << "ray " << i;
+      } else {
+        ASSERT_GE(hb.triangle, 0);
+        EXPECT_EQ(only.mesh.triangleFace[hb.triangle], full.mesh.triangleFace[ha.triangle]);
+        EXPECT_EQ(only.mesh.patchCoords(hb.triangle, hb.b1, hb.b2),
+                  full.mesh.patchCoords(ha.triangle, ha.b1, ha.b2));
+      }
+    }
+    std::printf("  %d hits, %d in grids\n", hits, inGrids);
+    EXPECT_GT(inGrids, hits / 2);
+    RayScene withoutGrids;
+    EXPECT_THROW(withoutGrids.addMesh(only.mesh), Error);
+    EXPECT_THROW(withoutGrids.addMesh(only.mesh, {}), Error);
+  }
+}
+
 TEST(AdaptiveTessellation, GridsThatDoNotFitTheMeshThrow) {
   const TessellatedMesh mesh =
       tessellateUniform(LimitSurface(test::cube(), SubdivisionScheme::CatmullClark), 2);

@@ -78,6 +78,11 @@ struct DicingSettings {
   // Split the interior of diced quad faces that are partly out of view or whose pixel density
   // varies by more than 2x, each sub-quad at its own rate (mesh edges keep theirs, so no cracks).
   bool splitFaces = true;
+  // Leave the triangles of the Embree grids out of the mesh's per-triangle arrays (indices, faces,
+  // patch coordinates: 40 bytes a micropolygon); the grids alone hold them and know their face and
+  // st (TriangleGrid::kNotInMesh). The renderer's setting; code that walks the mesh's triangles
+  // leaves it off.
+  bool gridsOnly = false;
 };
 
 // What the caller knows per base face (vectors indexed by face; empty means the default for all).
@@ -163,13 +168,14 @@ struct AdaptiveTessellation {
 // length times the largest pixelDensity in view on those faces; where an adjacent face is in view,
 // at least the coarse rate that follows the limit surface to coarseTolerance pixels; elsewhere 1.
 // A face is in view when the box of its limit patch, grown by displacement->bound(), is. With
-// DicingSettings::splitFaces, a diced quad face partly out of view or whose pixel density varies
-// by more than 2x across it has its interior split into up to 8 x 8 sub-quads, each diced at the
-// rate of its own part (the coarse rate out of view) between the unchanged mesh edges (face_split.h
-// in src/geometry). If the triangles would exceed maxMicropolygons, every rate is coarsened by one
-// factor until they fit, and `warning` says so. displacement may be null (the undisplaced limit
-// surface). Throws meso::Error on invalid settings or per-face vectors of the wrong size. The
-// output is the same, bit for bit, whatever the number of threads.
+// DicingSettings::splitFaces, a diced quad face partly out of view, partly beyond its
+// FaceDicing::raiseDistance or whose pixel density varies by more than 2x across it has its
+// interior split into up to 16 x 16 sub-quads, each diced at the rate of its own part (the coarse
+// rate where it needs no dicing) between the unchanged mesh edges (face_split.h in src/geometry).
+// If the triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they
+// fit, and `warning` says so. displacement may be null (the undisplaced limit surface). Throws
+// meso::Error on invalid settings or per-face vectors of the wrong size. The output is the same,
+// bit for bit, whatever the number of threads.
 AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
                                         const DicingSettings& settings, const FaceDicing& faces,
                                         const VertexDisplacement* displacement);

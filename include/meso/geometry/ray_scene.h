@@ -22,7 +22,7 @@ struct Ray {
 struct RayHit {
   float t = 0.0f;
   int mesh = -1;      // index returned by RayScene::addMesh
-  int triangle = -1;  // primitive index in that mesh
+  int triangle = -1;  // primitive index in that mesh; -1 in a grid not stored in it
   float b1 = 0.0f;    // Embree barycentrics (u, v) of corners 1 and 2
   float b2 = 0.0f;
   // A hit in a grid that knows its face (TriangleGrid::face): that face and the patch coordinates
@@ -42,6 +42,9 @@ struct RayHit {
 // firstTriangle + 2 (j (width - 1) + i) with corners (p(i, j), p(i+1, j), p(i, j+1)) and the next
 // one with corners (p(i+1, j+1), p(i, j+1), p(i+1, j)): Embree's split of a grid cell.
 struct TriangleGrid {
+  // firstTriangle of a grid whose triangles are not stored in the mesh (TessellatedMesh::
+  // gridOnlyTriangles): it must know its face, and hits in it report triangle -1.
+  static constexpr uint32_t kNotInMesh = 0xFFFFFFFFu;
   uint32_t firstVertex = 0;
   uint32_t firstTriangle = 0;
   uint16_t width = 0;   // 2 .. 32767
@@ -68,12 +71,15 @@ class RayScene {
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;
 
-  // Adds a triangle mesh (the data is copied into Embree buffers) and returns its index.
+  // Adds a triangle mesh (the data is copied into Embree buffers) and returns its index. Throws
+  // meso::Error for a mesh with triangles only grids hold.
   int addMesh(const TessellatedMesh& mesh);
   // The same, storing the listed grid blocks (disjoint, laid out as TriangleGrid says, e.g. from
   // tessellateAdaptive) as Embree grids and the other triangles as triangles. Hits report what
   // they would with addMesh(mesh): the mesh index, the mesh triangle of the cell that was hit and
-  // barycentrics in it. Throws meso::Error on a grid that does not fit the mesh.
+  // barycentrics in it (triangle -1 in grids not stored in the mesh, whose face and st the hit
+  // gives). Throws meso::Error on a grid that does not fit the mesh, or when the grids not stored
+  // do not hold exactly the mesh's gridOnlyTriangles.
   int addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& grids);
   // Builds the BVH. Must be called after the last addMesh and before intersect.
   void commit();

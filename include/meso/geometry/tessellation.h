@@ -19,8 +19,14 @@ struct TessellatedMesh {
   std::vector<uint32_t> indices;  // 3 per triangle
   std::vector<int> triangleFace;  // base face of each triangle
   std::vector<Vec2> cornerSt;     // 3 per triangle: patch coordinates of its corners in that face
+  // Triangles that only the tessellation's grids hold (TriangleGrid::kNotInMesh, tessellated with
+  // DicingSettings::gridsOnly): they have points above but no entries in the per-triangle arrays.
+  size_t gridOnlyTriangles = 0;
 
+  // Triangles stored in the arrays above.
   size_t numTriangles() const { return triangleFace.size(); }
+  // Every triangle: those stored and those only grids hold.
+  size_t numMicropolygons() const { return numTriangles() + gridOnlyTriangles; }
   // Patch coordinates inside triangle `tri` at Embree barycentrics (b1, b2) of corners 1 and 2.
   Vec2 patchCoords(size_t tri, float b1, float b2) const {
     const Vec2* c = &cornerSt[3 * tri];

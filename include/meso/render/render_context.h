@@ -20,6 +20,9 @@ namespace meso {
 struct PreparedObject {
   LimitSurface surface;
   TessellatedMesh mesh;  // of the current frame
+  // Its Embree grid blocks (displaced objects): they alone hold most of its micropolygons
+  // (DicingSettings::gridsOnly, TessellatedMesh::gridOnlyTriangles).
+  std::vector<TriangleGrid> grids;
   int material = 0;
   // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the uniform
   // tessellation of the limit surface (built once).
