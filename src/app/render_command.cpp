@@ -133,9 +133,12 @@ class RenderRun {
     stats_.maxTriangles = std::max(stats_.maxTriangles, ctx_->numTriangles());
     if (geometry.micropolygons == 0 || geometry.micropolygons < stats_.maxMicropolygons) return;
     stats_.maxMicropolygons = geometry.micropolygons;
+    const double millions = static_cast<double>(geometry.micropolygons) * 1e-6;
     stats_.geometryMibPerMillion =
         static_cast<double>(geometry.embreePeakBytes + geometry.meshBytes) / (1024.0 * 1024.0) /
-        (static_cast<double>(geometry.micropolygons) * 1e-6);
+        millions;
+    stats_.meshMibPerMillion =
+        static_cast<double>(geometry.meshBytes) / (1024.0 * 1024.0) / millions;
   }
 
   // Renders frame f and stages its EXR and PNG (committed at once without --stats, else with the

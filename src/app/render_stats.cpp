@@ -97,6 +97,7 @@ nlohmann::json statsJson(const Scene& scene, const std::filesystem::path& output
       {"peak_mib_per_million_micropolygons",
        perMillion(peak / (static_cast<double>(mp) * 1e-6), mp)},
       {"geometry_mib_per_million_micropolygons", perMillion(run.geometryMibPerMillion, mp)},
+      {"mesh_mib_per_million_micropolygons", perMillion(run.meshMibPerMillion, mp)},
       {"warnings", warnings},
       {"tables_built", prep.tablesBuilt},
       {"tables_from_cache", prep.tablesFromCache},

@@ -17,6 +17,7 @@ struct RenderRunStats {
   double parseSeconds = 0.0, renderSeconds = 0.0, writeSeconds = 0.0, totalSeconds = 0.0;
   size_t maxMicropolygons = 0, maxTriangles = 0;
   double geometryMibPerMillion = 0.0;  // of the frame with the most micropolygons
+  double meshMibPerMillion = 0.0;      // meso's own part of it (the meshes, not Embree's)
   int rendered = 0, skipped = 0;
   int threads = 0;
   nlohmann::json perFrame = nlohmann::json::array();
