@@ -4,6 +4,7 @@
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/shadow_rays.h"
+#include "support/plane_scene.h"  // ProcessTemporaries
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -22,7 +23,8 @@ namespace fs = std::filesystem;
 
 fs::path writeQuads(const std::string& name, std::initializer_list<std::pair<float, float>> quads) {
   // (half size, height) per quad, one file per process (ctest runs tests in parallel processes).
-  const fs::path file = fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
+  const fs::path file = meso::testing::ProcessTemporaries::add(
+      fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name));
   std::ofstream out(file);
   int base = 1;
   for (const auto& [h, z] : quads) {
@@ -149,8 +151,10 @@ TEST(Shadows, ShadowRayStartsJustOffTheSurface) {
 // Bfr, which changed its pixels by float rounding only).
 TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
   const fs::path dir = fs::path(MESO_SOURCE_DIR) / "tests/render/data";
-  const fs::path out =
-      fs::temp_directory_path() / (std::to_string(::getpid()) + "_meso_golden.exr");
+  // Removed when the process ends, also when an assertion below stops the test.
+  const fs::path out = meso::testing::ProcessTemporaries::add(
+      fs::temp_directory_path() / (std::to_string(::getpid()) + "_meso_golden.exr"));
+  meso::testing::ProcessTemporaries::add(fs::path(out).replace_extension(".png"));
   const std::string cmd = std::string(MESO_EXE) + " render " +
                           (dir / "shadow_golden.toml").string() + " --no-shadows -q -o " +
                           out.string() + " > /dev/null 2>&1";
@@ -168,8 +172,6 @@ TEST(Shadows, ShadowsOffIsBitIdenticalToTheUnshadowedRenderer) {
   const Image shadowed = FilmLayout::fromExr(readImage(out), out.string());
   EXPECT_NE(0, std::memcmp(golden.pixels.data(), shadowed.pixels.data(),
                            golden.pixels.size() * sizeof(float)));
-  fs::remove(out);
-  fs::remove(fs::path(out).replace_extension(".png"));
 }
 
 }  // namespace
