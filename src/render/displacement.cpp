@@ -96,7 +96,7 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
-      out.B[i] = level.derivatives(sp.uv);
+      out.H[i] = level.heightAndDerivatives(sp.uv, out.B[i]);
       out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
     } else {
       flat = true;
@@ -164,8 +164,7 @@ Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
   const LevelTransitions t =
       levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
-  for (int i = 0; i < t.raised; ++i)
-    offset += (t.disp[i] * relief_.levels[i].height(sp.uv)) * t.frames[i].N;
+  for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * t.H[i]) * t.frames[i].N;
   if (!visible_.empty()) offset += flatLevelsOffset(t, sp);
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset

@@ -39,5 +39,24 @@ TEST(HeightLevel, TableLevelRepeatsEveryOneOverS) {
   EXPECT_EQ(level.derivatives(uv), 16.0f * table.gradient(8.0f * uv));
 }
 
+// heightAndGradient is height and gradient at once, bit for bit: the default of the interface (a
+// height table) and fBm's own one-pass version (whose values the tessellator's offsets reuse from
+// the derivatives T needs).
+TEST(HeightSource, HeightAndGradientAtOnceAreTheSameBits) {
+  std::vector<float> t(16 * 16);
+  for (int k = 0; k < 256; ++k) t[k] = std::sin(0.3f * k) + 0.1f * std::cos(1.7f * k);
+  const HeightTable table(16, 16, t);
+  const FractalNoise noise(3, 2.0f, 0.5f, 5);
+  Rng rng(4);
+  for (const HeightSource* source :
+       {static_cast<const HeightSource*>(&table), static_cast<const HeightSource*>(&noise)})
+    for (int k = 0; k < 200; ++k) {
+      const Vec2 p(4.0f * rng.uniform() - 2.0f, 4.0f * rng.uniform() - 2.0f);
+      Vec2 g;
+      EXPECT_EQ(source->heightAndGradient(p, g), source->height(p));
+      EXPECT_EQ(g, source->gradient(p));
+    }
+}
+
 }  // namespace
 }  // namespace meso

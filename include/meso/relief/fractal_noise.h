@@ -38,8 +38,8 @@ class FractalNoise : public HeightSource {
 
   float height(Vec2 p) const override;
   Vec2 gradient(Vec2 p) const override;
-  // Height and gradient in one pass.
-  float heightAndGradient(Vec2 p, Vec2& gradient) const;
+  // Height and gradient in one pass (each octave's value comes with its gradient).
+  float heightAndGradient(Vec2 p, Vec2& gradient) const override;
   // The last octave's frequency: baseFrequency * lacunarity^(octaves - 1) (rounded when periodic).
   float highestFrequency() const override;
   uint64_t fingerprint() const override;

@@ -20,6 +20,12 @@ class HeightSource {
   virtual float height(Vec2 p) const = 0;
   // (dh/dx, dh/dy): table units per unit of tile coordinate (not per texel).
   virtual Vec2 gradient(Vec2 p) const = 0;
+  // h(p) and its gradient at once, equal to height(p) and gradient(p) bit for bit; sources that
+  // share the work between them (fBm) override it.
+  virtual float heightAndGradient(Vec2 p, Vec2& g) const {
+    g = gradient(p);
+    return height(p);
+  }
   // Highest frequency with significant energy, in cycles per tile (per unit of x), freq / S.
   virtual float highestFrequency() const = 0;
   // Hash of everything that shapes height() and gradient(): part of the table cache key.

@@ -41,8 +41,10 @@ struct LevelTransitions {
   std::array<SurfaceFrame, kMaxReliefLevels + 1> frames{};
   int raised = 0;  // leading levels with disp > 0
   // (B_u, B_v) of levels 0 .. raised - 1 at sp.uv, as the raised frames used them: the shader
-  // reuses them for its Blinn normals instead of evaluating the relief again.
+  // reuses them for its Blinn normals instead of evaluating the relief again; and their heights
+  // (ReliefLevel::height), which the tessellator's offsets reuse.
   std::array<Vec2, kMaxReliefLevels> B{};
+  std::array<float, kMaxReliefLevels> H{};
 };
 
 // With lights (render.shadows), the shadow terminator is treated like the silhouette (Becker & Max

@@ -34,6 +34,13 @@ struct ReliefLevel {
   float height(Vec2 uv) const { return amplitude * (source->height(scale * uv) - midlevel); }
   // (B_u, B_v): derivatives of the world height with respect to u and v.
   Vec2 derivatives(Vec2 uv) const { return (amplitude * scale) * source->gradient(scale * uv); }
+  // height(uv), and derivatives(uv) in B, from one evaluation of the source (bit for bit the same).
+  float heightAndDerivatives(Vec2 uv, Vec2& B) const {
+    Vec2 g;
+    const float h = source->heightAndGradient(scale * uv, g);
+    B = (amplitude * scale) * g;
+    return amplitude * (h - midlevel);
+  }
 };
 
 // 1024 fixed points of a level's (u, v), over 64 shortest wavelengths or one period of a height
