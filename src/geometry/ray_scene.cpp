@@ -150,8 +150,8 @@ std::vector<uint32_t> trianglesOutsideGrids(const TessellatedMesh& mesh,
   for (; next < mesh.numTriangles(); ++next) outside.push_back(static_cast<uint32_t>(next));
   if (gridOnly != mesh.gridOnlyTriangles)
     throw Error("the mesh's grids hold " + std::to_string(gridOnly) +
-                " triangles it does not store, " + "not the " +
-                std::to_string(mesh.gridOnlyTriangles) + " it counts");
+                " triangles it does not store, not the " + std::to_string(mesh.gridOnlyTriangles) +
+                " it counts");
   return outside;
 }
 

@@ -293,8 +293,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     };
     out.needsDicing[face] = !(maxNu(relief.levels.front()) <= threshold);
     if (!out.needsDicing[face]) return;
-    // maxNu is wavelength-per-distance over distance: no part of the face farther than this from
-    // the eye raises its coarsest level (the tessellator dices such parts coarsely).
+    // maxNu falls as 1 / distance: no part of the face farther than this from the eye raises its
+    // coarsest level (the tessellator dices such parts coarsely).
     const float raise =
         relief.levels.front().wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / threshold;
     if (threshold > 0.0f && raise >= 0.0f) out.raiseDistance[face] = raise;

@@ -496,6 +496,12 @@ TEST(AdaptiveTessellation, GridsOnlyMeshesGiveTheSameHitsWithoutTheGridTriangles
     RayScene withoutGrids;
     EXPECT_THROW(withoutGrids.addMesh(only.mesh), Error);
     EXPECT_THROW(withoutGrids.addMesh(only.mesh, {}), Error);
+    // Every grid must come along, and a grid left out of the mesh must know its face.
+    std::vector<TriangleGrid> some(only.grids.begin() + 1, only.grids.end());
+    EXPECT_THROW(withoutGrids.addMesh(only.mesh, some), Error);
+    some = only.grids;
+    some[0].face = -1;
+    EXPECT_THROW(withoutGrids.addMesh(only.mesh, some), Error);
   }
 }
 
