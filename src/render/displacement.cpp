@@ -117,29 +117,37 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
 
 // The convex curvature (1 / world units) along the view's tangent direction of the levels raised
 // below `level`: a silhouette on a crest of radius R is grazed over a path about sqrt(2 R h)
-// long, not over the unbounded plane Smith's model assumes.
+// long, not over the unbounded plane Smith's model assumes. `sum` carries the levels already
+// summed at this point to the next flat level (the same sum in the same order, so the same bits).
 float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
-                                         const SurfacePoint& sp, Vec3 V) const {
+                                         const SurfacePoint& sp, Vec3 V, CrestSum& sum) const {
   const int below = std::min(level, t.raised);
-  const Vec3 N = t.frames[0].N;
-  const Vec3 across = V - glm::dot(V, N) * N;
-  const float length = glm::length(across);
-  if (below == 0 || !(length > 1e-6f)) return 0.0f;
-  // The uv direction of one world unit along `across`: solve [P_u P_v] w = across / length.
-  const Vec3 dir = across / length;
-  const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
-  const float det = a * c - b * b;
-  if (!(std::abs(det) > 0.0f)) return 0.0f;
-  const float ru = glm::dot(sp.Pu, dir), rv = glm::dot(sp.Pv, dir);
-  const Vec2 w((c * ru - b * rv) / det, (a * rv - b * ru) / det);
-  float second = 0.0f;  // d2h/ds2 of the raised levels, s world length along `across`
-  for (int j = 0; j < below; ++j) {
-    const ReliefLevel& coarse = relief_.levels[j];
+  if (below == 0) return 0.0f;
+  if (!sum.started) {
+    sum.started = true;
+    const Vec3 N = t.frames[0].N;
+    const Vec3 across = V - glm::dot(V, N) * N;
+    const float length = glm::length(across);
+    if (!(length > 1e-6f)) return 0.0f;
+    // The uv direction of one world unit along `across`: solve [P_u P_v] w = across / length.
+    const Vec3 dir = across / length;
+    const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
+    const float det = a * c - b * b;
+    if (!(std::abs(det) > 0.0f)) return 0.0f;
+    const float ru = glm::dot(sp.Pu, dir), rv = glm::dot(sp.Pv, dir);
+    sum.w = Vec2((c * ru - b * rv) / det, (a * rv - b * ru) / det);
+    sum.usable = true;
+  }
+  if (!sum.usable) return 0.0f;
+  const Vec2 w = sum.w;
+  // d2h/ds2 of the raised levels, s world length along `across`.
+  for (; sum.done < below; ++sum.done) {
+    const ReliefLevel& coarse = relief_.levels[sum.done];
     const float step = coarse.wavelength() / (16.0f * std::max(glm::length(w), 1e-12f));
     const Vec2 slope = coarse.derivatives(sp.uv + step * w) - coarse.derivatives(sp.uv - step * w);
-    second += t.disp[j] * glm::dot(slope, w) / (2.0f * step);
+    sum.second += t.disp[sum.done] * glm::dot(slope, w) / (2.0f * step);
   }
-  return std::isfinite(second) ? std::max(-second, 0.0f) : 0.0f;
+  return std::isfinite(sum.second) ? std::max(-sum.second, 0.0f) : 0.0f;
 }
 
 // (1 - disp_i) E_i[h_hit] N_i over the levels drawn flat (visible_height.h).
@@ -149,11 +157,12 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
   const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
   Vec3 offset(0.0f);
+  CrestSum crest;
   for (int i = 0; i < t.count; ++i) {
     if (!(t.disp[i] < 1.0f)) continue;
     const float cosTheta = glm::dot(t.frames[i].N, V);
     if (!visible_[i].grazing(cosTheta, lengthPerU)) continue;
-    const float curvature = crestCurvature(t, i, sp, V);
+    const float curvature = crestCurvature(t, i, sp, V, crest);
     offset +=
         ((1.0f - t.disp[i]) * visible_[i].at(cosTheta, lengthPerU, curvature)) * t.frames[i].N;
   }

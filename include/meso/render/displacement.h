@@ -100,7 +100,16 @@ class ReliefDisplacement : public VertexDisplacement {
   std::span<const VisibleHeight> visible_;
 
   Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp) const;
-  float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp, Vec3 V) const;
+  // The sum of the raised levels' second derivatives at one point, kept between the flat levels
+  // of that point: level i needs levels 0 .. min(i, raised) - 1, level i + 1 those and more.
+  struct CrestSum {
+    bool started = false, usable = false;
+    Vec2 w{0.0f};  // the uv direction of one world unit across the view
+    float second = 0.0f;
+    int done = 0;  // levels summed
+  };
+  float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp, Vec3 V,
+                       CrestSum& sum) const;
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
