@@ -188,12 +188,6 @@ namespace {
 // Smith's Lambda(a), a = cot(theta_V) / (sqrt(2) sigma), is below 2e-4 for cot(theta_V) >= 3 sigma.
 constexpr float kMaskingSlopes = 3.0f;
 
-// Distance from p to the box [lo, hi] (0 inside).
-float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
-  const Vec3 d = glm::max(glm::max(lo - p, p - hi), Vec3(0.0f));
-  return glm::length(d);
-}
-
 }  // namespace
 
 float reliefSlopeRmsPerU(const MaterialRelief& relief) {

@@ -23,6 +23,11 @@ inline bool isFinite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// Distance from p to the box [lo, hi] (0 inside).
+inline float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
+  return glm::length(glm::max(glm::max(lo - p, p - hi), Vec3(0.0f)));
+}
+
 // acos and atan2 for the pixel loop's table lookups (redistribution, BRDF and self-shadowing
 // angles): polynomials (Abramowitz & Stegun 4.4.46 and 4.4.49, |error| <= 2e-8 rad in exact
 // arithmetic, below 1e-6 rad in float: tests/core/fast_math_test.cpp) instead of libm's calls,

@@ -108,8 +108,8 @@ struct FaceDicing {
   // distance from the eye is below raiseDistance[f] (true when unsure: NaN distances).
   bool raisesBox(int f, Vec3 eye, Vec3 lo, Vec3 hi, float grow) const {
     if (raiseDistance.empty()) return true;
-    const Vec3 d = glm::max(glm::max(lo - Vec3(grow) - eye, eye - hi - Vec3(grow)), Vec3(0.0f));
-    return !(glm::length(d) >= raiseDistance[static_cast<size_t>(f)]);
+    return !(boxDistance(eye, lo - Vec3(grow), hi + Vec3(grow)) >=
+             raiseDistance[static_cast<size_t>(f)]);
   }
 };
 
