@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstring>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,6 +62,9 @@ struct RayScene::Impl {
     }
     return true;
   }
+
+  // Our hit for Embree's answer; false on a miss.
+  bool hitOf(const RTCRayHit& rh, RayHit& hit) const;
 
   void attach(RTCGeometry geometry, Part part) {
     rtcCommitGeometry(geometry);
@@ -226,31 +230,49 @@ void gridHit(const TriangleGrid& g, float u, float v, RayHit& hit) {
   hit.st = (1.0f - hit.b1 - hit.b2) * c0 + hit.b1 * c1 + hit.b2 * c2;
 }
 
-}  // namespace
+// Embree's ray for ours: the whole segment [tNear, tFar], every geometry (mask), no motion.
+RTCRay toEmbree(const Ray& ray) {
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.tNear;
+  r.tfar = ray.tFar;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
 
-bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+RTCRayHit toEmbreeHit(const Ray& ray) {
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tNear;
-  rh.ray.tfar = ray.tFar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  rh.ray = toEmbree(ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &rh);
+  return rh;
+}
+
+// Embree's context for a query: coherent rays (a tile's camera rays, shadow rays towards one
+// light from a tile's hits) let its stream code trace them in packets.
+RTCIntersectContext contextFor(bool coherent) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags =
+      coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  return context;
+}
+
+}  // namespace
+
+bool RayScene::Impl::hitOf(const RTCRayHit& rh, RayHit& hit) const {
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
   hit.Ng = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  const Impl::Part& part = impl_->parts[rh.hit.geomID];
+  const Part& part = parts[rh.hit.geomID];
   hit.mesh = part.mesh;
   if (part.isGrid && rh.hit.primID < part.grids.size()) {
     gridHit(part.grids[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
@@ -271,25 +293,47 @@ bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
   return true;
 }
 
+bool RayScene::intersect(const Ray& ray, RayHit& hit) const {
+  RTCIntersectContext context = contextFor(false);
+  RTCRayHit rh = toEmbreeHit(ray);
+  rtcIntersect1(impl_->scene, &context, &rh);
+  return impl_->hitOf(rh, hit);
+}
+
 bool RayScene::occluded(const Ray& ray) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRay r;
-  r.org_x = ray.origin.x;
-  r.org_y = ray.origin.y;
-  r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x;
-  r.dir_y = ray.direction.y;
-  r.dir_z = ray.direction.z;
-  r.tnear = ray.tNear;
-  r.tfar = ray.tFar;
-  r.time = 0.0f;
-  r.mask = 0xFFFFFFFFu;
-  r.id = 0;
-  r.flags = 0;
+  RTCIntersectContext context = contextFor(false);
+  RTCRay r = toEmbree(ray);
   // rtcOccluded1 sets tfar to -inf when it finds any hit.
   rtcOccluded1(impl_->scene, &context, &r);
   return r.tfar < 0.0f;
+}
+
+void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits,
+                         std::span<uint8_t> found, bool coherent) const {
+  if (hits.size() < rays.size() || found.size() < rays.size())
+    throw std::invalid_argument("RayScene::intersect: fewer hits than rays");
+  RTCIntersectContext context = contextFor(coherent);
+  std::array<RTCRayHit, kStreamChunk> rh;
+  for (size_t first = 0; first < rays.size(); first += kStreamChunk) {
+    const size_t n = std::min(kStreamChunk, rays.size() - first);
+    for (size_t i = 0; i < n; ++i) rh[i] = toEmbreeHit(rays[first + i]);
+    rtcIntersect1M(impl_->scene, &context, rh.data(), static_cast<unsigned>(n), sizeof(RTCRayHit));
+    for (size_t i = 0; i < n; ++i) found[first + i] = impl_->hitOf(rh[i], hits[first + i]);
+  }
+}
+
+void RayScene::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded,
+                        bool coherent) const {
+  if (occluded.size() < rays.size())
+    throw std::invalid_argument("RayScene::occluded: fewer answers than rays");
+  RTCIntersectContext context = contextFor(coherent);
+  std::array<RTCRay, kStreamChunk> r;
+  for (size_t first = 0; first < rays.size(); first += kStreamChunk) {
+    const size_t n = std::min(kStreamChunk, rays.size() - first);
+    for (size_t i = 0; i < n; ++i) r[i] = toEmbree(rays[first + i]);
+    rtcOccluded1M(impl_->scene, &context, r.data(), static_cast<unsigned>(n), sizeof(RTCRay));
+    for (size_t i = 0; i < n; ++i) occluded[first + i] = r[i].tfar < 0.0f;
+  }
 }
 
 size_t RayScene::deviceBytes() const {

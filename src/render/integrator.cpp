@@ -12,11 +12,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <vector>
 
 namespace meso {
 namespace {
 
 constexpr int kTileSize = 16;
+
+using Pixel = glm::ivec2;
 
 // The paper's Figure 4 look: the algorithm colours, shaded by the beauty's brightness so the shapes
 // stay readable.
@@ -72,51 +76,65 @@ Vec3 facetNormal(const RayHit& hit, const Vec3& fallback) {
   return length > 0.0f && std::isfinite(length) ? hit.Ng / length : fallback;
 }
 
-// Shades one primary ray: position, frame and normal come from the limit surface at the hit's patch
-// coordinates, never from the triangle (Chan 2002).
-// footprintScale 0: no footprint (unfiltered bump lookups).
-void traceSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
-                 PixelSum& sum, ShareCounts& shares) {
+// What a camera sample's ray found, before shading: the hit, and for a hit the limit surface at
+// its patch coordinates (position, frame and normal come from there, never from the triangle;
+// Chan 2002).
+struct SampleHit {
   RayHit hit;
-  if (!ctx.rays->intersect(ray, hit)) {
+  bool found = false;
+  SurfacePoint sp;
+  Vec3 facet{0.0f};   // the hit triangle's unit normal
+  Vec3 limitP{0.0f};  // the limit surface's point (sp.P is moved to the raised hit when displaced)
+};
+
+void evaluateHit(const RenderContext& ctx, const Ray& ray, SampleHit& s) {
+  const PreparedObject& object = ctx.objects[s.hit.mesh];
+  // A grid hit knows its face and patch coordinates; other triangles read the mesh's arrays.
+  const bool fromGrid = s.hit.face >= 0;
+  const int face = fromGrid ? s.hit.face : object.mesh.triangleFace[s.hit.triangle];
+  s.sp = object.surface.evaluate(
+      face, fromGrid ? s.hit.st : object.mesh.patchCoords(s.hit.triangle, s.hit.b1, s.hit.b2));
+  s.facet = facetNormal(s.hit, s.sp.N);
+  s.limitP = s.sp.P;
+  if (object.displaced)
+    s.sp.P = ray.origin + s.hit.t * ray.direction;  // lights see the raised point, not the limit
+}
+
+// Where a hit's shadow rays start (shadow_rays.h); `limitP` null leaves the start on the traced
+// triangle (trace-only frames, which evaluate no limit surface).
+ShadowOrigin shadowOriginOf(const Ray& ray, const RayHit& hit, const Vec3& facet,
+                            const Vec3* limitP) {
+  ShadowOrigin o;
+  o.hit = ray.origin + hit.t * ray.direction;
+  o.facetN = facet;
+  o.V = -ray.direction;
+  o.rayT = hit.t;
+  o.limitP = limitP;
+  return o;
+}
+
+// Shades one camera sample from what its ray found and the lights' visibility from its hit.
+void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
+                 const SampleHit& s, const LightShadows& shadows, PixelSum& sum,
+                 ShareCounts& shares) {
+  if (!s.found) {
     sum.colour += ctx.scene->render.background;
     addShare(shares, SampleRenderer::Background, 1.0f);
     return;
   }
-  const PreparedObject& object = ctx.objects[hit.mesh];
-  // A grid hit knows its face and patch coordinates; other triangles read the mesh's arrays.
-  const bool fromGrid = hit.face >= 0;
-  const int face = fromGrid ? hit.face : object.mesh.triangleFace[hit.triangle];
-  SurfacePoint sp = object.surface.evaluate(
-      face, fromGrid ? hit.st : object.mesh.patchCoords(hit.triangle, hit.b1, hit.b2));
-  const Vec3 facet = facetNormal(hit, sp.N);
-  const Vec3 limitP = sp.P;
-  if (object.displaced)
-    sp.P =
-        ray.origin + hit.t * ray.direction;  // lights see the raised point, not the limit surface
+  const PreparedObject& object = ctx.objects[s.hit.mesh];
   Footprint footprint;
   if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
-    footprint = footprintAt(sp, ctx.camera.generateRay(fx + 1.0f, fy),
+    footprint = footprintAt(s.sp, ctx.camera.generateRay(fx + 1.0f, fy),
                             ctx.camera.generateRay(fx, fy + 1.0f), footprintScale);
-  // Macro shadows: occlusion rays from the hit on the very triangles this frame traced.
-  LightShadows shadows;
-  if (ctx.shadows && !ctx.scene->lights.empty()) {
-    ShadowOrigin o;
-    o.hit = ray.origin + hit.t * ray.direction;
-    o.facetN = facet;
-    o.V = -ray.direction;
-    o.rayT = hit.t;
-    o.limitP = object.displaced ? nullptr : &limitP;
-    shadows = traceShadows(*ctx.rays, ctx.scene->lights, o);
-  }
-  const ShadeResult r = shadeSurface(ctx, object, sp, -ray.direction,
-                                     ctx.facetNormals && object.displaced ? &facet : nullptr,
-                                     &footprint, &limitP, ctx.shadows ? &shadows : nullptr);
+  const ShadeResult r = shadeSurface(ctx, object, s.sp, -ray.direction,
+                                     ctx.facetNormals && object.displaced ? &s.facet : nullptr,
+                                     &footprint, &s.limitP, ctx.shadows ? &shadows : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;
   sum.T += r.T;
-  sum.depth += hit.t;
+  sum.depth += s.hit.t;
   sum.hits += 1;
   countSample(ctx, object, r.T, shares);
 }
@@ -147,44 +165,135 @@ void writePixel(const PixelSum& sum, int spp, bool falseColourBeauty, int x, int
   }
 }
 
-void renderPixel(const RenderContext& ctx, const RenderOptions& options, int x, int y, Image& film,
-                 int64_t& rays, int64_t& nonFinite, ShareCounts& shares) {
+// Camera samples are traced and shaded in chunks of whole pixels, about this many samples each:
+// the chunk's camera rays go to Embree as one coherent stream, and so do its shadow rays towards
+// each light (RayScene's stream queries), which Embree traces in packets.
+constexpr int kChunkSamples = 1024;
+
+// The buffers of one chunk, reused from chunk to chunk of a tile range.
+struct Chunk {
+  std::vector<Ray> rays;
+  std::vector<Vec2> film;  // each sample's film position
+  std::vector<SampleHit> hits;
+  std::vector<uint8_t> found;
+  std::vector<RayHit> rayHits;
+  std::vector<LightShadows> shadows;
+  std::vector<Ray> shadowRays;
+  std::vector<uint32_t> shadowOf;  // the sample of each shadow ray
+  std::vector<uint8_t> occluded;
+  std::vector<Vec3> starts;  // each hit's shadow-ray start
+};
+
+// The camera rays of pixels [first, last) of the tile's pixel list, spp each, in the order the
+// pixels' own generators draw their jitter.
+void generateChunk(const RenderContext& ctx, const RenderOptions& options, int width,
+                   std::span<const Pixel> pixels, Chunk& chunk) {
   const int spp = options.spp;
   const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(spp))));
   const int rows = (spp + cols - 1) / cols;
-  const uint64_t pixelIndex = static_cast<uint64_t>(y) * film.width + x;
-  Rng rng(options.seed, pixelIndex);
-  PixelSum sum;
+  chunk.rays.clear();
+  chunk.film.clear();
+  for (const Pixel& p : pixels) {
+    Rng rng(options.seed,
+            static_cast<uint64_t>(p.y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(p.x));
+    for (int i = 0; i < spp; ++i) {
+      // Jittered stratum (i % cols, i / cols) of a cols x rows grid over the pixel.
+      const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
+      const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
+      const Vec2 f(static_cast<float>(p.x) + fx, static_cast<float>(p.y) + fy);
+      chunk.film.push_back(f);
+      chunk.rays.push_back(ctx.camera.generateRay(f.x, f.y));
+    }
+  }
+}
+
+// Each light's visibility from every hit of the chunk (chunk.shadows): one occlusion stream per
+// light. `limit` false starts the rays on the traced triangles (trace-only frames).
+void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
+  const size_t n = chunk.rays.size();
+  chunk.shadows.assign(n, LightShadows{});
+  const size_t lights = std::min(ctx.scene->lights.size(), static_cast<size_t>(kMaxShadowedLights));
+  std::vector<Vec3>& starts = chunk.starts;
+  starts.resize(n);
+  for (size_t s = 0; s < n; ++s) {
+    const SampleHit& h = chunk.hits[s];
+    if (!h.found) continue;
+    const bool displaced = ctx.objects[h.hit.mesh].displaced;
+    starts[s] = shadowRayStart(
+        shadowOriginOf(chunk.rays[s], h.hit, h.facet, limit && !displaced ? &h.limitP : nullptr));
+  }
+  for (size_t k = 0; k < lights; ++k) {
+    chunk.shadowRays.clear();
+    chunk.shadowOf.clear();
+    for (size_t s = 0; s < n; ++s) {
+      Ray ray;
+      if (chunk.hits[s].found && shadowRay(ctx.scene->lights[k], starts[s], ray)) {
+        chunk.shadowRays.push_back(ray);
+        chunk.shadowOf.push_back(static_cast<uint32_t>(s));
+      }
+    }
+    chunk.occluded.resize(chunk.shadowRays.size());
+    ctx.rays->occluded(chunk.shadowRays, chunk.occluded);
+    for (size_t r = 0; r < chunk.shadowRays.size(); ++r)
+      if (chunk.occluded[r]) chunk.shadows[chunk.shadowOf[r]].light[k] = {0.0f, 0.0f};
+  }
+}
+
+// Traces the chunk's camera rays and evaluates the limit surface at each hit (trace-only frames
+// only take the hits' facet normals).
+void traceChunk(const RenderContext& ctx, const RenderOptions& options, Chunk& chunk) {
+  const size_t n = chunk.rays.size();
+  chunk.rayHits.resize(n);
+  chunk.found.resize(n);
+  chunk.hits.resize(n);
+  ctx.rays->intersect(chunk.rays, chunk.rayHits, chunk.found);
+  for (size_t s = 0; s < n; ++s) {
+    SampleHit& h = chunk.hits[s];
+    h.hit = chunk.rayHits[s];
+    h.found = chunk.found[s] != 0;
+    if (!h.found) continue;
+    if (options.traceOnly)
+      h.facet = facetNormal(h.hit, -chunk.rays[s].direction);
+    else
+      evaluateHit(ctx, chunk.rays[s], h);
+  }
+  const bool shadows =
+      ctx.shadows && !ctx.scene->lights.empty() && (!options.traceOnly || options.traceShadowRays);
+  if (shadows) traceChunkShadows(ctx, chunk, !options.traceOnly);
+}
+
+// Renders pixels (in order) of one tile: chunk by chunk, trace, then shade and write each pixel.
+void renderPixels(const RenderContext& ctx, const RenderOptions& options,
+                  std::span<const Pixel> pixels, Image& film, Chunk& chunk, int64_t& rays,
+                  int64_t& nonFinite, ShareCounts& shares) {
+  const int spp = options.spp;
+  const size_t perChunk = static_cast<size_t>(std::max(1, kChunkSamples / spp));
   // A pixel averages its samples, so each sample filters over 1/sqrt(spp) of the pixel.
   const float footprintScale =
       options.filterBump ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
-  for (int i = 0; i < spp; ++i) {
-    // Jittered stratum (i % cols, i / cols) of a cols x rows grid over the pixel.
-    const float fx = (static_cast<float>(i % cols) + rng.uniform()) / static_cast<float>(cols);
-    const float fy = (static_cast<float>(i / cols) + rng.uniform()) / static_cast<float>(rows);
-    const float filmX = static_cast<float>(x) + fx, filmY = static_cast<float>(y) + fy;
-    if (options.traceOnly) {  // no shading: no renderer to count either
-      RayHit hit;
-      const Ray ray = ctx.camera.generateRay(filmX, filmY);
-      if (ctx.rays->intersect(ray, hit)) {
-        sum.depth += hit.t;
-        sum.hits += 1;
-        if (options.traceShadowRays && ctx.shadows && !ctx.scene->lights.empty()) {
-          ShadowOrigin o;
-          o.hit = ray.origin + hit.t * ray.direction;
-          o.facetN = facetNormal(hit, -ray.direction);
-          o.V = -ray.direction;
-          o.rayT = hit.t;
-          traceShadows(*ctx.rays, ctx.scene->lights, o);  // Embree's calls: never elided
+  const LightShadows lit;
+  for (size_t first = 0; first < pixels.size(); first += perChunk) {
+    const std::span<const Pixel> part =
+        pixels.subspan(first, std::min(perChunk, pixels.size() - first));
+    generateChunk(ctx, options, film.width, part, chunk);
+    traceChunk(ctx, options, chunk);
+    const bool shadowed = ctx.shadows && !ctx.scene->lights.empty() && !options.traceOnly;
+    for (size_t p = 0; p < part.size(); ++p) {
+      PixelSum sum;
+      for (int i = 0; i < spp; ++i) {
+        const size_t s = p * static_cast<size_t>(spp) + static_cast<size_t>(i);
+        const SampleHit& h = chunk.hits[s];
+        if (options.traceOnly) {  // no shading: no renderer to count either
+          if (h.found) sum.depth += h.hit.t, sum.hits += 1;
+          continue;
         }
+        shadeSample(ctx, chunk.rays[s], chunk.film[s].x, chunk.film[s].y, footprintScale, h,
+                    shadowed ? chunk.shadows[s] : lit, sum, shares);
       }
-      continue;
+      rays += spp;
+      writePixel(sum, spp, options.falseColour, part[p].x, part[p].y, film, nonFinite);
     }
-    traceSample(ctx, ctx.camera.generateRay(filmX, filmY), filmX, filmY, footprintScale, sum,
-                shares);
   }
-  rays += spp;
-  writePixel(sum, spp, options.falseColour, x, y, film, nonFinite);
 }
 
 }  // namespace
@@ -199,14 +308,18 @@ Image renderFrame(const RenderContext& ctx, const RenderOptions& options,
   tbb::parallel_for(
       tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1),
       [&](const tbb::blocked_range2d<int>& r) {
+        Chunk chunk;
+        std::vector<Pixel> pixels;
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
           for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
             if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
             int64_t rays = 0, nonFinite = 0;
             ShareCounts shares{};
+            pixels.clear();
             for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
               for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
-                renderPixel(ctx, options, x, y, film, rays, nonFinite, shares);
+                pixels.emplace_back(x, y);
+            renderPixels(ctx, options, pixels, film, chunk, rays, nonFinite, shares);
             counters.rays.fetch_add(rays, std::memory_order_relaxed);
             for (int k = 0; k < kSampleRenderers; ++k)
               counters.shares[k].fetch_add(shares[k], std::memory_order_relaxed);

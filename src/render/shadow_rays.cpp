@@ -22,6 +22,21 @@ Vec3 shadowRayStart(const ShadowOrigin& o) {
   return start + shadowOffset(o) * n;
 }
 
+bool shadowRay(const Light& light, const Vec3& start, Ray& ray) {
+  ray = Ray{};
+  ray.origin = start;
+  if (light.type == LightType::Directional) {
+    ray.direction = -light.direction;
+    return true;
+  }
+  const Vec3 toLight = light.position - start;
+  const float d = glm::length(toLight);
+  if (!(d > 0.0f) || !std::isfinite(d)) return false;
+  ray.direction = toLight / d;
+  ray.tFar = d * (1.0f - 1e-5f);  // stop short of the light itself
+  return true;
+}
+
 LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
                           const ShadowOrigin& o) {
   LightShadows out;
@@ -29,17 +44,7 @@ LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
   const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
   for (size_t i = 0; i < n; ++i) {
     Ray ray;
-    ray.origin = start;
-    if (lights[i].type == LightType::Directional) {
-      ray.direction = -lights[i].direction;
-    } else {
-      const Vec3 toLight = lights[i].position - start;
-      const float d = glm::length(toLight);
-      if (!(d > 0.0f) || !std::isfinite(d)) continue;
-      ray.direction = toLight / d;
-      ray.tFar = d * (1.0f - 1e-5f);  // stop short of the light itself
-    }
-    if (rays.occluded(ray)) out.light[i] = {0.0f, 0.0f};
+    if (shadowRay(lights[i], start, ray) && rays.occluded(ray)) out.light[i] = {0.0f, 0.0f};
   }
   return out;
 }

@@ -493,6 +493,35 @@ TEST(AdaptiveTessellation, GridsOnlyMeshesGiveTheSameHitsWithoutTheGridTriangles
     }
     std::printf("  %d hits, %d in grids\n", hits, inGrids);
     EXPECT_GT(inGrids, hits / 2);
+    // A coherent stream of rays (as the integrator traces a tile's) finds the same faces, st and
+    // t as single rays, in grids and in the other triangles (a ray through an edge that two
+    // triangles share may report either).
+    std::vector<Ray> stream(600);
+    for (size_t i = 0; i < stream.size(); ++i) {
+      const float a = static_cast<float>(i % 30) / 30.0f, b = static_cast<float>(i / 30) / 20.0f;
+      stream[i] =
+          Ray{c.from, glm::normalize(Vec3(4.0f * a - 1.0f, 4.0f * b - 1.0f, 0.0f) - c.from)};
+    }
+    std::vector<RayHit> streamed(stream.size());
+    std::vector<uint8_t> found(stream.size());
+    b.intersect(stream, streamed, found);
+    int streamHits = 0;
+    const auto stOf = [&](const RayHit& h) {
+      return h.face >= 0 ? h.st : only.mesh.patchCoords(h.triangle, h.b1, h.b2);
+    };
+    const auto faceOf = [&](const RayHit& h) {
+      return h.face >= 0 ? h.face : only.mesh.triangleFace[h.triangle];
+    };
+    for (size_t i = 0; i < stream.size(); ++i) {
+      RayHit single;
+      ASSERT_EQ(found[i] != 0, b.intersect(stream[i], single)) << "ray " << i;
+      if (!found[i]) continue;
+      ++streamHits;
+      EXPECT_EQ(faceOf(streamed[i]), faceOf(single)) << "ray " << i;
+      EXPECT_NEAR(streamed[i].t, single.t, 1e-5f * single.t) << "ray " << i;
+      EXPECT_NEAR(glm::length(stOf(streamed[i]) - stOf(single)), 0.0f, 1e-4f) << "ray " << i;
+    }
+    EXPECT_GT(streamHits, 100);
     RayScene withoutGrids;
     EXPECT_THROW(withoutGrids.addMesh(only.mesh), Error);
     EXPECT_THROW(withoutGrids.addMesh(only.mesh, {}), Error);

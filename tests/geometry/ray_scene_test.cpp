@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -160,6 +162,56 @@ TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
     ASSERT_EQ(serial[i].triangle, parallel[i].triangle);
     ASSERT_EQ(serial[i].t, parallel[i].t);
   }
+}
+
+// The stream queries (one Embree ray stream, packets when coherent) answer each ray as the
+// single-ray queries do: the same triangle and t to rounding, the same occlusion; spans longer
+// than a stream chunk are traced in chunks, and a span shorter than the rays is refused.
+TEST(RayScene, StreamQueriesMatchSingleRays) {
+  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
+  RayScene scene;
+  scene.addMesh(tessellateUniform(surface, 6));
+  scene.commit();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  // 3 chunks and a part; half the rays from inside (all hit), half from outside (some miss), a
+  // third of them stopped short by tFar.
+  std::vector<Ray> rays(2 * RayScene::kStreamChunk + 77);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Vec3 from = i % 2 ? Vec3(0.1f, -0.2f, 0.05f) : Vec3(3.0f, 2.0f, 1.0f);
+    rays[i] = Ray{from, randomDirection(rng)};
+    if (i % 3 == 0) rays[i].tFar = 2.0f * u(rng);
+  }
+  for (const bool coherent : {true, false}) {
+    std::vector<RayHit> hits(rays.size());
+    std::vector<uint8_t> found(rays.size(), 7), occluded(rays.size(), 7);
+    scene.intersect(rays, hits, found, coherent);
+    scene.occluded(rays, occluded, coherent);
+    int hitCount = 0, missCount = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      RayHit single;
+      const bool hit = scene.intersect(rays[i], single);
+      ASSERT_EQ(found[i], hit ? 1 : 0) << "ray " << i;
+      EXPECT_EQ(occluded[i], scene.occluded(rays[i]) ? 1 : 0) << "ray " << i;
+      if (!hit) {
+        ++missCount;
+        continue;
+      }
+      ++hitCount;
+      EXPECT_EQ(hits[i].mesh, single.mesh);
+      EXPECT_EQ(hits[i].triangle, single.triangle) << "ray " << i;
+      EXPECT_NEAR(hits[i].t, single.t, 1e-5f * single.t) << "ray " << i;
+      EXPECT_NEAR(hits[i].b1, single.b1, 1e-4f) << "ray " << i;
+      EXPECT_NEAR(hits[i].b2, single.b2, 1e-4f) << "ray " << i;
+      EXPECT_NEAR(glm::length(hits[i].Ng - single.Ng), 0.0f, 1e-4f * glm::length(single.Ng));
+    }
+    EXPECT_GT(hitCount, 200);
+    EXPECT_GT(missCount, 50);
+  }
+  std::vector<RayHit> fewer(rays.size() - 1);
+  std::vector<uint8_t> found(rays.size());
+  EXPECT_THROW(scene.intersect(rays, fewer, found), std::invalid_argument);
+  EXPECT_THROW(scene.occluded(rays, std::span<uint8_t>(found.data(), 3)), std::invalid_argument);
 }
 
 }  // namespace

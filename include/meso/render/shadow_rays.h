@@ -30,6 +30,10 @@ Vec3 shadowRayStart(const ShadowOrigin& o);
 // 3e-4 world units in the default scene, well under a micropolygon (about 5e-3 there).
 float shadowOffset(const ShadowOrigin& o);
 
+// The occlusion ray from `start` towards `light` (up to a point light's position); false when
+// there is none to trace (a point light at the start itself), and the light counts as visible.
+bool shadowRay(const Light& light, const Vec3& start, Ray& ray);
+
 // Visibility of each light (the first kMaxShadowedLights of them) from o: {1, 1} when the
 // occlusion ray towards it (up to a point light's position) hits nothing, {0, 0} otherwise.
 LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
