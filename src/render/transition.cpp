@@ -21,28 +21,4 @@ void validateTransitionSettings(const TransitionSettings& s, const char* where) 
                 ", " + std::to_string(s.e4));
 }
 
-float transitionParameter(float wavelength, float pixelsPerRadian, float distance, float cosThetaV,
-                          const TransitionSettings& s) {
-  constexpr float kLimit = 1e6f;
-  // A camera touching the surface sees the wavelength over infinitely many pixels: saturate.
-  const float nu = distance > 0.0f ? wavelength * pixelsPerRadian / distance : kLimit;
-  const float denom = std::clamp(cosThetaV, 0.0f, 1.0f) + s.eps;
-  const float num = std::min(nu, kLimit) - s.D;
-  if (denom <= 0.0f) return num > 0.0f ? kLimit : (num < 0.0f ? -kLimit : 0.0f);
-  return std::clamp(num / denom, -kLimit, kLimit);
-}
-
-float ramp(float t, float a, float b) {
-  const float x = std::clamp((t - a) / (b - a), 0.0f, 1.0f);
-  return x * x * (3.0f - 2.0f * x);
-}
-
-TransitionWeights transitionWeights(float T, const TransitionSettings& s) {
-  TransitionWeights w;
-  w.redistribution = ramp(T, s.e1, s.e2);
-  w.brdf = 1.0f - w.redistribution;
-  w.disp = ramp(T, s.e3, s.e4);
-  return w;
-}
-
 }  // namespace meso

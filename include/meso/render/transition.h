@@ -4,6 +4,8 @@
 
 #include "meso/scene/scene.h"
 
+#include <algorithm>
+
 namespace meso {
 
 // Throws meso::Error naming `where` (e.g. "render.thresholds") unless e1 < e2 < 0 < e3 < e4, D >=
@@ -14,12 +16,25 @@ void validateTransitionSettings(const TransitionSettings& s, const char* where);
 // level's shortest wavelength spans at distance d (p: pixels per radian). cosThetaV is clamped to
 // [0, 1]; with eps = 0 at cos theta_V = 0 the result is clamped to +-1e6 instead of dividing by
 // zero.
-float transitionParameter(float wavelength, float pixelsPerRadian, float distance, float cosThetaV,
-                          const TransitionSettings& s);
+// Inline (with ramp and transitionWeights): the pixel loop evaluates them for every level of every
+// sample.
+inline float transitionParameter(float wavelength, float pixelsPerRadian, float distance,
+                                 float cosThetaV, const TransitionSettings& s) {
+  constexpr float kLimit = 1e6f;
+  // A camera touching the surface sees the wavelength over infinitely many pixels: saturate.
+  const float nu = distance > 0.0f ? wavelength * pixelsPerRadian / distance : kLimit;
+  const float denom = std::clamp(cosThetaV, 0.0f, 1.0f) + s.eps;
+  const float num = std::min(nu, kLimit) - s.D;
+  if (denom <= 0.0f) return num > 0.0f ? kLimit : (num < 0.0f ? -kLimit : 0.0f);
+  return std::clamp(num / denom, -kLimit, kLimit);
+}
 
 // The C1 ramp used for every blend: 0 at a, 1 at b, smoothstep between (derivative 0 at both ends,
 // so weights are continuous in T with a continuous slope).
-float ramp(float t, float a, float b);
+inline float ramp(float t, float a, float b) {
+  const float x = std::clamp((t - a) / (b - a), 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
 
 // What T asks of one level. Weights sum to 1 between brdf and the bump-based renderers; disp is the
 // fraction of the relief height raised as geometry (0: flat, 1: fully displaced).
@@ -29,6 +44,12 @@ struct TransitionWeights {
   float disp = 0.0f;            // ramp(T; e3, e4)
 };
 
-TransitionWeights transitionWeights(float T, const TransitionSettings& s);
+inline TransitionWeights transitionWeights(float T, const TransitionSettings& s) {
+  TransitionWeights w;
+  w.redistribution = ramp(T, s.e1, s.e2);
+  w.brdf = 1.0f - w.redistribution;
+  w.disp = ramp(T, s.e3, s.e4);
+  return w;
+}
 
 }  // namespace meso
