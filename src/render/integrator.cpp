@@ -184,8 +184,8 @@ struct Chunk {
   std::vector<Vec3> starts;  // each hit's shadow-ray start
 };
 
-// The camera rays of pixels [first, last) of the tile's pixel list, spp each, in the order the
-// pixels' own generators draw their jitter.
+// The camera rays of `pixels`, spp each, pixel by pixel, each pixel's jitter drawn by its own
+// generator (so the samples do not depend on how pixels are grouped into tiles and chunks).
 void generateChunk(const RenderContext& ctx, const RenderOptions& options, int width,
                    std::span<const Pixel> pixels, Chunk& chunk) {
   const int spp = options.spp;
