@@ -37,16 +37,4 @@ bool shadowRay(const Light& light, const Vec3& start, Ray& ray) {
   return true;
 }
 
-LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
-                          const ShadowOrigin& o) {
-  LightShadows out;
-  const Vec3 start = shadowRayStart(o);
-  const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
-  for (size_t i = 0; i < n; ++i) {
-    Ray ray;
-    if (shadowRay(lights[i], start, ray) && rays.occluded(ray)) out.light[i] = {0.0f, 0.0f};
-  }
-  return out;
-}
-
 }  // namespace meso

@@ -145,6 +145,28 @@ TEST(Shadows, ShadowRayStartsJustOffTheSurface) {
   EXPECT_FLOAT_EQ(shadowRayStart(o).z, start.z);
 }
 
+// A directional light's ray runs against its direction without end; a point light's stops just
+// short of the light; a point light at the start itself gives no ray (the light counts as seen).
+TEST(Shadows, ShadowRayPointsAtTheLight) {
+  const Vec3 start(1.0f, 2.0f, 0.5f);
+  Ray ray;
+  Light sun;
+  sun.direction = glm::normalize(Vec3(0.3f, -0.4f, -1.0f));
+  ASSERT_TRUE(shadowRay(sun, start, ray));
+  EXPECT_EQ(ray.origin, start);
+  EXPECT_NEAR(glm::length(ray.direction + sun.direction), 0.0f, 1e-6f);
+  EXPECT_TRUE(std::isinf(ray.tFar));
+  Light lamp;
+  lamp.type = LightType::Point;
+  lamp.position = Vec3(4.0f, 6.0f, 0.5f);  // 5 units away
+  ASSERT_TRUE(shadowRay(lamp, start, ray));
+  EXPECT_NEAR(glm::length(ray.direction - Vec3(0.6f, 0.8f, 0.0f)), 0.0f, 1e-6f);
+  EXPECT_LT(ray.tFar, 5.0f);
+  EXPECT_GT(ray.tFar, 5.0f * (1.0f - 2e-5f));
+  lamp.position = start;
+  EXPECT_FALSE(shadowRay(lamp, start, ray));
+}
+
 // render.shadows = false renders exactly what meso rendered before shadows existed: the pixels of
 // tests/render/data/golden_no_shadows.exr (written by the unshadowed meso from shadow_golden.toml;
 // written again, with --no-shadows, when the floor's bilinear quads came to be evaluated without

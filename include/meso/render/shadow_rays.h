@@ -6,8 +6,6 @@
 #include "meso/render/shading.h"
 #include "meso/scene/scene.h"
 
-#include <span>
-
 namespace meso {
 
 // Where a shadow ray starts: the hit on the traced triangles, lifted off them.
@@ -33,10 +31,5 @@ float shadowOffset(const ShadowOrigin& o);
 // The occlusion ray from `start` towards `light` (up to a point light's position); false when
 // there is none to trace (a point light at the start itself), and the light counts as visible.
 bool shadowRay(const Light& light, const Vec3& start, Ray& ray);
-
-// Visibility of each light (the first kMaxShadowedLights of them) from o: {1, 1} when the
-// occlusion ray towards it (up to a point light's position) hits nothing, {0, 0} otherwise.
-LightShadows traceShadows(const RayScene& rays, std::span<const Light> lights,
-                          const ShadowOrigin& o);
 
 }  // namespace meso
