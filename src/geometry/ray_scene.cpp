@@ -266,6 +266,19 @@ RTCIntersectContext contextFor(bool coherent) {
   return context;
 }
 
+// Traces `rays` as Embree streams of at most RayScene::kStreamChunk rays held on the stack:
+// convert each ray to Embree's, trace(rays, count), then answer(index in `rays`, Embree's ray).
+template <class EmbreeRay, class Convert, class Trace, class Answer>
+void traceStream(std::span<const Ray> rays, Convert convert, Trace trace, Answer answer) {
+  std::array<EmbreeRay, RayScene::kStreamChunk> chunk;
+  for (size_t first = 0; first < rays.size(); first += chunk.size()) {
+    const size_t n = std::min(chunk.size(), rays.size() - first);
+    for (size_t i = 0; i < n; ++i) chunk[i] = convert(rays[first + i]);
+    trace(chunk.data(), n);
+    for (size_t i = 0; i < n; ++i) answer(first + i, chunk[i]);
+  }
+}
+
 }  // namespace
 
 bool RayScene::Impl::hitOf(const RTCRayHit& rh, RayHit& hit) const {
@@ -313,13 +326,12 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits,
   if (hits.size() < rays.size() || found.size() < rays.size())
     throw std::invalid_argument("RayScene::intersect: fewer hits than rays");
   RTCIntersectContext context = contextFor(coherent);
-  std::array<RTCRayHit, kStreamChunk> rh;
-  for (size_t first = 0; first < rays.size(); first += kStreamChunk) {
-    const size_t n = std::min(kStreamChunk, rays.size() - first);
-    for (size_t i = 0; i < n; ++i) rh[i] = toEmbreeHit(rays[first + i]);
-    rtcIntersect1M(impl_->scene, &context, rh.data(), static_cast<unsigned>(n), sizeof(RTCRayHit));
-    for (size_t i = 0; i < n; ++i) found[first + i] = impl_->hitOf(rh[i], hits[first + i]);
-  }
+  traceStream<RTCRayHit>(
+      rays, toEmbreeHit,
+      [&](RTCRayHit* rh, size_t n) {
+        rtcIntersect1M(impl_->scene, &context, rh, static_cast<unsigned>(n), sizeof(RTCRayHit));
+      },
+      [&](size_t i, const RTCRayHit& rh) { found[i] = impl_->hitOf(rh, hits[i]); });
 }
 
 void RayScene::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded,
@@ -327,13 +339,13 @@ void RayScene::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded,
   if (occluded.size() < rays.size())
     throw std::invalid_argument("RayScene::occluded: fewer answers than rays");
   RTCIntersectContext context = contextFor(coherent);
-  std::array<RTCRay, kStreamChunk> r;
-  for (size_t first = 0; first < rays.size(); first += kStreamChunk) {
-    const size_t n = std::min(kStreamChunk, rays.size() - first);
-    for (size_t i = 0; i < n; ++i) r[i] = toEmbree(rays[first + i]);
-    rtcOccluded1M(impl_->scene, &context, r.data(), static_cast<unsigned>(n), sizeof(RTCRay));
-    for (size_t i = 0; i < n; ++i) occluded[first + i] = r[i].tfar < 0.0f;
-  }
+  traceStream<RTCRay>(
+      rays, toEmbree,
+      [&](RTCRay* r, size_t n) {
+        rtcOccluded1M(impl_->scene, &context, r, static_cast<unsigned>(n), sizeof(RTCRay));
+      },
+      // rtcOccluded1M sets tfar to -inf when it finds any hit.
+      [&](size_t i, const RTCRay& r) { occluded[i] = r.tfar < 0.0f; });
 }
 
 size_t RayScene::deviceBytes() const {

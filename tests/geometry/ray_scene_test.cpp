@@ -142,11 +142,16 @@ TEST(RayScene, MeshIndicesAreGeometryIdsAndDataIsCopied) {
   EXPECT_NEAR(hit.t, 1.0f, 1e-6f);
 }
 
-TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
-  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
-  RayScene scene;
-  scene.addMesh(tessellateUniform(surface, 4));
+// A Catmull-Clark prism (mixed quads and triangles) tessellated at `rate`, committed.
+void addPrism(RayScene& scene, int rate) {
+  scene.addMesh(
+      tessellateUniform(LimitSurface(test::mixedPrism(), SubdivisionScheme::CatmullClark), rate));
   scene.commit();
+}
+
+TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
+  RayScene scene;
+  addPrism(scene, 4);
   std::mt19937 rng(99);
   std::vector<Ray> rays(4000);
   for (Ray& r : rays) r = Ray{Vec3(0.1f, -0.2f, 0.05f), randomDirection(rng)};
@@ -168,13 +173,11 @@ TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
 // single-ray queries do: the same triangle and t to rounding, the same occlusion; spans longer
 // than a stream chunk are traced in chunks, and a span shorter than the rays is refused.
 TEST(RayScene, StreamQueriesMatchSingleRays) {
-  const LimitSurface surface(test::mixedPrism(), SubdivisionScheme::CatmullClark);
   RayScene scene;
-  scene.addMesh(tessellateUniform(surface, 6));
-  scene.commit();
+  addPrism(scene, 6);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  // 3 chunks and a part; half the rays from inside (all hit), half from outside (some miss), a
+  // 2 chunks and a part; half the rays from inside (all hit), half from outside (some miss), a
   // third of them stopped short by tFar.
   std::vector<Ray> rays(2 * RayScene::kStreamChunk + 77);
   for (size_t i = 0; i < rays.size(); ++i) {
