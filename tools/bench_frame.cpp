@@ -2,9 +2,12 @@
 // scene and resolution, the hybrid (auto) frame, the bump-mapped frame, full displacement at the
 // default dicing, and the hybrid's own camera rays traced with Embree alone
 // (RenderOptions::traceOnly, on the hybrid's geometry), and those rays with each hit's shadow rays
-// (trace_all: every ray the shaded frame traces). Geometry and tables are prepared once per
+// (trace_all: every ray the shaded frame traces), and bump_trace_all: the same for the bump
+// frame's own rays (its undisplaced geometry), so that each renderer's shading (with the limit
+// surface at its hits) is its frame less its rays. Geometry and tables are prepared once per
 // case, outside the timing; each iteration is renderFrame. Counters: micropolygons and samples;
-// tools/bench prints the ratios hybrid / bump and hybrid / trace-only from them. Run:
+// tools/bench prints the ratios hybrid / bump and hybrid / trace-only from them, and the shading
+// ratio (hybrid - trace_all) / (bump - bump_trace_all). Run:
 // ./build/tools/bench_frame [--benchmark_filter=default]
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
@@ -24,7 +27,7 @@ using namespace meso;
 
 const std::filesystem::path kScenes = MESO_SCENES_DIR;
 
-enum class Mode { Hybrid, Bump, Displacement, TraceOnly, TraceAll };
+enum class Mode { Hybrid, Bump, Displacement, TraceOnly, TraceAll, BumpTraceAll };
 
 struct Case {
   Case(const std::string& name, int width, int height, Algorithm algorithm)
@@ -54,7 +57,8 @@ Case& prepared(const std::string& name, int width, int height, Algorithm algorit
 }
 
 void BM_Frame(benchmark::State& state, const std::string& name, int width, int height, Mode mode) {
-  const Algorithm algorithm = mode == Mode::Bump           ? Algorithm::Bump
+  const Algorithm algorithm = mode == Mode::Bump || mode == Mode::BumpTraceAll
+                                  ? Algorithm::Bump
                               : mode == Mode::Displacement ? Algorithm::Displacement
                                                            : Algorithm::Auto;
   Case& c = prepared(name, width, height, algorithm);
@@ -62,8 +66,8 @@ void BM_Frame(benchmark::State& state, const std::string& name, int width, int h
   o.spp = c.scene.camera.spp;
   o.seed = c.scene.render.seed;
   o.progress = false;
-  o.traceOnly = mode == Mode::TraceOnly || mode == Mode::TraceAll;
-  o.traceShadowRays = mode == Mode::TraceAll;
+  o.traceOnly = mode == Mode::TraceOnly || mode == Mode::TraceAll || mode == Mode::BumpTraceAll;
+  o.traceShadowRays = mode == Mode::TraceAll || mode == Mode::BumpTraceAll;
   for (auto _ : state) {
     RenderCounters counters;
     benchmark::DoNotOptimize(renderFrame(*c.ctx, o, counters));
@@ -85,7 +89,8 @@ const bool kRegistered = [] {
                {"bump", Mode::Bump},
                {"displacement", Mode::Displacement},
                {"trace_only", Mode::TraceOnly},
-               {"trace_all", Mode::TraceAll}};
+               {"trace_all", Mode::TraceAll},
+               {"bump_trace_all", Mode::BumpTraceAll}};
   for (const auto& f : frames)
     for (const auto& m : modes)
       benchmark::RegisterBenchmark(
