@@ -57,8 +57,7 @@ Case& prepared(const std::string& name, int width, int height, Algorithm algorit
 }
 
 void BM_Frame(benchmark::State& state, const std::string& name, int width, int height, Mode mode) {
-  const Algorithm algorithm = mode == Mode::Bump || mode == Mode::BumpTraceAll
-                                  ? Algorithm::Bump
+  const Algorithm algorithm = mode == Mode::Bump || mode == Mode::BumpTraceAll ? Algorithm::Bump
                               : mode == Mode::Displacement ? Algorithm::Displacement
                                                            : Algorithm::Auto;
   Case& c = prepared(name, width, height, algorithm);
