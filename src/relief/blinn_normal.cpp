@@ -7,12 +7,14 @@
 namespace meso {
 namespace {
 
-// N normalized, or +z when N is zero or not finite. A vector already of unit length (to 5e-7, a
-// few float roundings: the frames' normals) is returned as it is.
-Vec3 unitOr(const Vec3& v, const Vec3& fallback) {
-  if (std::abs(glm::dot(v, v) - 1.0f) < 1e-6f) return v;
-  if (!isFinite(v)) return fallback;
-  const float len = glm::length(v);
+// N normalized, or `fallback` when N is zero or not finite. A vector already of unit length (to
+// 5e-7, a few float roundings: the frames' normals) is returned as it is. One squared length
+// serves both tests: a component that is not finite, or whose square overflows, makes it (and its
+// root) infinite or NaN.
+inline Vec3 unitOr(const Vec3& v, const Vec3& fallback) {
+  const float squared = glm::dot(v, v);
+  if (std::abs(squared - 1.0f) < 1e-6f) return v;
+  const float len = std::sqrt(squared);
   return len > 1e-30f && std::isfinite(len) ? v / len : fallback;
 }
 

@@ -96,7 +96,9 @@ TEST(BlinnNormal, FiniteAtTheExtremes) {
   }
   // Huge slopes: the limit is the tangential normal, perpendicular to N.
   EXPECT_NEAR(glm::dot(blinnNormal(Pu, Pv, N, 1e30f, 0.0f), N), 0.0f, 1e-6f);
-  // Degenerate frames: P_u x P_v = 0, zero or NaN N.
+  // Degenerate frames: P_u x P_v = 0, zero or NaN N; an N whose squared length overflows falls back
+  // to +z like a non-finite one.
+  EXPECT_EQ(blinnNormal(Pu, Pv, Vec3(3e19f, 0, 0), 0.0f, 0.0f), Vec3(0, 0, 1));
   EXPECT_EQ(blinnNormal(Vec3(0.0f), Pv, N, 1.0f, 2.0f), N);
   EXPECT_EQ(blinnNormal(Pu, 2.0f * Pu, N, 1.0f, 2.0f), N);
   for (const Vec3& bad : {Vec3(0.0f), Vec3(NAN), Vec3(INFINITY, 0, 0)}) {
