@@ -74,18 +74,27 @@ const TradeResult* cheapestAsAccurate(const std::vector<TradeResult>& results, d
   return cheapest;
 }
 
+// "<ratio>x", or "n/a" when the displacement configuration's figure is 0 (a peak that did not rise
+// above the process's baseline: a ratio to it says nothing).
+std::string ratioText(double hybrid, double displacement) {
+  if (!(displacement > 0.0)) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3gx", hybrid / displacement);
+  return buf;
+}
+
 std::string comparison(const TradeResult& h, const TradeResult& d, const char* as, const char* at) {
   char buf[900];
   std::snprintf(
       buf, sizeof buf,
       "cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
       "%.4g, worst band %+.3g%%: speedup %.2fx%s; hybrid / displacement at %s: time %.3gx, peak "
-      "memory %.3gx (%.3gx of what each added above the process's baseline), geometry memory "
+      "memory %.3gx (%s of what each added above the process's baseline), geometry memory "
       "%.3gx, micropolygons %.3gx, spp %.3gx",
       as, d.config.dicingRate, d.config.reliefSamples, d.config.spp, d.seconds, d.errors.rmse,
       d.errors.worstBandPct, ratio(d.seconds, h.seconds),
       d.seconds < h.seconds ? " (the hybrid is slower)" : "", at, ratio(h.seconds, d.seconds),
-      ratio(h.peakRssMib, d.peakRssMib), ratio(h.addedMib, d.addedMib),
+      ratio(h.peakRssMib, d.peakRssMib), ratioText(h.addedMib, d.addedMib).c_str(),
       ratio(h.geometryMib, d.geometryMib),
       ratio(static_cast<double>(h.micropolygons), static_cast<double>(d.micropolygons)),
       ratio(h.config.spp, d.config.spp));
