@@ -59,7 +59,7 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                   const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
-                                  std::span<const Light> lights) {
+                                  std::span<const Light> lights, TransitionsFor use) {
   LevelTransitions out;
   const int n =
       static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
@@ -101,6 +101,10 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     } else {
       flat = true;
       out.frames[i + 1] = f;
+    }
+    if (use == TransitionsFor::Shading && out.weights[i].brdf >= 1.0f) {
+      out.count = i + 1;
+      break;
     }
   }
   return out;

@@ -370,10 +370,13 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
           ? levelTransitions(
                 relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
                 ctx.scene->render.transition, DisplacementMode::ByTransition,
-                ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>())
+                ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
+                TransitionsFor::Shading)
           : LevelTransitions{};
-  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
-                                      relief.metricAt(metricOf(sp.Pu, sp.Pv)), shadows);
+  // One metric class (a surface of one metric, as a plane): class 0, without measuring this one.
+  const MetricPosition metric =
+      relief.metrics.size() > 1 ? relief.metricAt(metricOf(sp.Pu, sp.Pv)) : MetricPosition{};
+  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions, metric, shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);
 }

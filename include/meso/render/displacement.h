@@ -54,10 +54,15 @@ struct LevelTransitions {
 // section 4.2): T_i = max over V and each light's L of (nu_i - D) / (|cos theta| + eps), so relief
 // near a light's terminator is displaced (its shadows then come from real shadow rays) as soon as
 // it spans enough pixels, while far relief (nu < D) keeps the view's own T.
+// Shading: the evaluation stops after the first level whose T selects the BRDF table alone
+// (weights.brdf == 1, so count is that level + 1): the table stands for every finer level, and the
+// shader reads nothing of them. Geometry: every level (the tessellator's offsets need all frames).
+enum class TransitionsFor { Geometry, Shading };
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                   const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
-                                  std::span<const Light> lights = {});
+                                  std::span<const Light> lights = {},
+                                  TransitionsFor use = TransitionsFor::Geometry);
 
 // How the surface at one point is displaced: disp_i per level (0 for levels left flat) and the
 // number of leading levels with disp > 0 (finer levels have shorter wavelengths, hence lower T, so
