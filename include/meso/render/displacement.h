@@ -34,7 +34,7 @@ float levelTransition(const ReliefLevel& level, float lengthPerU, float cosTheta
 // nextFrame(frames[i], disp_i B_i), the surface as raised; V and the distance are taken from the
 // limit point, never from the hit.
 struct LevelTransitions {
-  int count = 0;
+  int count = 0;  // levels evaluated: all, or for the shader up to the first BRDF-alone level
   std::array<float, kMaxReliefLevels> T{};
   std::array<TransitionWeights, kMaxReliefLevels> weights{};
   std::array<float, kMaxReliefLevels> disp{};  // 1 in Full mode
