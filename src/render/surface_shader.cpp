@@ -373,10 +373,8 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                 ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
                 TransitionsFor::Shading)
           : LevelTransitions{};
-  // One metric class (a surface of one metric, as a plane): class 0, without measuring this one.
-  const MetricPosition metric =
-      relief.metrics.size() > 1 ? relief.metricAt(metricOf(sp.Pu, sp.Pv)) : MetricPosition{};
-  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions, metric, shadows);
+  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
+                                      relief.metricAt(sp.Pu, sp.Pv), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);
 }

@@ -79,7 +79,7 @@ const TradeResult* cheapestAsAccurate(const std::vector<TradeResult>& results, d
 std::string ratioText(double hybrid, double displacement) {
   if (!(displacement > 0.0)) return "n/a";
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3gx", hybrid / displacement);
+  std::snprintf(buf, sizeof buf, "%.3gx", ratio(hybrid, displacement));
   return buf;
 }
 

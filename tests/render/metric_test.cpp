@@ -3,6 +3,7 @@
 // on disp per level; heights are centred on their midlevel.
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
+#include "meso/render/relief_levels.h"
 #include "meso/render/surface_shader.h"
 #include "meso/render/tile_map.h"
 #include "meso/core/rng.h"
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
+#include <utility>
 
 namespace meso {
 namespace {
@@ -188,6 +190,46 @@ TEST(Metric, TableLengthIsTheFramesOwnClampedToTheClasses) {
 }
 
 // TileMap: M^-1 (M t) = t, and M^-T n is normal to every M t with t normal to n.
+// Where a point's metric falls between a material's classes (sorted by length, identity shape):
+// known positions, w in log length; the (P_u, P_v) form is the same, and with one class or none it
+// is class 0 whatever the point's metric, as measuring it would give.
+TEST(Metric, PositionBetweenClassesInLogLength) {
+  MaterialRelief relief;
+  for (float l : {1.0f, 2.0f, 4.0f}) relief.metrics.push_back(MetricTables{l, {}, {}});
+  const auto square = [](float l) { return std::pair(Vec3(l, 0, 0), Vec3(0, l, 0)); };
+  const struct {
+    float l;
+    int k0, k1;
+    float w;
+  } cases[] = {{0.5f, 0, 0, 0.0f},
+               {1.0f, 0, 0, 0.0f},
+               {std::sqrt(2.0f), 0, 1, 0.5f},
+               {2.0f, 1, 2, 0.0f},
+               {3.0f, 1, 2, std::log2(1.5f)},
+               {4.0f, 2, 2, 0.0f},
+               {8.0f, 2, 2, 0.0f}};
+  for (const auto& c : cases) {
+    const auto [Pu, Pv] = square(c.l);
+    const MetricPosition p = relief.metricAt(Pu, Pv);
+    EXPECT_EQ(p.k0, c.k0) << c.l;
+    EXPECT_EQ(p.k1, c.k1) << c.l;
+    EXPECT_NEAR(p.w, c.w, 1e-5f) << c.l;
+    const MetricPosition q = relief.metricAt(metricOf(Pu, Pv));
+    EXPECT_EQ(p.k0, q.k0);
+    EXPECT_EQ(p.k1, q.k1);
+    EXPECT_EQ(p.w, q.w);
+  }
+  for (size_t classes : {size_t{1}, size_t{0}}) {
+    relief.metrics.resize(classes);
+    const auto [Pu, Pv] = square(8.0f);
+    const MetricPosition p = relief.metricAt(Pu, Pv);
+    EXPECT_EQ(p.k0, 0);
+    EXPECT_EQ(p.k1, 0);
+    EXPECT_EQ(p.w, 0.0f);
+    EXPECT_EQ(p.k0, relief.metricAt(metricOf(Pu, Pv)).k0);
+  }
+}
+
 TEST(Metric, TileMapInvertsAndMapsNormals) {
   Rng rng(5);
   for (int k = 0; k < 1000; ++k) {

@@ -112,6 +112,11 @@ struct MaterialRelief {
     return metrics[metric].levels[level];
   }
   MetricPosition metricAt(const MetricClass& m) const;
+  // metricAt(metricOf(Pu, Pv)), without measuring the metric when there is one class or none
+  // (class 0, w 0 either way): the shader asks this for every sample.
+  MetricPosition metricAt(const Vec3& Pu, const Vec3& Pv) const {
+    return metrics.size() > 1 ? metricAt(metricOf(Pu, Pv)) : MetricPosition{};
+  }
   // The level below the finest relief level (or the only one): fractal NDF synthesis, when the
   // material declares [materials.ndf].
   std::unique_ptr<SynthesisLevel> synthesis;
