@@ -3,6 +3,7 @@
 #include "meso/geometry/ray_scene.h"
 
 #include "meso/core/error.h"
+#include "meso/core/huge_pages.h"
 
 #include <embree3/rtcore.h>
 
@@ -114,10 +115,16 @@ int RayScene::addMesh(const TessellatedMesh& mesh) {
   // Embree owns these copies (padded as its SIMD loads need), so `mesh` may go away afterwards.
   void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                            sizeof(Vec3), mesh.positions.size());
-  if (vertices) std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+  if (vertices) {
+    adviseHugePages(vertices, mesh.positions.size() * sizeof(Vec3));  // before the first touch
+    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+  }
   void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                           3 * sizeof(uint32_t), numTriangles);
-  if (indices) std::memcpy(indices, mesh.indices.data(), numTriangles * 3 * sizeof(uint32_t));
+  if (indices) {
+    adviseHugePages(indices, numTriangles * 3 * sizeof(uint32_t));
+    std::memcpy(indices, mesh.indices.data(), numTriangles * 3 * sizeof(uint32_t));
+  }
   impl_->attach(geometry, {index, false, {}, {}});
   numTriangles_ += numTriangles;
   return index;
@@ -179,6 +186,8 @@ int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGri
                                                                  RTC_FORMAT_GRID, sizeof(RTCGrid),
                                                                  grids.size() + singles.size()));
   if (vertices && rtcGrids) {
+    adviseHugePages(vertices, (numPositions + 4 * singles.size()) * sizeof(Vec3));
+    adviseHugePages(rtcGrids, (grids.size() + singles.size()) * sizeof(RTCGrid));
     std::memcpy(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
     for (size_t k = 0; k < grids.size(); ++k)
       rtcGrids[k] = {grids[k].firstVertex, grids[k].width, grids[k].width, grids[k].height};

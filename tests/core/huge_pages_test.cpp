@@ -1,0 +1,108 @@
+// adviseHugePages and the executable's operator new (src/core/huge_new.cpp, linked into this test
+// program as into meso): the kernel's own record of the advice, the "hg" flag of a mapping in
+// /proc/self/smaps, says which pages were advised.
+#include "meso/core/huge_pages.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/mman.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace meso {
+namespace {
+
+// Whether the mapping that holds `address` carries the huge page advice (VmFlags "hg").
+bool advised(const void* address) {
+  const auto at = reinterpret_cast<std::uintptr_t>(address);
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    std::uintptr_t begin = 0, end = 0;
+    char dash = 0;
+    std::istringstream head(line);
+    if (head >> std::hex >> begin >> dash >> end && dash == '-') {
+      inside = begin <= at && at < end;
+      continue;
+    }
+    if (inside && line.rfind("VmFlags:", 0) == 0) return line.find(" hg") != std::string::npos;
+  }
+  return false;
+}
+
+bool kernelHasHugePages() {
+  return std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled") &&
+         std::filesystem::exists("/proc/self/smaps");
+}
+
+// An untouched anonymous mapping of `bytes` whose start is 2 MiB-aligned.
+struct Mapping {
+  explicit Mapping(std::size_t bytes) : size(bytes + kHugePageBytes) {
+    raw = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    const auto r = reinterpret_cast<std::uintptr_t>(raw);
+    aligned = reinterpret_cast<char*>((r + kHugePageBytes - 1) & ~(kHugePageBytes - 1));
+  }
+  ~Mapping() {
+    if (raw != MAP_FAILED) munmap(raw, size);
+  }
+  std::size_t size;
+  void* raw;
+  char* aligned;
+};
+
+TEST(HugePages, TheWholeHugePagesInsideABlockAreAdvisedAndNothingAroundThem) {
+  if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
+  const Mapping m(8 * kHugePageBytes);
+  ASSERT_NE(m.raw, MAP_FAILED);
+  // A block from 4 KiB after a huge page boundary to 1 KiB before the fourth boundary after that
+  // one: the two whole huge pages in between are advised, the partial ones at the ends are not.
+  char* block = m.aligned + 4096;
+  adviseHugePages(block, 4 * kHugePageBytes - 4096 - 1024);
+  EXPECT_FALSE(advised(block));
+  EXPECT_FALSE(advised(m.aligned + kHugePageBytes - 1));
+  EXPECT_TRUE(advised(m.aligned + kHugePageBytes));
+  EXPECT_TRUE(advised(m.aligned + 3 * kHugePageBytes - 1));
+  EXPECT_FALSE(advised(m.aligned + 3 * kHugePageBytes));
+  EXPECT_FALSE(advised(m.aligned + 5 * kHugePageBytes));
+}
+
+TEST(HugePages, BlocksWithoutAWholeHugePageAndNullAreLeftAlone) {
+  if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
+  const Mapping m(4 * kHugePageBytes);
+  ASSERT_NE(m.raw, MAP_FAILED);
+  adviseHugePages(m.aligned + 1, kHugePageBytes);  // 2 MiB, but across a boundary
+  adviseHugePages(m.aligned + kHugePageBytes, kHugePageBytes - 1);
+  adviseHugePages(nullptr, 4 * kHugePageBytes);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_FALSE(advised(m.aligned + k * kHugePageBytes)) << k;
+  adviseHugePages(m.aligned, kHugePageBytes);  // exactly one huge page
+  EXPECT_TRUE(advised(m.aligned));
+  EXPECT_FALSE(advised(m.aligned + kHugePageBytes));
+}
+
+TEST(HugePages, OperatorNewAdvisesLargeBlocksOnly) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer keeps its own operator new";
+#endif
+  if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
+  const std::size_t large = kHugeNewMinBytes + 3 * kHugePageBytes;
+  const std::unique_ptr<char[]> big(new char[large]);
+  const auto at = reinterpret_cast<std::uintptr_t>(big.get());
+  const auto firstWhole = (at + kHugePageBytes - 1) & ~(kHugePageBytes - 1);
+  EXPECT_TRUE(advised(reinterpret_cast<const void*>(firstWhole)));
+  big[0] = 1;
+  big[large - 1] = 2;  // the block is usable to its last byte
+  EXPECT_EQ(big[0] + big[large - 1], 3);
+  // A block below the threshold is plain malloc memory: the mapping around it is not advised
+  // (nothing else in this test program advises its heap).
+  const std::unique_ptr<char[]> small(new char[kHugeNewMinBytes / 4]);
+  EXPECT_FALSE(advised(small.get()));
+}
+
+}  // namespace
+}  // namespace meso
