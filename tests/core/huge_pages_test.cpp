@@ -1,18 +1,22 @@
-// adviseHugePages and the executable's operator new (src/core/huge_new.cpp, linked into this test
-// program as into meso): the kernel's own record of the advice, the "hg" flag of a mapping in
-// /proc/self/smaps, says which pages were advised.
+// adviseHugePages and the executable's memory set-up (src/core/huge_new.cpp, linked into this test
+// program as into meso: its operator new and the heap reserved before main): the kernel's own
+// record of the advice, the "hg" flag of a mapping in /proc/self/smaps, says which pages were
+// advised.
 #include "meso/core/huge_pages.h"
 
 #include <gtest/gtest.h>
 
 #include <sys/mman.h>
+#include <sys/resource.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -85,12 +89,13 @@ TEST(HugePages, BlocksWithoutAWholeHugePageAndNullAreLeftAlone) {
   EXPECT_FALSE(advised(m.aligned + kHugePageBytes));
 }
 
-TEST(HugePages, OperatorNewAdvisesLargeBlocksOnly) {
+TEST(HugePages, OperatorNewAdvisesLargeBlocks) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer keeps its own operator new";
 #endif
   if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
-  const std::size_t large = kHugeNewMinBytes + 3 * kHugePageBytes;
+  // Above the mmap threshold: a mapping of its own, which only operator new's advice can mark.
+  const std::size_t large = kHeapMmapBytes + 3 * kHugePageBytes;
   const std::unique_ptr<char[]> big(new char[large]);
   const auto at = reinterpret_cast<std::uintptr_t>(big.get());
   const auto firstWhole = (at + kHugePageBytes - 1) & ~(kHugePageBytes - 1);
@@ -98,10 +103,37 @@ TEST(HugePages, OperatorNewAdvisesLargeBlocksOnly) {
   big[0] = 1;
   big[large - 1] = 2;  // the block is usable to its last byte
   EXPECT_EQ(big[0] + big[large - 1], 3);
-  // A block below the threshold is plain malloc memory: the mapping around it is not advised
-  // (nothing else in this test program advises its heap).
-  const std::unique_ptr<char[]> small(new char[kHugeNewMinBytes / 4]);
-  EXPECT_FALSE(advised(small.get()));
+}
+
+TEST(HugePages, SmallBlocksComeFromTheAdvisedHeapReserve) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer has its own heap";
+#endif
+  if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
+  rlimit limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &limit), 0);
+  if (limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur / 8 < kHeapReserveBytes)
+    GTEST_SKIP() << "ulimit -v leaves no room for the heap reserve";
+  // Blocks under the mmap threshold come from the heap: once the free space left in the heap's
+  // first part (grown before the reserve, not advised) is used, they lie in heap that was advised
+  // before main (src/core/huge_new.cpp). Without the reserve the heap's pages are plain 4 KiB ones.
+  for (const std::size_t bytes : {std::size_t{16} << 10, std::size_t{1} << 20}) {
+    const std::size_t count = (std::size_t{192} << 20) / bytes;  // 192 MiB of them
+    std::vector<void*> blocks(count);
+    std::size_t looked = 0, inAdvised = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      void*& b = blocks[k];
+      b = bytes < (std::size_t{1} << 20) ? static_cast<void*>(new char[bytes]) : std::malloc(bytes);
+      if (k % (bytes < (std::size_t{1} << 20) ? 64 : 1) == 0)  // smaps is slow to read
+        ++looked, inAdvised += advised(b);
+    }
+    EXPECT_GE(inAdvised, looked / 2) << bytes << " bytes: " << inAdvised << " of " << looked;
+    for (void* b : blocks)
+      if (bytes < (std::size_t{1} << 20))
+        delete[] static_cast<char*>(b);
+      else
+        std::free(b);
+  }
 }
 
 }  // namespace

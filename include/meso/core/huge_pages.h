@@ -1,6 +1,7 @@
 // Transparent huge pages for large buffers. A render first-touches hundreds of MiB (tables,
 // micropolygons, Embree's buffers and BVH) and each 4 KiB page costs a page fault; on virtual
-// machines, where faults are expensive, they were a third of a default render's time. Where the
+// machines, where faults are expensive (about 14 us each on the machine meso is developed on),
+// they were a third of a default render's time. Where the
 // kernel's transparent huge pages are in `madvise` mode (Debian's default), a buffer advised before
 // it is first touched is mapped 2 MiB per fault. The advice is a hint: nothing changes where the
 // kernel has no huge pages, and the memory stays the caller's (freed as it was allocated).
@@ -16,8 +17,12 @@ inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 // minus its misalignment); errors are ignored. Call it before the block is first written.
 void adviseHugePages(void* p, std::size_t bytes);
 
-// Blocks of at least this many bytes are advised by meso's operator new (src/core/huge_new.cpp,
-// linked into the meso executable): smaller ones rarely hold a whole aligned huge page.
+// The meso executable's set-up (src/core/huge_new.cpp): its operator new advises blocks of at least
+// kHugeNewMinBytes (smaller ones rarely hold a whole aligned huge page); before main, malloc's heap
+// is grown by kHeapReserveBytes of address space advised as huge pages, which malloc keeps, and
+// blocks of kHeapMmapBytes or more get mappings of their own.
 inline constexpr std::size_t kHugeNewMinBytes = 2 * kHugePageBytes;
+inline constexpr std::size_t kHeapReserveBytes = std::size_t{768} << 20;
+inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
 }  // namespace meso
