@@ -63,8 +63,9 @@ bool reserveHugePageHeap() {
   // Fixed thresholds: blocks under kHeapMmapBytes come from the heap, and freed heap stays there.
   mallopt(M_TRIM_THRESHOLD, static_cast<int>(2 * kHeapReserveBytes));
   mallopt(M_MMAP_THRESHOLD, static_cast<int>(meso::kHeapMmapBytes));
-  // The heap grows by pieces just under the mmap threshold (malloc refuses a larger one), which
-  // are advised untouched and freed together: they merge into the heap's free top.
+  // The heap grows by pieces just under the mmap threshold (mallopt takes none above 32 MiB, and a
+  // larger block would be a mapping of its own), advised untouched and freed together: they merge
+  // into the heap's free top.
   constexpr std::size_t kPiece = meso::kHeapMmapBytes - meso::kHugePageBytes;
   std::array<void*, kHeapReserveBytes / kPiece + 1> pieces{};
   std::size_t count = 0;

@@ -1,10 +1,10 @@
 // Transparent huge pages for large buffers. A render first-touches hundreds of MiB (tables,
 // micropolygons, Embree's buffers and BVH) and each 4 KiB page costs a page fault; on virtual
 // machines, where faults are expensive (about 14 us each on the machine meso is developed on),
-// they were a third of a default render's time. Where the
-// kernel's transparent huge pages are in `madvise` mode (Debian's default), a buffer advised before
-// it is first touched is mapped 2 MiB per fault. The advice is a hint: nothing changes where the
-// kernel has no huge pages, and the memory stays the caller's (freed as it was allocated).
+// they were a third of a default render's time. Where the kernel's transparent huge pages are in
+// `madvise` mode (Debian's default), memory advised before it is first touched is mapped 2 MiB per
+// fault. The advice is a hint: nothing changes where the kernel has no huge pages, and the memory
+// stays the caller's (freed as it was allocated).
 #pragma once
 
 #include <cstddef>
@@ -13,8 +13,8 @@ namespace meso {
 
 inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
-// Advises the whole 2 MiB pages inside [p, p + bytes) (none for a block smaller than two huge pages
-// minus its misalignment); errors are ignored. Call it before the block is first written.
+// Advises the whole 2 MiB pages inside [p, p + bytes) (nothing when no whole one lies inside);
+// errors are ignored. Call it before the block is first written.
 void adviseHugePages(void* p, std::size_t bytes);
 
 // The meso executable's set-up (src/core/huge_new.cpp): its operator new advises blocks of at least
