@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <new>
 
+// kHugeNewBuilt (meso/core/huge_pages.h) says whether this file is compiled in.
 #if defined(__SANITIZE_ADDRESS__)
 #define MESO_HUGE_NEW 0
 #elif defined(__has_feature)
@@ -31,6 +32,7 @@
 #ifndef MESO_HUGE_NEW
 #define MESO_HUGE_NEW 1
 #endif
+static_assert(meso::kHugeNewBuilt == (MESO_HUGE_NEW == 1), "huge_pages.h and this file agree");
 
 #if MESO_HUGE_NEW
 

@@ -90,9 +90,7 @@ TEST(HugePages, BlocksWithoutAWholeHugePageAndNullAreLeftAlone) {
 }
 
 TEST(HugePages, OperatorNewAdvisesLargeBlocks) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "AddressSanitizer keeps its own operator new";
-#endif
+  if (!kHugeNewBuilt) GTEST_SKIP() << "AddressSanitizer keeps its own operator new";
   if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
   // Above the mmap threshold: a mapping of its own, which only operator new's advice can mark.
   const std::size_t large = kHeapMmapBytes + 3 * kHugePageBytes;
@@ -106,9 +104,7 @@ TEST(HugePages, OperatorNewAdvisesLargeBlocks) {
 }
 
 TEST(HugePages, SmallBlocksComeFromTheAdvisedHeapReserve) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "AddressSanitizer has its own heap";
-#endif
+  if (!kHugeNewBuilt) GTEST_SKIP() << "AddressSanitizer has its own heap";
   if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages here";
   rlimit limit{};
   ASSERT_EQ(getrlimit(RLIMIT_AS, &limit), 0);

@@ -22,6 +22,19 @@ void adviseHugePages(void* p, std::size_t bytes);
 // is grown by kHeapReserveBytes of address space advised as huge pages, which malloc keeps, and
 // blocks of kHeapMmapBytes or more get mappings of their own.
 inline constexpr std::size_t kHugeNewMinBytes = 2 * kHugePageBytes;
+// The set-up is left out under AddressSanitizer, which keeps its own operator new and heap (GCC
+// says so with __SANITIZE_ADDRESS__, clang with __has_feature).
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kHugeNewBuilt = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kHugeNewBuilt = false;
+#else
+inline constexpr bool kHugeNewBuilt = true;
+#endif
+#else
+inline constexpr bool kHugeNewBuilt = true;
+#endif
 inline constexpr std::size_t kHeapReserveBytes = std::size_t{768} << 20;
 inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
