@@ -21,19 +21,6 @@
 #include <cstdlib>
 #include <new>
 
-// kHugeNewBuilt (meso/core/huge_pages.h) says whether this file is compiled in.
-#if defined(__SANITIZE_ADDRESS__)
-#define MESO_HUGE_NEW 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define MESO_HUGE_NEW 0
-#endif
-#endif
-#ifndef MESO_HUGE_NEW
-#define MESO_HUGE_NEW 1
-#endif
-static_assert(meso::kHugeNewBuilt == (MESO_HUGE_NEW == 1), "huge_pages.h and this file agree");
-
 #if MESO_HUGE_NEW
 
 void* operator new(std::size_t n) {

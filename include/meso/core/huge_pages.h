@@ -23,18 +23,19 @@ void adviseHugePages(void* p, std::size_t bytes);
 // blocks of kHeapMmapBytes or more get mappings of their own.
 inline constexpr std::size_t kHugeNewMinBytes = 2 * kHugePageBytes;
 // The set-up is left out under AddressSanitizer, which keeps its own operator new and heap (GCC
-// says so with __SANITIZE_ADDRESS__, clang with __has_feature).
+// says so with __SANITIZE_ADDRESS__, clang with __has_feature). MESO_HUGE_NEW is the switch
+// huge_new.cpp is compiled by; kHugeNewBuilt says the same to C++ (the tests).
 #if defined(__SANITIZE_ADDRESS__)
-inline constexpr bool kHugeNewBuilt = false;
+#define MESO_HUGE_NEW 0
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-inline constexpr bool kHugeNewBuilt = false;
-#else
-inline constexpr bool kHugeNewBuilt = true;
+#define MESO_HUGE_NEW 0
 #endif
-#else
-inline constexpr bool kHugeNewBuilt = true;
 #endif
+#ifndef MESO_HUGE_NEW
+#define MESO_HUGE_NEW 1
+#endif
+inline constexpr bool kHugeNewBuilt = MESO_HUGE_NEW == 1;
 inline constexpr std::size_t kHeapReserveBytes = std::size_t{768} << 20;
 inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
