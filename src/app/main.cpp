@@ -347,6 +347,7 @@ void addMemoryLimit(CLI::App& app) {
 
 int main(int argc, char** argv) {
   CLI::App cli{"meso: bumpy surfaces at every distance (Becker & Max 1993)"};
+  cli.set_version_flag("--version", "meso " MESO_VERSION, "Print meso's version and exit");
   cli.require_subcommand(1);
   meso::app::RenderCommandOptions renderOptions;
   addRenderCommand(cli, renderOptions);

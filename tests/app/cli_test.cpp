@@ -45,6 +45,14 @@ class CliTest : public meso::testing::TempDirTest {
   }
 };
 
+// --version needs no subcommand: status 0 and the project's version (CMakeLists.txt).
+TEST_F(CliTest, VersionPrintsTheProjectVersion) {
+  const RunResult r = run("--version");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("meso " MESO_PROJECT_VERSION), std::string::npos) << r.output;
+  EXPECT_EQ(run("").status, 2);  // still a subcommand without it
+}
+
 TEST_F(CliTest, ValidSceneWritesExrPngAndStats) {
   const RunResult r = render(scene(""), "--stats " + (dir_ / "out/stats.json").string());
   ASSERT_EQ(r.status, 0) << r.output;
