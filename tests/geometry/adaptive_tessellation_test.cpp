@@ -66,6 +66,7 @@ void expectWatertight(const ControlMesh& control, const ScreenMetric& screen, in
   for (int f = 0; f < surface.numFaces(); ++f) faces.needsDicing.push_back(f % 2 == 0);
   DicingSettings settings;
   settings.metric = metric;
+  settings.coarseTolerance = 0.5f;  // coarse faces far coarser than the diced ones beside them
   const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, faces, &wave);
   std::printf("  %s, %d faces: %zu micropolygons, edge rates %d..%d\n", choiceName(metric),
               surface.numFaces(), t.stats.micropolygons, t.stats.minEdgeRate, t.stats.maxEdgeRate);
@@ -235,6 +236,61 @@ TEST(AdaptiveTessellation, DistantCameraGivesTheCoarseTessellationOnly) {
   EXPECT_EQ(micropolygons(surface, 5000.0f, {}), micropolygons(surface, 5000.0f, none));
 }
 
+// Camera rays on an n x n grid in every pixel of `camera` that hit the mesh.
+size_t coveredSubpixels(const TessellatedMesh& mesh, const Camera& camera, int width, int height,
+                        int n) {
+  RayScene scene;
+  scene.addMesh(mesh);
+  scene.commit();
+  size_t hits = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          RayHit hit;
+          hits += scene.intersect(
+              camera.generateRay(x + (i + 0.5f) / static_cast<float>(n),
+                                 y + (j + 0.5f) / static_cast<float>(n)),
+              hit);
+        }
+  return hits;
+}
+
+// Where nothing is diced (a far object that the hybrid draws with its tables), the coarse rate
+// follows the limit surface: chords cut inside a convex silhouette and shrink what the object
+// covers, which darkens its mean intensity. At a 0.5 px tolerance this cube covered 3.4% less than
+// a fine uniform tessellation; the default tolerance keeps it under 0.1%.
+TEST(AdaptiveTessellation, CoarseSilhouettesCoverWhatTheLimitSurfaceCovers) {
+  const LimitSurface surface(test::cube(), SubdivisionScheme::CatmullClark);
+  CameraSettings view;
+  view.position = Vec3(1.2f, 1.6f, 3.2f);
+  view.width = 160;
+  view.height = 90;
+  const Camera camera(view);
+  FaceDicing none;
+  none.needsDicing.assign(static_cast<size_t>(surface.numFaces()), 0);
+  const size_t limit =
+      coveredSubpixels(tessellateUniform(surface, 32), camera, view.width, view.height, 4);
+  const auto coverage = [&](float tolerance) {
+    DicingSettings settings;
+    if (tolerance > 0.0f) settings.coarseTolerance = tolerance;
+    const AdaptiveTessellation t = tessellateAdaptive(surface, camera.screen(), settings, none,
+                                                      nullptr);
+    const double c = static_cast<double>(coveredSubpixels(t.mesh, camera, view.width, view.height,
+                                                          4)) /
+                     static_cast<double>(limit);
+    std::printf("  tolerance %.3g px: %zu triangles, coverage %.5f of the limit surface's\n",
+                tolerance > 0.0f ? tolerance : settings.coarseTolerance, t.stats.micropolygons, c);
+    return c;
+  };
+  std::printf("  limit surface (uniform rate 32): %.0f pixels\n", limit / 16.0);
+  ASSERT_GT(limit, 16u * 1500u);  // the object is tens of pixels across
+  const double loose = coverage(0.5f), byDefault = coverage(0.0f);
+  EXPECT_LT(loose, 0.995);  // the test can see the shrinkage
+  EXPECT_GT(byDefault, 0.999);
+  EXPECT_LE(byDefault, 1.0002);
+}
+
 TEST(AdaptiveTessellation, CapCoarsensWithAWarning) {
   const LimitSurface surface(test::refinedCube(2), SubdivisionScheme::CatmullClark);
   const ScreenMetric screen =
@@ -302,6 +358,7 @@ TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
       ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 2.5f), Vec3(0.0f), Vec3(0, 1, 0), 60.0f, 640, 360);
   DicingSettings settings;
   settings.maxEdgeRate = 64;
+  settings.coarseTolerance = 0.5f;  // a coarse rate below the cap, so that the cap shows
   const AdaptiveTessellation free = tessellateAdaptive(surface, screen, settings, {}, nullptr);
   EXPECT_EQ(free.stats.maxEdgeRate, 64);
   FaceDicing capped;
@@ -319,15 +376,18 @@ TEST(AdaptiveTessellation, TexelFloorRaisesDicedEdgesUpToTheCap) {
   // Far away, so pixel dicing asks for rate 1 or 2 only.
   const ScreenMetric screen =
       ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 60.0f), Vec3(0.0f), Vec3(0, 1, 0), 30.0f, 160, 90);
-  const AdaptiveTessellation free = tessellateAdaptive(surface, screen, {}, {}, nullptr);
+  DicingSettings settings;
+  settings.coarseTolerance = 0.5f;  // and so does following the limit surface
+  const AdaptiveTessellation free = tessellateAdaptive(surface, screen, settings, {}, nullptr);
   EXPECT_LE(free.stats.maxEdgeRate, 4);
   FaceDicing floored;
   floored.texelFloor.assign(surface.numFaces(), 12);
-  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, {}, floored, nullptr);
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, floored, nullptr);
   EXPECT_EQ(t.stats.minEdgeRate, 12);
   EXPECT_EQ(t.stats.maxEdgeRate, 12);
   floored.texelCap.assign(surface.numFaces(), 7);
-  const AdaptiveTessellation capped = tessellateAdaptive(surface, screen, {}, floored, nullptr);
+  const AdaptiveTessellation capped =
+      tessellateAdaptive(surface, screen, settings, floored, nullptr);
   EXPECT_EQ(capped.stats.maxEdgeRate, 7);
   // Looking away: every face is culled and the floor does not apply.
   const ScreenMetric away = ScreenMetric::lookAt(Vec3(0.0f, 0.0f, 60.0f), Vec3(0.0f, 0.0f, 90.0f),
