@@ -248,10 +248,9 @@ size_t coveredSubpixels(const TessellatedMesh& mesh, const Camera& camera, int w
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
           RayHit hit;
-          hits += scene.intersect(
-              camera.generateRay(x + (i + 0.5f) / static_cast<float>(n),
-                                 y + (j + 0.5f) / static_cast<float>(n)),
-              hit);
+          hits += scene.intersect(camera.generateRay(x + (i + 0.5f) / static_cast<float>(n),
+                                                     y + (j + 0.5f) / static_cast<float>(n)),
+                                  hit);
         }
   return hits;
 }
@@ -274,11 +273,11 @@ TEST(AdaptiveTessellation, CoarseSilhouettesCoverWhatTheLimitSurfaceCovers) {
   const auto coverage = [&](float tolerance) {
     DicingSettings settings;
     if (tolerance > 0.0f) settings.coarseTolerance = tolerance;
-    const AdaptiveTessellation t = tessellateAdaptive(surface, camera.screen(), settings, none,
-                                                      nullptr);
-    const double c = static_cast<double>(coveredSubpixels(t.mesh, camera, view.width, view.height,
-                                                          4)) /
-                     static_cast<double>(limit);
+    const AdaptiveTessellation t =
+        tessellateAdaptive(surface, camera.screen(), settings, none, nullptr);
+    const double c =
+        static_cast<double>(coveredSubpixels(t.mesh, camera, view.width, view.height, 4)) /
+        static_cast<double>(limit);
     std::printf("  tolerance %.3g px: %zu triangles, coverage %.5f of the limit surface's\n",
                 tolerance > 0.0f ? tolerance : settings.coarseTolerance, t.stats.micropolygons, c);
     return c;
