@@ -37,9 +37,38 @@ float samplesPerU(const ReliefLevel& level, float reliefSamples) {
   return std::max(8.0f, 2.0f * reliefSamples) * level.freqPerU;
 }
 
+namespace {
+
+// The limit surface's shape operator at the centre of base face f (see ReliefDisplacement::
+// shape_), from one-sided differences over a hundredth of the face; zero where the surface is
+// degenerate there (no usable tangents or normals), which leaves the plane's visible height.
+Mat3 shapeOperator(const LimitSurface& surface, int face) {
+  if (!surface.hasLimitSurface(face)) return Mat3(0.0f);
+  const int corners = surface.faceSize(face);
+  Vec2 centre(0.0f);
+  for (int k = 0; k < corners; ++k) centre += surface.cornerSt(face, k);
+  centre /= static_cast<float>(corners);
+  constexpr float kStep = 0.01f;
+  const SurfacePoint c = surface.evaluate(face, centre);
+  const SurfacePoint s = surface.evaluate(face, centre + Vec2(kStep, 0.0f));
+  const SurfacePoint t = surface.evaluate(face, centre + Vec2(0.0f, kStep));
+  // W [P_s P_t N] = [N_s N_t 0].
+  const Mat3 dP((s.P - c.P) / kStep, (t.P - c.P) / kStep, c.N);
+  const Mat3 dN((s.N - c.N) / kStep, (t.N - c.N) / kStep, Vec3(0.0f));
+  const float det = glm::determinant(dP);
+  if (!(std::abs(det) > 1e-12f) || !std::isfinite(det)) return Mat3(0.0f);
+  const Mat3 W = dN * glm::inverse(dP);
+  for (int k = 0; k < 3; ++k)
+    if (!isFinite(W[k])) return Mat3(0.0f);
+  return W;
+}
+
+}  // namespace
+
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                                        const TransitionSettings& transition, Vec3 eye,
-                                       float pixelsPerRadian, std::span<const Light> lights)
+                                       float pixelsPerRadian, std::span<const Light> lights,
+                                       const LimitSurface* surface)
     : relief_(relief),
       mode_(mode),
       transition_(transition),
@@ -48,6 +77,11 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       bound_(displacementBound(relief)),
       lights_(lights.begin(), lights.end()) {
   if (mode != DisplacementMode::ByTransition) return;
+  if (surface) {
+    shape_.resize(static_cast<size_t>(surface->numFaces()));
+    tbb::parallel_for(0, surface->numFaces(),
+                      [&](int f) { shape_[static_cast<size_t>(f)] = shapeOperator(*surface, f); });
+  }
   if (relief.visibleHeights.size() == relief.levels.size()) {
     visible_ = relief.visibleHeights;
     return;
@@ -120,13 +154,16 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
 }
 
 // The convex curvature (1 / world units) along the view's tangent direction of the levels raised
-// below `level`: a silhouette on a crest of radius R is grazed over a path about sqrt(2 R h)
-// long, not over the unbounded plane Smith's model assumes. `sum` carries the levels already
+// below `level` and of the limit surface itself (base face `face`, when the surface was given): a
+// silhouette on a crest of radius R is grazed over a path about sqrt(2 R h) long, not over the
+// unbounded plane Smith's model assumes. `sum` carries the levels already
 // summed at this point to the next flat level (the same sum in the same order, so the same bits).
 float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
-                                         const SurfacePoint& sp, Vec3 V, CrestSum& sum) const {
+                                         const SurfacePoint& sp, Vec3 V, int face,
+                                         CrestSum& sum) const {
   const int below = std::min(level, t.raised);
-  if (below == 0) return 0.0f;
+  const bool macro = face >= 0 && static_cast<size_t>(face) < shape_.size();
+  if (below == 0 && !macro) return 0.0f;
   if (!sum.started) {
     sum.started = true;
     const Vec3 N = t.frames[0].N;
@@ -135,14 +172,19 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
     if (!(length > 1e-6f)) return 0.0f;
     // The uv direction of one world unit along `across`: solve [P_u P_v] w = across / length.
     const Vec3 dir = across / length;
+    // The limit surface's own second derivative along dir: minus its normal curvature there.
+    if (macro) {
+      const float kappa = glm::dot(dir, shape_[static_cast<size_t>(face)] * dir);
+      if (std::isfinite(kappa)) sum.second = -kappa;
+    }
     const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
     const float det = a * c - b * b;
-    if (!(std::abs(det) > 0.0f)) return 0.0f;
+    if (!(std::abs(det) > 0.0f)) return std::max(-sum.second, 0.0f);
     const float ru = glm::dot(sp.Pu, dir), rv = glm::dot(sp.Pv, dir);
     sum.w = Vec2((c * ru - b * rv) / det, (a * rv - b * ru) / det);
     sum.usable = true;
   }
-  if (!sum.usable) return 0.0f;
+  if (!sum.usable) return std::max(-sum.second, 0.0f);
   const Vec2 w = sum.w;
   // d2h/ds2 of the raised levels, s world length along `across`.
   for (; sum.done < below; ++sum.done) {
@@ -155,7 +197,8 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
 }
 
 // (1 - disp_i) E_i[h_hit] N_i over the levels drawn flat (visible_height.h).
-Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp) const {
+Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp,
+                                          int face) const {
   const Vec3 toEye = eye_ - sp.P;
   const float distance = glm::length(toEye);
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
@@ -166,19 +209,19 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
     if (!(t.disp[i] < 1.0f)) continue;
     const float cosTheta = glm::dot(t.frames[i].N, V);
     if (!visible_[i].grazing(cosTheta, lengthPerU)) continue;
-    const float curvature = crestCurvature(t, i, sp, V, crest);
+    const float curvature = crestCurvature(t, i, sp, V, face, crest);
     offset +=
         ((1.0f - t.disp[i]) * visible_[i].at(cosTheta, lengthPerU, curvature)) * t.frames[i].N;
   }
   return offset;
 }
 
-Vec3 ReliefDisplacement::offset(int, Vec2, const SurfacePoint& sp) const {
+Vec3 ReliefDisplacement::offset(int face, Vec2, const SurfacePoint& sp) const {
   const LevelTransitions t =
       levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * t.H[i]) * t.frames[i].N;
-  if (!visible_.empty()) offset += flatLevelsOffset(t, sp);
+  if (!visible_.empty()) offset += flatLevelsOffset(t, sp, face);
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset
                                                                                        : Vec3(0.0f);

@@ -140,7 +140,8 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
   const MaterialRelief& relief = ctx.reliefs[object.material];
   const ReliefDisplacement displacement(
       relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
-      ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>());
+      ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
+      &object.surface);
   d.dicing.maxMicropolygons = std::max<size_t>(d.budget, 1);
   AdaptiveTessellation t =
       tessellateAdaptive(object.surface, d.screen, d.dicing,

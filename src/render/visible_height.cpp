@@ -14,9 +14,9 @@ namespace meso {
 
 void buildVisibleHeights(MaterialRelief& relief) {
   relief.visibleHeights.clear();
-  // Only levels above the first ride on crests of coarser ones (crestCurvature).
-  for (size_t i = 0; i < relief.levels.size(); ++i)
-    relief.visibleHeights.emplace_back(relief.levels[i], i > 0);
+  // Every level rides on crests: the first on the limit surface's own, the others also on the
+  // raised coarser levels' (ReliefDisplacement::crestCurvature).
+  for (const ReliefLevel& level : relief.levels) relief.visibleHeights.emplace_back(level);
 }
 
 float VisibleHeight::smithLambda(float a) {

@@ -48,6 +48,25 @@ inline ControlMesh grid(int n) {
   return mesh;
 }
 
+// A torus around the z axis: n quads around the ring (radius R), m around the tube (radius r),
+// counter-clockwise seen from outside; face j * n + i spans ring step i and tube step j, and tube
+// step 0 starts at the outer equator.
+inline ControlMesh torus(int n, int m, float R, float r) {
+  ControlMesh mesh;
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < n; ++i) {
+      const float theta = 6.2831853f * static_cast<float>(i) / static_cast<float>(n);
+      const float phi = 6.2831853f * static_cast<float>(j) / static_cast<float>(m);
+      mesh.positions.emplace_back((R + r * std::cos(phi)) * std::cos(theta),
+                                  (R + r * std::cos(phi)) * std::sin(theta), r * std::sin(phi));
+    }
+  const auto at = [&](int i, int j) { return ((j + m) % m) * n + (i + n) % n; };
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < n; ++i)
+      addFace(mesh, {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+  return mesh;
+}
+
 // A closed pentagonal prism around the origin whose sides are quads except one split into two
 // triangles: quads, triangles and pentagons in one closed surface.
 inline ControlMesh mixedPrism() {

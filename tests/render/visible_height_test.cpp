@@ -4,6 +4,7 @@
 
 #include "meso/render/displacement.h"
 
+#include "geometry/test_meshes.h"
 #include "meso/core/rng.h"
 #include "meso/render/relief_levels.h"
 #include "support/plane_scene.h"
@@ -214,6 +215,58 @@ TEST(VisibleHeight, FlatLevelsOnDisplacedCrestsUseTheCrestsCurvature) {
     EXPECT_LT(crest, 0.8f * stones.at(cosTheta, 1.0f)) << u;
   }
   EXPECT_EQ(crests, 3);
+}
+
+// A level drawn flat at a smooth object's silhouette: the rays that graze it cross the relief over
+// a path the object's own curvature bounds, so the level lies at the crest table's height for the
+// limit surface's curvature along the view (here estimated independently, from second differences
+// of limit points), below the plane's. On a plane the surface changes nothing.
+TEST(VisibleHeight, FlatLevelsAtASmoothSilhouetteUseTheSurfacesCurvature) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.02f, 2.0f, 3)));
+  const VisibleHeight visible(relief.levels[0]);
+  const TransitionSettings ts;
+  const LimitSurface torus(test::torus(24, 12, 1.0f, 0.3f), SubdivisionScheme::CatmullClark);
+  const int face = 0;  // ring step 0, tube step 0: just above the outer equator
+  const Vec2 c(0.5f, 0.5f);
+  const SurfacePoint sp = torus.evaluate(face, c);
+  // Which of s and t runs around the tube: the one whose tangent has the larger z.
+  const float h = 0.05f;
+  Vec2 step(h, 0.0f);
+  if (std::abs(torus.evaluate(face, c + Vec2(0.0f, h)).P.z - sp.P.z) >
+      std::abs(torus.evaluate(face, c + step).P.z - sp.P.z))
+    step = Vec2(0.0f, h);
+  const Vec3 plus = torus.evaluate(face, c + step).P, minus = torus.evaluate(face, c - step).P;
+  const Vec3 tangent = (plus - minus) / (2.0f * h), second = (plus - 2.0f * sp.P + minus) / (h * h);
+  const float kappa = -glm::dot(sp.N, second) / glm::dot(tangent, tangent);
+  EXPECT_GT(kappa, 2.0f);  // about 1 / 0.3, the tube's (the limit surface's tube is thinner)
+  EXPECT_LT(kappa, 6.0f);
+  const Vec3 d = glm::normalize(tangent - glm::dot(tangent, sp.N) * sp.N);
+  const Vec3 eye = sp.P + 100.0f * glm::normalize(d + 0.02f * sp.N);  // far: the level is flat
+  const ReliefDisplacement curved(relief, DisplacementMode::ByTransition, ts, eye, 300.0f, {},
+                                  &torus);
+  const ReliefDisplacement plane(relief, DisplacementMode::ByTransition, ts, eye, 300.0f);
+  ASSERT_EQ(curved.levels(sp).disp[0], 0.0f);
+  const float cosTheta = glm::dot(sp.N, glm::normalize(eye - sp.P));
+  const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+  const float onCrest = glm::dot(curved.offset(face, c, sp), sp.N);
+  const float onPlane = glm::dot(plane.offset(face, c, sp), sp.N);
+  std::printf("  curvature %.3f: flat level at %.5f (plane %.5f), crest table %.5f\n", kappa,
+              onCrest, onPlane, visible.at(cosTheta, lengthPerU, kappa));
+  EXPECT_NEAR(onPlane, visible.at(cosTheta, lengthPerU), 1e-6f);
+  EXPECT_NEAR(onCrest, visible.at(cosTheta, lengthPerU, kappa), 0.03f * onCrest);
+  EXPECT_LT(onCrest, 0.9f * onPlane);
+  EXPECT_GT(onCrest, 0.0f);
+  // A plane has no curvature: the same offsets with and without its surface.
+  const LimitSurface flat(test::grid(4), SubdivisionScheme::CatmullClark);
+  const SurfacePoint p = flat.evaluate(5, c);
+  const Vec3 far = p.P + 100.0f * glm::normalize(Vec3(1.0f, 0.3f, 0.02f));
+  const ReliefDisplacement withSurface(relief, DisplacementMode::ByTransition, ts, far, 300.0f, {},
+                                       &flat);
+  const ReliefDisplacement without(relief, DisplacementMode::ByTransition, ts, far, 300.0f);
+  EXPECT_GT(glm::dot(without.offset(5, c, p), p.N), 0.0f);
+  EXPECT_NEAR(glm::dot(withSurface.offset(5, c, p), p.N), glm::dot(without.offset(5, c, p), p.N),
+              1e-7f);
 }
 
 }  // namespace

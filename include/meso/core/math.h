@@ -11,6 +11,7 @@ namespace meso {
 using Vec2 = glm::vec2;
 using Vec3 = glm::vec3;
 using Vec4 = glm::vec4;
+using Mat3 = glm::mat3;
 using Mat4 = glm::mat4;
 
 inline constexpr float kPi = std::numbers::pi_v<float>;

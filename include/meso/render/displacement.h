@@ -80,9 +80,11 @@ struct LevelDisplacement {
 class ReliefDisplacement : public VertexDisplacement {
  public:
   // lights: those whose terminators count in T (levelTransitions); empty without shadows.
+  // surface (may be null): the limit surface that offset() is called on, whose own curvature
+  // then bounds the visible height of flat levels at its silhouettes (see crestCurvature).
   ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian,
-                     std::span<const Light> lights = {});
+                     std::span<const Light> lights = {}, const LimitSurface* surface = nullptr);
   // Not copied: visible_ may point into ownVisible_.
   ReliefDisplacement(const ReliefDisplacement&) = delete;
   ReliefDisplacement& operator=(const ReliefDisplacement&) = delete;
@@ -102,12 +104,16 @@ class ReliefDisplacement : public VertexDisplacement {
   float bound_ = 0.0f;
   std::vector<Light> lights_;
   // Per level in ByTransition mode: the relief's own (MaterialRelief::visibleHeights) or built
-  // here. The crest curvature is that of the raised coarser levels only: the limit surface's own
-  // is not known here, so a smooth object's silhouette takes the plane's (larger) value.
+  // here. The crest curvature is that of the raised coarser levels plus, given the surface, the
+  // limit surface's own; without it a smooth object's silhouette takes the plane's (larger) value.
   std::vector<VisibleHeight> ownVisible_;
   std::span<const VisibleHeight> visible_;
+  // Per base face (ByTransition mode with a surface): the limit surface's shape operator at the
+  // face's centre, world to world (dN = W dP on the tangent plane, W N = 0), so that the normal
+  // curvature along a tangent direction d is d . W d (positive where the surface is convex).
+  std::vector<Mat3> shape_;
 
-  Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp) const;
+  Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp, int face) const;
   // The sum of the raised levels' second derivatives at one point, kept between the flat levels
   // of that point: level i needs levels 0 .. min(i, raised) - 1, level i + 1 those and more.
   struct CrestSum {
@@ -117,7 +123,7 @@ class ReliefDisplacement : public VertexDisplacement {
     int done = 0;  // levels summed
   };
   float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp, Vec3 V,
-                       CrestSum& sum) const;
+                       int face, CrestSum& sum) const;
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).

@@ -25,8 +25,7 @@ class VisibleHeight {
  public:
   VisibleHeight() = default;
   // From 1024 fixed samples of the level's heights and slopes (world units per unit of u).
-  // crests false: no crest table (the plane's value at every curvature), for a material's first
-  // level, which has no coarser level to ride on (buildVisibleHeights).
+  // crests false: no crest table (the plane's value at every curvature).
   explicit VisibleHeight(const ReliefLevel& level, bool crests = true);
 
   // E[h_hit] in world units where cosTheta is the cosine between the view and the level's frame
