@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 namespace meso {
 
@@ -15,21 +16,28 @@ bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::
 
 // The metrics (length per unit of u and shape) of a surface, sampled at every face's corners, edge
 // midpoints and centre: the metric classes its tables need.
-void sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
+// Appends the metric of the surface at every face's corners, edge midpoints and centre; returns
+// whether the normals there differ (a curved surface, whose crests bound the visible height of
+// flat levels: buildVisibleHeights).
+bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
+  bool curved = false;
+  std::optional<Vec3> first;
+  const auto sample = [&](const SurfacePoint& sp) {
+    out.push_back(metricOf(sp.Pu, sp.Pv));
+    if (!first) first = sp.N;
+    curved = curved || !(glm::dot(*first, sp.N) > 1.0f - 1e-6f);
+  };
   for (int face = 0; face < surface.numFaces(); ++face) {
     const int n = surface.faceSize(face);
     Vec2 centre(0.0f);
     for (int k = 0; k < n; ++k) {
       const Vec2 a = surface.cornerSt(face, k), b = surface.cornerSt(face, (k + 1) % n);
       centre += a / static_cast<float>(n);
-      for (const Vec2 st : {a, 0.5f * (a + b)}) {
-        const SurfacePoint sp = surface.evaluate(face, st);
-        out.push_back(metricOf(sp.Pu, sp.Pv));
-      }
+      for (const Vec2 st : {a, 0.5f * (a + b)}) sample(surface.evaluate(face, st));
     }
-    const SurfacePoint sp = surface.evaluate(face, centre);
-    out.push_back(metricOf(sp.Pu, sp.Pv));
+    sample(surface.evaluate(face, centre));
   }
+  return curved;
 }
 
 }  // namespace
@@ -82,14 +90,17 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
-    bool used = false;
+    bool used = false, curved = false;
     for (const PreparedObject& o : ctx.objects)
-      if (o.material == static_cast<int>(m)) sampleMetrics(o.surface, samples), used = true;
+      if (o.material == static_cast<int>(m)) {
+        curved = sampleMetrics(o.surface, samples) || curved;
+        used = true;
+      }
     if (!used || !hasRelief(scene.materials[m])) continue;
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
                                          metricClassesFor(samples, scene.render.tables.metricStep));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
-    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m]);
+    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], curved);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
   }

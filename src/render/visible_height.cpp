@@ -12,11 +12,12 @@
 
 namespace meso {
 
-void buildVisibleHeights(MaterialRelief& relief) {
+void buildVisibleHeights(MaterialRelief& relief, bool curvedSurface) {
   relief.visibleHeights.clear();
-  // Every level rides on crests: the first on the limit surface's own, the others also on the
-  // raised coarser levels' (ReliefDisplacement::crestCurvature).
-  for (const ReliefLevel& level : relief.levels) relief.visibleHeights.emplace_back(level);
+  // Levels ride on crests: the first on the limit surface's own (none on a plane), the others
+  // also on the raised coarser levels' (ReliefDisplacement::crestCurvature).
+  for (size_t i = 0; i < relief.levels.size(); ++i)
+    relief.visibleHeights.emplace_back(relief.levels[i], i > 0 || curvedSurface);
 }
 
 float VisibleHeight::smithLambda(float a) {

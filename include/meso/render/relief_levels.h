@@ -128,8 +128,10 @@ struct MaterialRelief {
   double tablesSeconds = 0.0;
 };
 
-// Fills relief.visibleHeights, one per level.
-void buildVisibleHeights(MaterialRelief& relief);
+// Fills relief.visibleHeights, one per level. Levels after the first ride on the crests of raised
+// coarser ones and get crest tables; the first does when its surfaces are curved (it rides on the
+// limit surface's own crests), and skips the march on planes.
+void buildVisibleHeights(MaterialRelief& relief, bool curvedSurface);
 
 // The library's table settings for a scene's [render.tables].
 TableSettings tableSettings(const TableResolution& resolution);
