@@ -257,6 +257,13 @@ TEST(VisibleHeight, FlatLevelsAtASmoothSilhouetteUseTheSurfacesCurvature) {
   EXPECT_NEAR(onCrest, visible.at(cosTheta, lengthPerU, kappa), 0.03f * onCrest);
   EXPECT_LT(onCrest, 0.9f * onPlane);
   EXPECT_GT(onCrest, 0.0f);
+  // A material on curved surfaces gets the first level's crest table, on planes it skips it.
+  buildVisibleHeights(relief, true);
+  EXPECT_EQ(relief.visibleHeights[0].at(cosTheta, lengthPerU, kappa),
+            visible.at(cosTheta, lengthPerU, kappa));
+  buildVisibleHeights(relief, false);
+  EXPECT_EQ(relief.visibleHeights[0].at(cosTheta, lengthPerU, kappa),
+            visible.at(cosTheta, lengthPerU));
   // A plane has no curvature: the same offsets with and without its surface.
   const LimitSurface flat(test::grid(4), SubdivisionScheme::CatmullClark);
   const SurfacePoint p = flat.evaluate(5, c);
