@@ -3,6 +3,7 @@
 #include "meso/scene/scene_parser.h"
 
 #include "meso/core/input_file.h"
+#include "meso/scene/camera_path.h"
 
 #include "table_reader.h"
 
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 
@@ -46,6 +48,16 @@ void readCamera(TableReader& r, CameraSettings& c) {
   c.spp = static_cast<int>(r.integer("spp", c.spp, 1, 65536));
   const Vec3 view = c.lookAt - c.position;
   const toml::node* anchor = r.get("look_at") ? r.get("look_at") : r.get("position");
+  if (!std::isfinite(glm::length(view))) {
+    const char* what =
+        "expected a view direction look_at - position that single precision holds "
+        "(coordinates below about 1e18)";
+    // The key whose point is the farther out (the one that overflowed).
+    const bool eye = !(glm::length(c.position) <= glm::length(c.lookAt));
+    const char* key = eye ? "position" : "look_at";
+    if (const toml::node* n = r.get(key)) r.fail(*n, key, what);
+    throw Error(FileLoc{r.file()}, std::string("camera.") + key, what);
+  }
   if (glm::length(view) < 1e-12f) {
     if (anchor) r.fail(*anchor, "look_at", "expected a point different from camera.position");
     throw Error(FileLoc{r.file()}, "camera.look_at",
@@ -286,6 +298,19 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   r.finish();
 }
 
+// What makes a camera unusable (empty when it is fine): its eye on its look_at point, a view
+// direction that single precision cannot hold, or an up direction along the view.
+std::string cameraProblem(const CameraSettings& c) {
+  const Vec3 view = c.lookAt - c.position;
+  const float length = glm::length(view);
+  if (!isFinite(c.position) || !isFinite(c.lookAt) || !std::isfinite(length))
+    return "the view direction look_at - position is not finite in single precision";
+  if (!(length > 1e-12f)) return "the camera is at its look_at point";
+  const float side = glm::length(glm::cross(view / length, c.up));
+  if (!(side >= 1e-6f)) return "the up direction is parallel to the view direction (or zero)";
+  return {};
+}
+
 void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
   const toml::node* frames = r.get("frames");
   const toml::node* fps = r.get("fps");
@@ -318,6 +343,25 @@ void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
   } else {
     p.frames = static_cast<int>(r.integer("frames", 48, 1, 1000000));
     r.get("duration");
+  }
+  // Keyframes that are fine each can still interpolate to a frame that is not (a path through its
+  // look_at point, or over it with the up along the view): refuse it here, not mid-render.
+  const CameraPath path(p.keys);
+  for (int i = 0; i < p.frames; ++i) {
+    const CameraSettings c = path.frame(i, p.frames, camera);
+    if (const std::string problem = cameraProblem(c); !problem.empty()) {
+      const float f =
+          p.frames > 1 ? static_cast<float>(i) / static_cast<float>(p.frames - 1) : 0.0f;
+      char at[32];
+      std::snprintf(at, sizeof at, "%.6g",
+                    path.startTime() + f * (path.endTime() - path.startTime()));
+      const toml::node* keys = r.get("keys");
+      throw Error(FileLoc{r.file(), keys ? static_cast<int>(keys->source().begin.line) : 0,
+                          keys ? static_cast<int>(keys->source().begin.column) : 0},
+                  "path.keys",
+                  "frame " + std::to_string(i) + " (time " + at + ") is not a usable camera: " +
+                      problem + "; move or add keyframes so the path avoids it");
+    }
   }
   r.finish();
 }

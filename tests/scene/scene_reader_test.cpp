@@ -347,6 +347,36 @@ TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
   EXPECT_NE(errorOf(std::string("[[lights]]\ndirection = [0, 0, 0]\n") + kObject)
                 .find(at(2, 13, "lights.direction")),
             std::string::npos);
+  // A view direction that overflows single precision names the point that overflowed.
+  EXPECT_NE(
+      errorOf(std::string("[camera]\nposition = [0, 1e30, 1e30]\nlook_at = [0, 0, 0]\n") + kObject)
+          .find(at(2, 12, "camera.position") + "expected a view direction"),
+      std::string::npos);
+}
+
+// Keyframes that are each fine can interpolate to a frame that is not: through the look_at point,
+// or over it with the up along the view. The scene is refused at the keys, not mid-render (an
+// Embree assertion once aborted such a render).
+TEST_F(SceneReaderTest, PathFramesThatAreNoCameraAreRejected) {
+  const std::string through =
+      "[path]\nframes = 3\n[[path.keys]]\ntime = 0\nposition = [0, 0.5, 5]\n"
+      "look_at = [0, 0.5, 0]\n[[path.keys]]\ntime = 1\nposition = [0, 0.5, -5]\n"
+      "look_at = [0, 0.5, 0]\n";
+  EXPECT_NE(errorOf(through + kObject)
+                .find(at(3, 1, "path.keys") + "frame 1 (time 0.5) is not a usable camera: the "
+                                              "camera is at its look_at point"),
+            std::string::npos);
+  const std::string over =
+      "[path]\nframes = 5\n[[path.keys]]\ntime = 0\nposition = [0, 3, 5]\n"
+      "[[path.keys]]\ntime = 1\nposition = [0, 3, -5]\n";
+  EXPECT_NE(errorOf(over + kObject).find("frame 2 (time 0.5) is not a usable camera: the up"),
+            std::string::npos);
+  // Four frames step over the middle: fine.
+  const std::string four =
+      "[path]\nframes = 4\n[[path.keys]]\ntime = 0\nposition = [0, 0.5, 5]\n"
+      "look_at = [0, 0.5, 0]\n[[path.keys]]\ntime = 1\nposition = [0, 0.5, -5]\n"
+      "look_at = [0, 0.5, 0]\n";
+  EXPECT_EQ(parse(four + kObject).path.frames, 4);
 }
 
 TEST_F(SceneReaderTest, MalformedTomlNamesLineAndColumn) {
