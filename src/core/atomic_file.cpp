@@ -72,6 +72,37 @@ void requireNearestIsFolder(const std::filesystem::path& start, const std::strin
 
 }  // namespace
 
+namespace {
+
+// The nearest existing one of `folder` and its ancestors must let this process create entries in
+// it (the temporary and its rename, or the folders below it): a read-only, immutable or special
+// folder fails here, before any work, not when the output is written. Probed by creating and
+// removing an empty temporary there (permissions alone do not tell: root passes access(2) on
+// /proc and on read-only mounts' folders).
+void requireWritableFolder(const std::filesystem::path& folder, const std::string& prefix) {
+  struct stat st;
+  for (std::filesystem::path p = folder.empty() ? "." : folder;; p = p.parent_path()) {
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode)) return;  // requireNearestIsFolder's error
+      const std::filesystem::path probe = temporarySibling(p / "meso-write-probe");
+      const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+      if (fd < 0) {
+        const int err = errno;
+        forget(probe);
+        throw Error(prefix + "cannot write into the folder " + p.string() + ": " +
+                    std::strerror(err));
+      }
+      ::close(fd);
+      ::unlink(probe.c_str());
+      forget(probe);
+      return;
+    }
+    if (p.empty() || p == p.parent_path()) return;
+  }
+}
+
+}  // namespace
+
 void checkOutputFile(const std::filesystem::path& target, const std::string& what) {
   const std::string prefix = target.string() + ": " + (what.empty() ? "" : what + ": ");
   struct stat st;
@@ -79,12 +110,14 @@ void checkOutputFile(const std::filesystem::path& target, const std::string& wha
     if (!S_ISREG(st.st_mode))
       throw Error(prefix + "expected a regular file to write (or no file), found " +
                   fileTypeName(st.st_mode));
+    requireWritableFolder(target.parent_path(), prefix);
     return;
   }
   if (errno != ENOENT && errno != ENOTDIR)
     throw Error(prefix + "cannot inspect: " + std::strerror(errno));
-  // Missing: its nearest existing ancestor must be a folder.
+  // Missing: its nearest existing ancestor must be a folder, and writable.
   requireNearestIsFolder(target.parent_path(), prefix, "expected a folder to write into");
+  requireWritableFolder(target.parent_path(), prefix);
 }
 
 void createOutputFolder(const std::filesystem::path& folder, const std::string& what) {

@@ -147,12 +147,13 @@ TEST_F(HostileTest, SpecialOutputsAreRefusedWithStatusTwo) {
       {render(dir_ / "folder.exr"),
        "folder.exr: -o: expected a regular file to write (or no file), found a folder"},
       {render(dir_ / "file.txt/a.exr"), "a.exr: -o: expected a folder to write into, " +
-                                            (dir_ / "file.txt").string() +
-                                            " is not a regular file"},
+                                            (dir_ / "file.txt").string() + " is a file"},
       {render(dir_ / "out/a.exr", "--stats " + quoted(dir_ / "file.txt/s.json")),
        "s.json: --stats: expected a folder to write into"},
       {"tables " + quoted(dir_ / "scene.toml") + " -o /proc/x",
        "/proc/x: -o: cannot create the folder"},
+      // A folder that takes no new files (even for root) is refused before rendering.
+      {render("/proc/a.exr"), "/proc/a.exr: -o: cannot write into the folder /proc"},
       {"tables " + quoted(dir_ / "scene.toml") + " -o " + quoted(dir_ / "file.txt"),
        "file.txt: -o: expected a folder"},
   };

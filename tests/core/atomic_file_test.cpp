@@ -127,9 +127,9 @@ TEST_F(OutputFileTest, SpecialFilesAreRefused) {
             std::string::npos);
   EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "folder", "x"); }).find("found a folder"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { writeFileAtomically(dir_ / "file/x", "x"); })
-                .find("expected a folder to write into, " + (dir_ / "file").string() +
-                      " is not a regular file"),
+  EXPECT_NE(errorOf([&] {
+              writeFileAtomically(dir_ / "file/x", "x");
+            }).find("expected a folder to write into, " + (dir_ / "file").string() + " is a file"),
             std::string::npos);
   EXPECT_NE(
       errorOf([&] { createOutputFolder(dir_ / "file/sub", "-o"); }).find("-o: expected a folder"),

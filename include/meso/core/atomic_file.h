@@ -16,8 +16,9 @@ namespace meso {
 std::filesystem::path temporarySibling(const std::filesystem::path& target);
 
 // Throws meso::Error("TARGET: what: expected ...") unless `target` can be written as a regular
-// file: it does not exist or is a regular file (not a symlink, FIFO, device or folder), and every
-// existing ancestor is a folder. `what` names the option ("-o", "--stats").
+// file: it does not exist or is a regular file (not a symlink, FIFO, device or folder), every
+// existing ancestor is a folder, and the nearest existing one lets this process write into it.
+// `what` names the option ("-o", "--stats").
 void checkOutputFile(const std::filesystem::path& target, const std::string& what);
 
 // Creates `folder` and its parents; throws meso::Error naming the path (not a filesystem_error)
