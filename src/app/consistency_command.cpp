@@ -73,8 +73,11 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
 void runConsistency(const ConsistencyCommandOptions& o) {
   if (!o.scene.empty()) return runSceneConsistency(o);
   for (float t : o.thetaV)
-    if (!(t >= 0.0f && t <= 90.0f))
-      throw Error("--theta-v: expected angles in [0, 90] degrees, got " + std::to_string(t));
+    if (!(t >= 0.0f && t < 90.0f))
+      throw Error(
+          "--theta-v: expected angles in [0, 90) degrees (at 90 the view runs along the "
+          "patch, which shows no area), got " +
+          std::to_string(t));
   const ReliefLevelDecl decl = reliefFrom(o);
   const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
   TableSettings settings;

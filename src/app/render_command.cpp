@@ -20,6 +20,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <cctype>
 #include <cstdio>
 #include <optional>
 
@@ -60,6 +61,13 @@ std::filesystem::path frameOutput(const std::filesystem::path& output, int frame
 }
 
 std::filesystem::path pngBeside(std::filesystem::path exr) { return exr.replace_extension(".png"); }
+
+// .exr in any case (.EXR from a camera's or a tool's naming).
+bool hasExrExtension(const std::filesystem::path& p) {
+  std::string e = p.extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".exr";
+}
 
 std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scene) {
   const bool animated = !scene.path.keys.empty();
@@ -106,7 +114,7 @@ class RenderRun {
     for (const std::string& w : memoryWarnings)
       std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
     output_ = o_.output.empty() ? defaultOutput(o_.scene) : o_.output;
-    if (output_.extension() != ".exr")
+    if (!hasExrExtension(output_))
       throw Error(output_.string() +
                   ": output must be an .exr file (the PNG preview is written beside it)");
     checkOutputFile(output_, "-o");

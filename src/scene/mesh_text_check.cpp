@@ -112,7 +112,9 @@ long long objIndex(const LineReader& r, const Token& t, std::string_view text, l
   if (index < 1 || index > total)
     r.fail(t.column, key,
            std::string(what) + " index " + std::to_string(raw) + " out of range: the file has " +
-               std::to_string(raw > 0 ? total : defined) + " " + what + "s" +
+               std::to_string(raw > 0 ? total : defined) + " " +
+               (std::string_view(what) == "vertex" ? std::string("vertices")
+                                                   : what + std::string("s")) +
                (raw > 0 ? "" : " before this face"));
   return index;
 }

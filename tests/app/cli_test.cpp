@@ -219,4 +219,14 @@ TEST_F(CliTest, MissingSceneFileAndBadOptions) {
   EXPECT_TRUE(outputFolderEmpty());
 }
 
+// The extension is matched in any case; the PNG preview goes beside it.
+TEST_F(CliTest, UpperCaseExrExtensionIsAccepted) {
+  write("scene.toml", scene(""));
+  const RunResult r =
+      run("render " + (dir_ / "scene.toml").string() + " -q -o " + (dir_ / "out/X.EXR").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "out/X.EXR"));
+  EXPECT_TRUE(fs::exists(dir_ / "out/X.png"));
+}
+
 }  // namespace

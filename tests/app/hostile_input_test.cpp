@@ -238,6 +238,7 @@ TEST_F(HostileTest, OptionValuesAreStrict) {
        "--shard: expected i/n with 0 <= i < n, got \"1/2x\""},
       {"consistency --normalize nan", "--normalize: expected a finite number, got \"nan\""},
       {"consistency --theta-v 10,nan", "--theta-v: expected a finite number, got \"nan\""},
+      {"consistency --theta-v 30,90", "--theta-v: expected angles in [0, 90) degrees"},
       {"consistency --component shiny", "--component: shiny not in {diffuse,specular,both}"},
       {"consistency --format html", "--format: html not in {csv,markdown}"},
       {render(dir_ / "out/a.exr", "--dicing-metric screen"),
