@@ -8,6 +8,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/memory_budget.h"
+#include "meso/core/progress.h"
 #include "meso/scene/choices.h"
 
 #include <CLI/CLI.hpp>
@@ -129,7 +130,10 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
   render->add_option("--video", o.video,
                      "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
   render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
-  render->callback([&o] { meso::app::runRender(o); });
+  render->callback([&o] {
+    meso::setProgressAllowed(!o.quiet);
+    meso::app::runRender(o);
+  });
 }
 
 void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& o) {
@@ -317,7 +321,10 @@ void addTradeCommand(CLI::App& cli) {
               "Only the reference and the default hybrid, for --temporal");
   t->add_option("--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
   t->add_flag("-q,--quiet", o.settings.quiet, "No progress on stderr");
-  t->callback([] { meso::app::runTrade(o); });
+  t->callback([] {
+    meso::setProgressAllowed(!o.settings.quiet);
+    meso::app::runTrade(o);
+  });
 }
 
 // CLI11 reads "nan" and "inf" into floats, and Range() lets NaN through (every comparison with it

@@ -17,11 +17,20 @@ std::string formatSeconds(double s) {
 
 }  // namespace
 
-ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled)
+namespace {
+std::atomic<bool> gProgressAllowed{true};
+}  // namespace
+
+void setProgressAllowed(bool allowed) { gProgressAllowed.store(allowed); }
+
+ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled,
+                         std::chrono::milliseconds delay)
     : label_(std::move(label)),
       total_(std::max<int64_t>(total, 1)),
-      active_(enabled && ::isatty(STDERR_FILENO)),
-      start_(std::chrono::steady_clock::now()) {
+      active_(enabled && gProgressAllowed.load() && ::isatty(STDERR_FILENO)),
+      start_(std::chrono::steady_clock::now()),
+      delay_(delay) {
+  shown_ = delay_.count() <= 0;  // undelayed bars always draw their final state
   if (active_) thread_ = std::thread([this] { loop(); });
 }
 
@@ -35,13 +44,15 @@ void ProgressBar::finish() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
-  if (active_) draw(true);
+  if (active_ && shown_) draw(true);
 }
 
 void ProgressBar::loop() {
   std::unique_lock lock(mutex_);
+  if (delay_.count() > 0) wake_.wait_for(lock, delay_, [this] { return finished_; });
   while (!finished_) {
     draw(false);
+    shown_ = true;
     wake_.wait_for(lock, std::chrono::milliseconds(250));
   }
 }

@@ -2,10 +2,12 @@
 
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
+#include "meso/core/progress.h"
 #include "meso/core/rng.h"
 #include "meso/relief/height_table.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -194,7 +196,8 @@ namespace {
 MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
                                const MetricClass& metric, const TableCache& cache,
                                std::vector<std::string>* warnings, const TableSettings& shapeless,
-                               const SpecularLobe* lobe, int* built, int* loaded, double* seconds) {
+                               const SpecularLobe* lobe, int* built, int* loaded, double* seconds,
+                               ProgressBar& progress) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -219,6 +222,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     const LevelTables& t = reversed.back();
     (t.fromCache ? *loaded : *built) += 1;
     *seconds += t.seconds;
+    progress.advance();
   }
   MetricTables m;
   m.lengthPerU = lengthPerU;
@@ -265,10 +269,16 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                   [&](const MetricClass& x, const MetricClass& y) { return key(x) == key(y); }),
       classes.end());
   if (n == 0) return r;
+  // Building a table set takes about half a second (minutes at high resolutions or for steep
+  // relief), reading one from the cache milliseconds: the bar shows only for the former.
+  ProgressBar progress("tables " + material.name,
+                       static_cast<int64_t>(settings.build ? classes.size() * n : 0), true,
+                       std::chrono::milliseconds(1000));
   for (const MetricClass& m : classes)
     r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings,
                                           r.synthesis ? &lobe : nullptr, &r.tablesBuilt,
-                                          &r.tablesFromCache, &r.tablesSeconds));
+                                          &r.tablesFromCache, &r.tablesSeconds, progress));
+  progress.finish();
   return r;
 }
 

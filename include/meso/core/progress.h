@@ -12,10 +12,17 @@
 
 namespace meso {
 
+// Whether progress bars may draw at all in this process (default true): the CLI turns them off
+// for --quiet, for bars drawn deep in the library (table building).
+void setProgressAllowed(bool allowed);
+
 class ProgressBar {
  public:
-  // enabled = false forces silence (e.g. --quiet); otherwise it draws only if stderr is a TTY.
-  ProgressBar(std::string label, int64_t total, bool enabled = true);
+  // enabled = false forces silence (e.g. --quiet); otherwise it draws only if stderr is a TTY and
+  // progress is allowed. With a delay the bar appears only for work that lasts longer than it
+  // (nothing is drawn for a quick run, e.g. tables read from the cache).
+  ProgressBar(std::string label, int64_t total, bool enabled = true,
+              std::chrono::milliseconds delay = std::chrono::milliseconds(0));
   ~ProgressBar();
   ProgressBar(const ProgressBar&) = delete;
   ProgressBar& operator=(const ProgressBar&) = delete;
@@ -34,7 +41,9 @@ class ProgressBar {
   std::atomic<int64_t> done_{0};
   bool active_;
   bool finished_ = false;
+  bool shown_ = false;  // drawn at least once (guarded by mutex_)
   std::chrono::steady_clock::time_point start_;
+  std::chrono::milliseconds delay_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::thread thread_;
