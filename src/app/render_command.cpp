@@ -121,6 +121,10 @@ class RenderRun {
     checkOutputFile(pngBeside(output_), "-o (its PNG preview)");
     if (!o_.statsFile.empty()) checkOutputFile(o_.statsFile, "--stats");
     if (!o_.video.empty()) {
+      if (scene_.path.keys.empty())
+        throw Error(o_.video.string() +
+                    ": --video: expected a scene with a [path] (a fly-through); this one is a "
+                    "still");
       checkOutputFile(o_.video, "--video");
       ffmpeg_ = ffmpegOrThrow(o_.video);
     }

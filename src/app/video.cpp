@@ -39,8 +39,10 @@ void assembleVideo(const std::string& ffmpeg, const std::filesystem::path& video
       (output.parent_path() / (escapePercent(output.stem().string()) + "_%04d.png")).string();
   const int status =
       runProgram({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps),
-                  "-start_number", std::to_string(firstFrame), "-i", pattern, "-c:v", "libx264",
-                  "-pix_fmt", "yuv420p", tmp.string()});
+                  "-start_number", std::to_string(firstFrame), "-i", pattern,
+                  // yuv420p needs an even width and height: odd ones get a black last column/row.
+                  "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p",
+                  tmp.string()});
   std::error_code ec;
   if (status != 0) {
     std::filesystem::remove(tmp, ec);

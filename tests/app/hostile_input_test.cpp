@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +112,24 @@ TEST_F(HostileTest, VideoNameIsNeverShellCode) {
     EXPECT_TRUE(fs::exists(video)) << r.output;
   }
   EXPECT_NE(r.status, 130) << r.output;
+}
+
+// A still has no frames to assemble: refused before rendering (ffmpeg used to fail after it). Odd
+// frame sizes are padded for the encoder (libx264 refused them after every frame was rendered).
+TEST_F(HostileTest, VideoOfAStillIsRefusedAndOddSizesAreEncoded) {
+  RunResult r = run(render(dir_ / "out/f.exr", "--video " + quoted(dir_ / "v.mp4")));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("v.mp4: --video: expected a scene with a [path]"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(filesUnder(dir_ / "out"), 0);
+  std::string odd = path3();
+  odd.replace(odd.find("[32, 18]"), 8, "[33, 19]");
+  write("scene.toml", odd);
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "ffmpeg is not installed: the odd-size video is not tried";
+  r = run(render(dir_ / "out/f.exr", "--video " + quoted(dir_ / "v.mp4")));
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir_ / "v.mp4"), 0u);
 }
 
 // Without ffmpeg the run stops before rendering anything (it used to render every frame first).
