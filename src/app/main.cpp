@@ -126,7 +126,9 @@ void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
                      "Frames A:B (inclusive) of the scene's [path]; default all");
   render->add_option("--shard", o.shard,
                      "i/n: render only the frames f with f % n == i (for farms)");
-  render->add_flag("--overwrite", o.overwrite, "Re-render frames whose EXR and PNG already exist");
+  render->add_flag("--overwrite", o.overwrite,
+                   "Re-render frames of a [path] whose EXR and PNG already exist (a still is "
+                   "always written)");
   render->add_option("--video", o.video,
                      "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
   render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
