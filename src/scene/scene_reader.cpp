@@ -176,7 +176,8 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   Material m;
   const std::optional<std::string> name = r.string("name");
   if (!name || name->empty())
-    throw Error(FileLoc{r.file()}, r.prefix() + "name", "every material needs a non-empty name");
+    throw Error(name ? r.loc(*r.get("name")) : r.tableLoc(), r.prefix() + "name",
+                "every material needs a non-empty name");
   m.name = *name;
   m.loc = r.loc(*r.get("name"));
   m.ka = r.colour("ka", m.ka);
@@ -235,7 +236,7 @@ Object readObject(TableReader& r, const std::vector<Material>& materials,
   Object o;
   const toml::node* mesh = r.get("mesh");
   if (!mesh)
-    throw Error(FileLoc{r.file()}, r.prefix() + "mesh",
+    throw Error(r.tableLoc(), r.prefix() + "mesh",
                 "every object needs a mesh file (OBJ, PLY or OFF)");
   o.loc = r.loc(*mesh);
   o.mesh = readablePath(r, "mesh", base);

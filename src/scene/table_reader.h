@@ -33,6 +33,8 @@ class TableReader {
     return {file_, static_cast<int>(n.source().begin.line),
             static_cast<int>(n.source().begin.column)};
   }
+  // Where the table itself starts (its [header] line): for errors about a key it lacks.
+  FileLoc tableLoc() const { return loc(table_); }
   std::string dotted(const std::string& key) const { return prefix_ + key; }
   const std::string& file() const { return file_; }
   const std::string& prefix() const { return prefix_; }

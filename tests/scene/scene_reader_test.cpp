@@ -347,6 +347,13 @@ TEST_F(SceneReaderTest, MissingFilesAndBadCameraAreRejected) {
   EXPECT_NE(errorOf(std::string("[[lights]]\ndirection = [0, 0, 0]\n") + kObject)
                 .find(at(2, 13, "lights.direction")),
             std::string::npos);
+  // A missing required key is located at its table's header.
+  EXPECT_NE(errorOf("[render]\nseed = 1\n[[objects]]\nscheme = \"loop\"\n")
+                .find(at(3, 1, "objects.mesh") + "every object needs a mesh file"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[[materials]]\nkd = 0.5\n") + kObject)
+                .find(at(1, 1, "materials.name") + "every material needs a non-empty name"),
+            std::string::npos);
   // A view direction that overflows single precision names the point that overflowed.
   EXPECT_NE(
       errorOf(std::string("[camera]\nposition = [0, 1e30, 1e30]\nlook_at = [0, 0, 0]\n") + kObject)
