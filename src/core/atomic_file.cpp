@@ -70,10 +70,6 @@ void requireNearestIsFolder(const std::filesystem::path& start, const std::strin
   }
 }
 
-}  // namespace
-
-namespace {
-
 // The nearest existing one of `folder` and its ancestors must let this process create entries in
 // it (the temporary and its rename, or the folders below it): a read-only, immutable or special
 // folder fails here, before any work, not when the output is written. Probed by creating and

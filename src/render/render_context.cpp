@@ -15,10 +15,9 @@ namespace {
 bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::Displacement; }
 
 // The metrics (length per unit of u and shape) of a surface, sampled at every face's corners, edge
-// midpoints and centre: the metric classes its tables need.
-// Appends the metric of the surface at every face's corners, edge midpoints and centre; returns
-// whether the normals there differ (a curved surface, whose crests bound the visible height of
-// flat levels: buildVisibleHeights).
+// midpoints and centre: the metric classes its tables need. Returns whether the normals there
+// differ (a curved surface, whose crests bound the visible height of flat levels:
+// buildVisibleHeights).
 bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
   bool curved = false;
   std::optional<Vec3> first;
