@@ -2,6 +2,8 @@
 
 #include "meso/core/error.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -59,6 +61,16 @@ std::string finiteNumberProblem(const std::string& text) {
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
     return "expected a finite number, got \"" + text + "\"";
+  return "";
+}
+
+std::string unsignedNumberProblem(const std::string& text) {
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  if (text.empty() || !std::all_of(text.begin(), text.end(), digit))
+    return "expected a whole number of 0 or more, got \"" + text + "\"";
+  errno = 0;
+  std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE) return "expected a whole number below 2^64, got \"" + text + "\"";
   return "";
 }
 

@@ -21,4 +21,8 @@ std::pair<int, int> parseShard(const std::string& text);
 // validators of floating-point options: CLI11 accepts "nan", "inf" and Range() lets NaN through).
 std::string finiteNumberProblem(const std::string& text);
 
+// Empty when `text` is a whole number from 0 to 2^64 - 1 (an unsigned option: "-1" and
+// 99999999999999999999999 would otherwise wrap or saturate silently); else the message.
+std::string unsignedNumberProblem(const std::string& text);
+
 }  // namespace meso::app

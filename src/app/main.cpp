@@ -330,13 +330,20 @@ void addTradeCommand(CLI::App& cli) {
 }
 
 // CLI11 reads "nan" and "inf" into floats, and Range() lets NaN through (every comparison with it
-// is false): every floating-point option of every command must be a finite number.
+// is false): every floating-point option of every command must be a finite number. And it wraps
+// "-1" into an unsigned option: every unsigned one must be a whole number of 0 or more.
 void requireFiniteNumbers(CLI::App& app) {
   const CLI::Validator finite(
       [](std::string& text) { return meso::app::finiteNumberProblem(text); }, "FINITE",
       "finite number");
-  for (CLI::Option* option : app.get_options())
-    if (option->get_type_name().find("FLOAT") != std::string::npos) option->check(finite);
+  const CLI::Validator whole(
+      [](std::string& text) { return meso::app::unsignedNumberProblem(text); }, "UNSIGNED",
+      "whole number of 0 or more");
+  for (CLI::Option* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    if (type.find("FLOAT") != std::string::npos) option->check(finite);
+    if (type.find("UINT") != std::string::npos) option->check(whole);
+  }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
     requireFiniteNumbers(*sub);
 }

@@ -258,6 +258,12 @@ TEST_F(HostileTest, OptionValuesAreStrict) {
       {"consistency --normalize nan", "--normalize: expected a finite number, got \"nan\""},
       {"consistency --theta-v 10,nan", "--theta-v: expected a finite number, got \"nan\""},
       {"consistency --theta-v 30,90", "--theta-v: expected angles in [0, 90) degrees"},
+      // Unsigned options used to wrap "-1" to 2^64 - 1 and saturate larger numbers silently.
+      {render(dir_ / "out/a.exr", "--seed -1"),
+       "--seed: expected a whole number of 0 or more, got \"-1\""},
+      {render(dir_ / "out/a.exr", "--seed 99999999999999999999999"),
+       "--seed: expected a whole number below 2^64"},
+      {"consistency --seed -5", "--seed: expected a whole number of 0 or more, got \"-5\""},
       {"consistency --component shiny", "--component: shiny not in {diffuse,specular,both}"},
       {"consistency --format html", "--format: html not in {csv,markdown}"},
       {render(dir_ / "out/a.exr", "--dicing-metric screen"),
