@@ -149,8 +149,13 @@ MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
 }
 
 std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves) {
+  // One bin per quantized shape; its class takes the mean shape of the samples in it (log a, b),
+  // so that a surface of a single shape (a stretched or sheared plane) gets tables of exactly its
+  // own: at the quantized shape a 10:1 stretch was 6% off, and its BRDF image 1.4% darker.
   struct Range {
-    MetricShape shape;
+    MetricShape bin;
+    double logA = 0.0, b = 0.0;
+    int count = 0;
     float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
   };
   std::vector<Range> ranges;
@@ -159,21 +164,29 @@ std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, 
     if (!(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU) || !std::isfinite(m.shape.a) ||
         !std::isfinite(m.shape.b) || !(m.shape.a > 0.0f))
       continue;
-    // Quantized shape; an isotropic, orthogonal uv stays exactly the identity.
+    // The bin is the quantized shape; samples within 1e-3 of the identity count as exactly it, so
+    // an isotropic, orthogonal uv keeps exactly the identity.
     MetricShape q;
     q.a = std::exp2(step * std::round(std::log2(m.shape.a) / step));
     q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
-    if (std::abs(std::log2(m.shape.a)) < 1e-3f) q.a = 1.0f;
-    if (std::abs(m.shape.b) < 1e-3f) q.b = 0.0f;
+    const bool unitA = std::abs(std::log2(m.shape.a)) < 1e-3f, unitB = std::abs(m.shape.b) < 1e-3f;
     auto it =
-        std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.shape == q; });
+        std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.bin == q; });
     if (it == ranges.end()) it = ranges.insert(ranges.end(), Range{q});
+    it->logA += unitA ? 0.0 : std::log2(static_cast<double>(m.shape.a));
+    it->b += unitB ? 0.0 : static_cast<double>(m.shape.b);
+    ++it->count;
     it->lo = std::min(it->lo, m.lengthPerU);
     it->hi = std::max(it->hi, m.lengthPerU);
   }
   std::vector<MetricClass> out;
-  for (const Range& r : ranges)
-    for (float l : metricClasses(r.lo, r.hi, stepOctaves)) out.push_back({l, r.shape});
+  for (const Range& r : ranges) {
+    const double logA = r.logA / r.count, b = r.b / r.count;
+    MetricShape shape;
+    shape.a = std::abs(logA) < 1e-3 ? 1.0f : static_cast<float>(std::exp2(logA));
+    shape.b = std::abs(b) < 1e-3 ? 0.0f : static_cast<float>(b);
+    for (float l : metricClasses(r.lo, r.hi, stepOctaves)) out.push_back({l, shape});
+  }
   return out;
 }
 

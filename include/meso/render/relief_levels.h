@@ -143,8 +143,10 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                                    const TableSettings& settings = {},
                                    std::vector<MetricClass> classes = {});
 
-// The classes for the metrics sampled on a material's surfaces: shapes quantized to stepOctaves in
-// a and stepOctaves / 2 in b, and for each shape metricClasses over its range of lengths.
+// The classes for the metrics sampled on a material's surfaces: samples binned by their shape
+// quantized to stepOctaves in a and stepOctaves / 2 in b; each bin's class has the bin's mean shape
+// (geometric in a; exactly the identity when that is within 1e-3 of it) and metricClasses over the
+// bin's range of lengths.
 std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves);
 
 // The metric classes that cover lengths per unit of u in [lo, hi]: one class at sqrt(lo hi) when
