@@ -26,13 +26,18 @@ Image toImage(const HeightTable& t) {
 void runBands(const BandsCommandOptions& o) {
   if (o.levels < 1 || o.levels > 16)
     throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
+  HeightTableOptions options;
+  options.periodic = !o.clamp;
+  const HeightTable table = loadHeightTable(o.height, options);
+  try {
+    checkBandLevels(table, o.levels);
+  } catch (const Error& e) {
+    throw Error(o.height.string() + ": --levels: " + e.what());
+  }
   createOutputFolder(o.outDir, "-o");
   for (int k = 1; k <= o.levels; ++k)
     checkOutputFile(o.outDir / (o.height.stem().string() + "_band" + std::to_string(k) + ".exr"),
                     "-o");
-  HeightTableOptions options;
-  options.periodic = !o.clamp;
-  const HeightTable table = loadHeightTable(o.height, options);
   const std::vector<HeightBand> bands = splitBands(table, o.levels);
   std::printf("band,file,freq_cycles_per_tile,low_cut,high_cut,min,max\n");
   std::vector<double> sum(table.texels().size(), 0.0);
@@ -52,10 +57,10 @@ void runBands(const BandsCommandOptions& o) {
     range = std::max(range, static_cast<double>(std::abs(table.texels()[t])));
   }
   std::fprintf(stderr,
-               "meso: %zu bands of %s (%dx%d); their sum reproduces it within %.3g (largest "
+               "meso: %zu %s of %s (%dx%d); their sum reproduces it within %.3g (largest "
                "|height| %.3g)\n",
-               bands.size(), o.height.string().c_str(), table.width(), table.heightTexels(), worst,
-               range);
+               bands.size(), bands.size() == 1 ? "band" : "bands", o.height.string().c_str(),
+               table.width(), table.heightTexels(), worst, range);
   std::fprintf(stderr,
                "meso: in a scene, one level per band (coarsest first), amplitude in world units "
                "per unit of height:\n");

@@ -5,7 +5,9 @@
 #include "meso/core/error.h"
 #include "meso/relief/fourier.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -72,9 +74,30 @@ HeightBand makeBand(const std::vector<double>& values, const HeightTable& t, flo
 
 }  // namespace
 
-std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels) {
+int maxBandLevels(const HeightTable& table) {
+  const int side = std::min(table.width(), table.heightTexels());
+  return std::max(1, static_cast<int>(std::floor(std::log2(0.5 * side) + 1e-9)));
+}
+
+void checkBandLevels(const HeightTable& table, int numLevels) {
   if (numLevels < 1 || numLevels > 16)
     throw Error("band split: need 1 to 16 levels, got " + std::to_string(numLevels));
+  const int most = maxBandLevels(table);
+  if (numLevels > most) {
+    char nyquist[32];
+    std::snprintf(nyquist, sizeof nyquist, "%g",
+                  0.5 * std::min(table.width(), table.heightTexels()));
+    throw Error("band split: a " + std::to_string(table.width()) + " x " +
+                std::to_string(table.heightTexels()) + " map splits into at most " +
+                std::to_string(most) + (most == 1 ? " band" : " bands") +
+                " of an octave or more (its frequencies reach half its shorter side, " + nyquist +
+                " cycles per tile), not " + std::to_string(numLevels) +
+                ": use a larger map or fewer levels");
+  }
+}
+
+std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels) {
+  checkBandLevels(table, numLevels);
   const double nyquist = 0.5 * std::min(table.width(), table.heightTexels());
   size_t ew, eh;
   std::vector<Complex> spectrum = extended(table, ew, eh);

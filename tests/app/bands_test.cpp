@@ -79,5 +79,27 @@ TEST_F(BandsCommand, BadInputIsAClearError) {
   EXPECT_EQ(run((dir_ / "m.exr").string() + " -n 17", &out), 2);
 }
 
+// A map too small for the bands asked: refused before any output, naming the file and the most it
+// splits into (a 1 x 1 map once wrote three "bands" with a crossover of 1 above one of 0.5); one
+// band of a 1 x 1 map is the map itself.
+TEST_F(BandsCommand, MapsTooSmallForTheBandsAreRefused) {
+  Image one(1, 1, {"Y"});
+  one.at(0, 0, 0) = 0.25f;
+  writeExr(dir_ / "one.exr", one);
+  std::string out;
+  EXPECT_EQ(run((dir_ / "one.exr").string() + " -o " + (dir_ / "b").string(), &out), 2);
+  EXPECT_NE(out.find("one.exr: --levels: band split: a 1 x 1 map splits into at most 1 band"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "b")) << "nothing written";
+  ASSERT_EQ(run((dir_ / "one.exr").string() + " -n 1 -o " + (dir_ / "b").string(), &out), 0) << out;
+  EXPECT_EQ(readImage(dir_ / "b" / "one_band1.exr").at(0, 0, 0), 0.25f);
+  Image small(16, 16, {"Y"});
+  writeExr(dir_ / "s.exr", small);
+  EXPECT_EQ(run((dir_ / "s.exr").string() + " -n 4 -o " + (dir_ / "c").string(), &out), 2);
+  EXPECT_NE(out.find("at most 3 bands"), std::string::npos) << out;
+  EXPECT_EQ(run((dir_ / "s.exr").string() + " -n 3 -o " + (dir_ / "c").string(), &out), 0) << out;
+}
+
 }  // namespace
 }  // namespace meso

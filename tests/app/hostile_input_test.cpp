@@ -194,8 +194,8 @@ TEST_F(HostileTest, SpecialOutputsAreRefusedWithStatusTwo) {
 }
 
 TEST_F(HostileTest, BandsOutputOntoAFileIsStatusTwo) {
-  // A 4 x 4 PGM height image.
-  std::ofstream(dir_ / "h.pgm", std::ios::binary) << "P5\n4 4\n255\n" << std::string(16, '\x40');
+  // An 8 x 8 PGM height image (two bands of an octave).
+  std::ofstream(dir_ / "h.pgm", std::ios::binary) << "P5\n8 8\n255\n" << std::string(64, '\x40');
   write("file.txt", "x");
   const RunResult r =
       run("bands " + quoted(dir_ / "h.pgm") + " -n 2 -o " + quoted(dir_ / "file.txt"));

@@ -79,5 +79,20 @@ TEST(BandSplit, RejectsBadLevelCounts) {
   EXPECT_THROW(splitBands(t, 17), Error);
 }
 
+// Each band at least an octave wide: floor(log2(min(W, H) / 2)) bands, at least one; more are
+// refused, as many are split with increasing crossovers.
+TEST(BandSplit, BandsAreAtLeastAnOctaveWide) {
+  for (const auto& [w, h, most] : {std::tuple{1, 1, 1}, std::tuple{4, 4, 1}, std::tuple{8, 8, 2},
+                                   std::tuple{17, 16, 3}, std::tuple{128, 96, 5}}) {
+    const HeightTable t = mixture(w, h, true);
+    EXPECT_EQ(maxBandLevels(t), most) << w << "x" << h;
+    EXPECT_THROW(splitBands(t, most + 1), Error) << w << "x" << h;
+    const std::vector<HeightBand> bands = splitBands(t, most);
+    ASSERT_EQ(static_cast<int>(bands.size()), most);
+    for (size_t m = 1; m < bands.size(); ++m)
+      EXPECT_GE(bands[m].highCut, 2.0f * bands[m].lowCut * (1.0f - 1e-5f)) << w << "x" << h;
+  }
+}
+
 }  // namespace
 }  // namespace meso

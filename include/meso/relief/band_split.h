@@ -22,7 +22,15 @@ struct HeightBand {
 // frequency domain: 1 below f_k / sqrt(2), 0 above f_k sqrt(2), cos^2 in log2(f) between (half
 // amplitude at f_k). Periodic tables are transformed as they are; clamped ones are mirrored to
 // 2W x 2H first so that their edges do not ring. Every band keeps the table's size and options,
-// with a Spectral frequency estimate. Throws meso::Error for numLevels < 1 or > 16.
+// with a Spectral frequency estimate. Throws checkBandLevels's error first.
 std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels);
+
+// Throws meso::Error, saying why, for numLevels < 1 or > 16, or above maxBandLevels(table).
+void checkBandLevels(const HeightTable& table, int numLevels);
+
+// The most bands `table` splits into with each band at least an octave wide (the low-pass's
+// transition is an octave, so a narrower band would hold no frequency of its own):
+// floor(log2(nyquist)), at least 1. A 1 x 1 map has one band (itself), a 16 x 16 map 3.
+int maxBandLevels(const HeightTable& table);
 
 }  // namespace meso
