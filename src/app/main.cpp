@@ -332,20 +332,27 @@ void addTradeCommand(CLI::App& cli) {
 // CLI11 reads "nan" and "inf" into floats, and Range() lets NaN through (every comparison with it
 // is false): every floating-point option of every command must be a finite number. And it wraps
 // "-1" into an unsigned option: every unsigned one must be a whole number of 0 or more.
-void requireFiniteNumbers(CLI::App& app) {
+// An empty text value is refused too.
+void requireSaneValues(CLI::App& app) {
   const CLI::Validator finite(
       [](std::string& text) { return meso::app::finiteNumberProblem(text); }, "FINITE",
       "finite number");
   const CLI::Validator whole(
       [](std::string& text) { return meso::app::unsignedNumberProblem(text); }, "UNSIGNED",
       "whole number of 0 or more");
+  // Paths and other text: an empty value (`-o ''`) is refused, not taken for the default.
+  const CLI::Validator nonEmpty(
+      [](std::string& text) {
+        return text.empty() ? std::string("expected a value, got an empty string") : std::string();
+      },
+      "", "non-empty");
   for (CLI::Option* option : app.get_options()) {
     const std::string type = option->get_type_name();
     if (type.find("FLOAT") != std::string::npos) option->check(finite);
     if (type.find("UINT") != std::string::npos) option->check(whole);
+    if (type.find("TEXT") != std::string::npos) option->check(nonEmpty);
   }
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
-    requireFiniteNumbers(*sub);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) requireSaneValues(*sub);
 }
 
 // --memory-limit on every command; applied while parsing, before the command runs.
@@ -374,7 +381,7 @@ int main(int argc, char** argv) {
   meso::app::BandsCommandOptions bandsOptions;
   addBandsCommand(cli, bandsOptions);
   addTradeCommand(cli);
-  requireFiniteNumbers(cli);
+  requireSaneValues(cli);
   addMemoryLimit(cli);
   meso::app::installInterruptHandler();
   try {
@@ -385,7 +392,7 @@ int main(int argc, char** argv) {
   } catch (const meso::app::RenderInterrupted&) {
     std::fprintf(stderr,
                  "meso: interrupted; complete frames are kept, nothing partial was written\n");
-    return 130;
+    return meso::app::interruptedStatus();
   } catch (const meso::Error& e) {
     std::fprintf(stderr, "meso: %s\n", e.what());
     return 2;

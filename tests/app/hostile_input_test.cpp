@@ -271,6 +271,11 @@ TEST_F(HostileTest, OptionValuesAreStrict) {
       {"trade " + quoted(dir_ / "scene.toml") + " --band nan",
        "--band: expected a finite number, got \"nan\""},
       {"trade " + quoted(dir_ / "scene.toml") + " --frames 0:1:1", "(a step is not supported)"},
+      // An empty path used to be taken for the default (out/<scene name>.exr).
+      {"render " + quoted(dir_ / "scene.toml") + " -q -o ''",
+       "--output: expected a value, got an empty string"},
+      {render(dir_ / "out/a.exr", "--stats ''"), "--stats: expected a value, got an empty string"},
+      {"consistency --cache-dir ''", "--cache-dir: expected a value, got an empty string"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
