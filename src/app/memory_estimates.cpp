@@ -17,7 +17,7 @@ double filmBytes(int width, int height) {
 double levelTablesBytes(const TableResolution& r, std::string* key) {
   const double slices = static_cast<double>(r.thetaVBins) * r.phiVBins;
   const double histograms = slices * r.thetaNBins * r.phiBins * (4 + 12 + 4 + 4);
-  const double brdf = slices * r.brdfThetaL * r.brdfPhi * 2 * 4 * 2;
+  const double brdf = slices * (2 * r.brdfThetaL - 1) * r.brdfPhi * 2 * 4 * 2;
   const double relief = static_cast<double>(r.meshResolution) * r.meshResolution * 2 * 96;
   if (key)
     *key = histograms >= brdf && histograms >= relief ? "render.tables.theta_n_bins/phi_bins"

@@ -21,17 +21,17 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
   const HistogramResolution& h = distr.resolution();
   std::vector<float> thetaV(h.thetaV);
   for (int k = 0; k < h.thetaV; ++k) thetaV[k] = distr.thetaV(k);
-  const int nPhi = BrdfTable::phiNodes(res, h.phiV);
+  const int nPhi = BrdfTable::phiNodes(res, h.phiV), nL = BrdfTable::thetaLNodes(res);
   const float phiLo = h.phiV > 1 ? -kPi : 0.0f;
-  std::vector<float> data(2 * static_cast<size_t>(distr.numSlices()) * res.thetaL * nPhi, 0.0f);
+  std::vector<float> data(BrdfTable::dataSize(res, h.thetaV, h.phiV), 0.0f);
   const size_t half = data.size() / 2;
   // Slices are independent: parallel, and the same bits for any thread count.
   tbb::parallel_for(0, distr.numSlices(), [&](int k) {
     const Vec3 V = polarDirection(distr.sliceThetaV(k), 0.0f);
     const float phiV = h.phiV > 1 ? distr.slicePhiV(k) : 0.0f;
-    for (int i = 0; i < res.thetaL; ++i)
+    for (int i = 0; i < nL; ++i)
       for (int j = 0; j < nPhi; ++j) {
-        const float tl = 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res.thetaL - 1);
+        const float tl = kPi * static_cast<float>(i) / static_cast<float>(nL - 1);
         const float pvl = phiLo + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
         const Vec3 L = polarDirection(tl, -pvl);
         double diff = 0.0, spec = 0.0;
@@ -43,7 +43,7 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
             diff += m * v.diffuse;
             spec += m * v.specular;
           }
-        const size_t idx = (static_cast<size_t>(k) * res.thetaL + i) * nPhi + j;
+        const size_t idx = (static_cast<size_t>(k) * nL + i) * nPhi + j;
         data[idx] = static_cast<float>(diff);
         data[half + idx] = static_cast<float>(spec);
       }
@@ -72,7 +72,7 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
     const float len = glm::length(nMean);
     const Vec3 h = V + L;
     const float hl = glm::length(h);
-    if (len > 0.0f && hl > 1e-12f) {
+    if (v.diffuse > 0.0f && len > 0.0f && hl > 1e-12f) {  // lit facets only, as shadeLocal
       const float s = lobe.value(std::clamp(glm::dot(h / hl, nMean / len), -1.0f, 1.0f));
       v.specular = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
     }
@@ -89,7 +89,7 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
     const float len = glm::length(nMean);
     const Vec3 h = V + L;
     const float hl = glm::length(h);
-    if (len > 0.0f && hl > 1e-12f)
+    if (v.diffuse > 0.0f && len > 0.0f && hl > 1e-12f)  // lit facets only, as shadeLocal
       v.specular = std::pow(std::max(glm::dot(h / hl, nMean / len), 0.0f), phong);
     return v;
   });
@@ -109,8 +109,9 @@ BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfRes
         const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
         const float tv = std::acos(std::clamp(glm::dot(V, N), -1.0f, 1.0f));
         const float tl = std::acos(std::clamp(glm::dot(L, N), -1.0f, 1.0f));
-        if (tl >= 0.5f * kPi || tv >= 0.5f * kPi)
-          return Value{};  // lit or seen from behind the facet
+        if (tv >= 0.5f * kPi) return Value{};  // seen from behind the facet
+        // A light behind the facet may still light its finer relief: the finer table goes on to
+        // theta_L = pi.
         const float pl = std::atan2(glm::dot(L, glm::cross(N, x)), glm::dot(L, glm::cross(y, N)));
         const float pv = std::atan2(glm::dot(V, glm::cross(N, x)), glm::dot(V, glm::cross(y, N)));
         const float pvl = std::fmod(pv - pl + 3.0f * kPi, 2.0f * kPi) - kPi;
@@ -120,7 +121,7 @@ BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfRes
 }
 
 float BrdfTable::thetaL(int i) const {
-  return 0.5f * kPi * static_cast<float>(i) / static_cast<float>(res_.thetaL - 1);
+  return kPi * static_cast<float>(i) / static_cast<float>(thetaLNodes(res_) - 1);
 }
 float BrdfTable::phi(int j) const {
   return (phiV_ > 1 ? -kPi : 0.0f) + kPi * static_cast<float>(j) / static_cast<float>(res_.phi - 1);
@@ -133,7 +134,7 @@ BrdfTable::Value BrdfTable::entry(int k, int i, int j) const {
 BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) const {
   if (phiV_ > 1) return lookup(thetaV, 0.0f, thetaL, phiVL);
   const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
+  const TableAxis b = locateOnAxis(thetaL, 0.0f, kPi, thetaLNodes(res_));
   const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
   const TableAxis c = locateOnAxis(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
   return interpolateTable<Value>(a, TableAxis{}, b, c, layout());
@@ -143,7 +144,7 @@ BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float
   if (phiV_ == 1) return lookup(thetaV, thetaL, phiVL);
   const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
   const TableAxis m = locateViewAzimuth(phiV, phiV_);
-  const TableAxis b = locateOnAxis(thetaL, 0.0f, 0.5f * kPi, res_.thetaL);
+  const TableAxis b = locateOnAxis(thetaL, 0.0f, kPi, thetaLNodes(res_));
   const TableAxis c = locateOnAxis(wrapAngle(phiVL), -kPi, kPi, nPhi_);
   return interpolateTable<Value>(a, m, b, c, layout());
 }

@@ -92,8 +92,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
   std::vector<float> thetaV(distr.resolution().thetaV);
   for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
   const int phiV = distr.resolution().phiV;
-  const size_t brdfSize =
-      2 * thetaV.size() * phiV * settings.brdf.thetaL * BrdfTable::phiNodes(settings.brdf, phiV);
+  const size_t brdfSize = BrdfTable::dataSize(settings.brdf, static_cast<int>(thetaV.size()), phiV);
   BrdfTable brdf = fromCache && brdfData.size() == brdfSize
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, lobe);

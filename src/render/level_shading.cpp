@@ -58,7 +58,8 @@ Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Ve
   for (const Light& light : lights) {
     const LightSample s = sampleLight(light, P);
     const Vec3 l = toFrame(f, s.L);
-    if (l.z <= 0.0f) continue;
+    // A light below the mean plane still lights the facets that face it: the table goes on to
+    // theta_L = pi.
     const float thetaL = fastAcos(l.z);
     const float eq2 = Pu && Pv ? azimuthEq2(V, s.L, *Pu, *Pv) : -1.0f;
     const float phiVL =

@@ -61,9 +61,7 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
                              const Vec3& V, const ShadowingLevels& levels,
                              const LightShadows* macro) {
   LightShadows out;
-  bool any = false;
-  for (size_t k = 0; k < levels.count; ++k) any = any || !levels.s0[k]->empty();
-  if (!any) return out;
+  if (!levels.any()) return out;
   const TileAngles a = tileAngles(m, V);
   const size_t n = std::min(lights.size(), static_cast<size_t>(kMaxShadowedLights));
   for (size_t i = 0; i < n; ++i) {
@@ -85,12 +83,16 @@ Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, 
   if (firstLevel) *firstLevel = {};
   Vec3 I = material.ka;
   const TileAngles a = tileAngles(m, V);
+  const bool shadowed = levels.any();
   for (size_t i = 0; i < lights.size(); ++i) {
     if (blocked(&macro, i)) continue;
     const LightSample s = sampleLight(lights[i], P);
     const Vec3 lt = m.toTile(s.L);
     const float len = glm::length(lt);
-    if (!(lt.z > 0.0f) || !std::isfinite(len)) continue;
+    if (!(len > 0.0f) || !std::isfinite(len)) continue;
+    // A light below the mean plane lights the facets that face it (the table goes on to theta_L =
+    // pi), unless relief self-shadowing is on: then the relief around blocks every ray to it.
+    if (!(lt.z > 0.0f) && shadowed) continue;
     float thetaL, phiVL;
     lightAngles(a, lt / len, thetaL, phiVL);
     LightShadow sh = macro[i];

@@ -44,8 +44,40 @@ TEST(BrdfTable, ZeroReliefDiffuseIsExactlyLDotN) {
         const Vec3 L(std::sin(t.thetaL(i)) * std::cos(-t.phi(j)),
                      std::sin(t.thetaL(i)) * std::sin(-t.phi(j)), std::cos(t.thetaL(i)));
         const Vec3 H = glm::normalize(V + L);
-        EXPECT_NEAR(t.entry(k, i, j).specular, std::pow(H.z, 30.0f), 1e-5f);
+        // Lit facets only, as the local model (theta_L = 90 degrees lights nothing).
+        EXPECT_NEAR(t.entry(k, i, j).specular, L.z > 0.0f ? std::pow(H.z, 30.0f) : 0.0f, 1e-5f);
       }
+}
+
+// Past theta_L = 90 degrees: every visible normal tilted 30 degrees towards the viewer's side
+// (azimuth 0) gives diffuse = max(0, N.L) exactly, which stays positive for lights below the mean
+// plane up to 120 degrees on that side; the flat relief gives 0 there. The axis goes on to pi at
+// the spacing of the res.thetaL nodes over [0, pi / 2].
+TEST(BrdfTable, LightsBelowTheMeanPlaneLightTheFacetsThatFaceThem) {
+  const Vec3 N(std::sin(0.5236f), 0.0f, std::cos(0.5236f));
+  VisibleNormalHistogram h(HistogramResolution{6, 16, 16});
+  for (int k = 0; k < 6; ++k) h.add(k, N, 100.0f);
+  h.normalize();
+  const BrdfTable tilted = BrdfTable::fromDistribution(h, {9, 7}, 30.0f);
+  const BrdfTable flat = BrdfTable::fromDistribution(flatHistogram(), {9, 7}, 30.0f);
+  ASSERT_EQ(BrdfTable::thetaLNodes({9, 7}), 17);
+  EXPECT_FLOAT_EQ(tilted.thetaL(8), 0.5f * kPi);
+  EXPECT_FLOAT_EQ(tilted.thetaL(16), kPi);
+  int lit = 0;
+  for (int k = 0; k < tilted.numThetaV(); ++k)
+    for (int i = 9; i < 17; ++i)
+      for (int j = 0; j < 7; ++j) {
+        const Vec3 L(std::sin(tilted.thetaL(i)) * std::cos(-tilted.phi(j)),
+                     std::sin(tilted.thetaL(i)) * std::sin(-tilted.phi(j)),
+                     std::cos(tilted.thetaL(i)));
+        EXPECT_NEAR(tilted.entry(k, i, j).diffuse, std::max(glm::dot(N, L), 0.0f), 1e-5f);
+        EXPECT_EQ(flat.entry(k, i, j).diffuse, 0.0f);
+        lit += tilted.entry(k, i, j).diffuse > 0.0f;
+      }
+  EXPECT_GT(lit, 0);
+  // Looked up between the nodes too: 100 degrees, phi_{V-L} = 0.
+  const float t = 100.0f * kPi / 180.0f;
+  EXPECT_NEAR(tilted.lookup(tilted.thetaV(0), t, 0.0f).diffuse, std::cos(t - 0.5236f), 0.01f);
 }
 
 TEST(BrdfTable, EntriesFiniteAndNonNegativeIncludingGrazing) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace meso {
 namespace {
@@ -64,6 +65,32 @@ TEST(SceneConsistency, ReferenceAgainstItselfAndRegions) {
             std::string::npos)
       << csv;
   EXPECT_NE(md.find("| region | pixels | reference"), std::string::npos) << md;
+}
+
+// A light 10 degrees below the plane, without shadows: displacement lights the facets that face it,
+// and so do the BRDF tables, which go on past theta_L = 90 degrees. They stopped there, and the
+// BRDF drew the plane with the ambient term only.
+TEST(SceneConsistency, BrdfLightsFacetsThatFaceALightBelowThePlane) {
+  Scene s = smallScene();
+  s.materials[0].relief = {testing::noiseLevel(0.08f, 2.0f, 2)};
+  s.materials[0].ka = Vec3(0.03f);
+  s.lights[0].direction = glm::normalize(Vec3(0.0f, 0.985f, 0.174f));  // travelling up
+  s.render.shadows = false;
+  SceneConsistencyOptions o;
+  o.algorithms = {Algorithm::Brdf, Algorithm::Redistribution};
+  o.bands = 1;
+  o.referenceDicing = 0.5f;
+  const SceneConsistencyReport r = sceneConsistency(s, o);
+  ASSERT_FALSE(r.regions.empty());
+  const ConsistencyRegion& plane = r.regions[0];
+  const double reference = plane.mean[0], brdf = plane.mean[2], redistribution = plane.mean[3];
+  std::printf(
+      "[ figure ] light 10 degrees below the plane: reference %.4f, brdf %.4f, "
+      "redistribution %.4f, ambient 0.03\n",
+      reference, brdf, redistribution);
+  EXPECT_GT(reference, 0.06) << "the displaced facets that face the light are lit";
+  EXPECT_NEAR(brdf / reference, 1.0, 0.03);
+  EXPECT_NEAR(redistribution / reference, 1.0, 0.05);
 }
 
 // A reference that the micropolygon cap coarsened is not diced as asked, and says so: its change

@@ -6,6 +6,8 @@
 
 #include "meso/appearance/visible_normal_histogram.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -21,7 +23,9 @@ struct SpecularLobe {
 };
 
 struct BrdfResolution {
-  int thetaL = 16;  // nodes over [0, pi/2], both ends included
+  int thetaL = 16;  // nodes over [0, pi/2], both ends included; the table continues at the same
+                    // spacing to pi (thetaLNodes), for lights below the mean plane that relief
+                    // facets still face
   int phi = 16;     // nodes of |phi_{V-L}| over [0, pi], both ends included (isotropic relief)
 };
 
@@ -59,6 +63,13 @@ class BrdfTable {
   static int phiNodes(const BrdfResolution& res, int phiV) {
     return phiV > 1 ? 2 * res.phi - 1 : res.phi;
   }
+  // Nodes on the theta_L axis: 2 res.thetaL - 1 over [0, pi] (res.thetaL of them up to pi / 2).
+  static int thetaLNodes(const BrdfResolution& res) { return 2 * res.thetaL - 1; }
+  // Floats in a table's data(): diffuse and specular per (theta_V, phi_V, theta_L, phi_{V-L}) node.
+  static size_t dataSize(const BrdfResolution& res, int thetaV, int phiV) {
+    return 2 * static_cast<size_t>(thetaV) * std::max(phiV, 1) * thetaLNodes(res) *
+           phiNodes(res, phiV);
+  }
 
   int numThetaV() const { return static_cast<int>(thetaV_.size()); }
   const BrdfResolution& resolution() const { return res_; }
@@ -73,17 +84,17 @@ class BrdfTable {
 
  private:
   TableLayout layout() const {
-    return {data_.data(), data_.data() + data_.size() / 2, phiV_, res_.thetaL, nPhi_};
+    return {data_.data(), data_.data() + data_.size() / 2, phiV_, thetaLNodes(res_), nPhi_};
   }
   // k is a view slice: iThetaV * phiV + iPhiV.
   size_t index(int k, int i, int j) const {
-    return (static_cast<size_t>(k) * res_.thetaL + i) * nPhi_ + j;
+    return (static_cast<size_t>(k) * thetaLNodes(res_) + i) * nPhi_ + j;
   }
   std::vector<float> thetaV_;
   BrdfResolution res_;
   int phiV_ = 1;
   int nPhi_ = 16;
-  std::vector<float> data_;  // 2 * thetaV * thetaL * phi
+  std::vector<float> data_;  // dataSize(res_, view slices, phiV_)
 };
 
 }  // namespace meso

@@ -15,7 +15,7 @@ namespace meso {
 
 // Bump this whenever the layout or meaning of any cached table changes: old files become misses.
 inline constexpr uint32_t kTableFormatVersion =
-    4;  // 4: masses only, view-azimuth slices, word checksum
+    5;  // 4: masses only, view-azimuth slices, word checksum; 5: BRDF theta_L to pi
 
 class TableCache {
  public:

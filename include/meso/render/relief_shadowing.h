@@ -24,11 +24,20 @@ struct ShadowingLevels {
   void add(const ShadowingTable& a, const ShadowingTable& b) {
     if (count < s0.size()) s0[count] = &a, s1[count++] = &b;
   }
+  // Whether any level has a table: relief self-shadowing is on.
+  bool any() const {
+    for (size_t k = 0; k < count; ++k)
+      if (!s0[k]->empty()) return true;
+    return false;
+  }
 };
 
 // Each light's self-shadowing factor of the levels at a point whose tile map is `m` (as shadeBrdf
 // takes it: area-preserving), seen from V: the product over the levels, in their order. Lights
-// below the macro horizon get {1, 1} (they add nothing anyway); an empty table gives {1, 1}. A
+// below the mean plane get {1, 1}: on a flat surface every ray to them is blocked by the relief
+// around, but on a convex one the peaks see past the smooth surface's horizon, which the macro
+// shadow ray (blocked by the smooth surface) and the redistributed normals that face such a light
+// stand for better than 0 would. An empty table gives {1, 1}. A
 // light that `macro` (may be null) blocks entirely gets {1, 1} without lookups: its product with
 // the macro shadow is 0 either way. The angles are computed once for all tables.
 LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const TileMap& m,
@@ -41,8 +50,10 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
 // and the diffuse term is scaled by |M^-1 L| so that a flat surface gets exactly L.N. Each light's
 // diffuse and specular terms are scaled by `macro` times the self-shadowing of `levels` (macro
 // first, then each level in order), looked up at the same angles; without shadows, all-lit macro
-// shadows ({}) and no levels. `firstLevel` (may be null) receives what reliefShadowing(lights, P,
-// m, V, the first of `levels` alone, &macro) gives, from the same lookups.
+// shadows ({}) and no levels. Without self-shadowing, a light below the mean plane is looked up
+// at theta_L > pi / 2 (the facets that face it); with it, such a light adds nothing. `firstLevel`
+// (may be null) receives what reliefShadowing(lights, P, m, V, the first of `levels` alone, &macro)
+// gives, from the same lookups.
 Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
                        float w, const LightShadows& macro, const ShadowingLevels& levels,
