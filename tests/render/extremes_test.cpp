@@ -213,6 +213,25 @@ TEST_F(ExtremesTest, ViewAnglesFromOverheadToInThePlane) {
     }
 }
 
+// The light from overhead to exactly in the plane, a little below it and straight below, with and
+// without shadows: the BRDF tables go on to theta_L = 180 degrees, and a light below the mean plane
+// is looked up there (without shadows) or dropped (with them).
+TEST_F(ExtremesTest, LightAnglesFromOverheadToStraightBelow) {
+  for (bool shadows : {false, true})
+    for (double thetaDeg : {0.0, 89.9, 90.0, 100.0, 180.0}) {
+      const auto edit = [&](Scene& s) {
+        const float t = static_cast<float>(thetaDeg * kDegree);
+        // Exactly 90 and 180: the light's z is exactly 0 and -1 (cos in float is not).
+        const float z = thetaDeg == 90.0 ? 0.0f : thetaDeg == 180.0 ? -1.0f : std::cos(t);
+        const float y = thetaDeg == 180.0 ? 0.0f : std::sin(t);
+        s.lights[0].direction = -glm::normalize(Vec3(0.0f, y, z));  // travelling away from L
+        s.render.shadows = shadows;
+      };
+      EXPECT_EQ(
+          sweep(200, "theta_L " + std::to_string(thetaDeg) + (shadows ? " shadows" : ""), edit), 5);
+    }
+}
+
 // The camera 1e-6 and 1e9 times the scene scale (2 units) from the plane, overhead and oblique; far
 // away both with the default field of view (the plane is far below a pixel) and with one so narrow
 // that the plane fills the image again (ray origins ~1e9: float rounding of the hits and T far
