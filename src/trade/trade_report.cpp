@@ -74,6 +74,30 @@ const TradeResult* cheapestAsAccurate(const std::vector<TradeResult>& results, d
   return cheapest;
 }
 
+// Ahead of `text`: "speedup <d / h>x", and " (the hybrid is slower)" when it is.
+std::string speedupText(double hybridSeconds, double displacementSeconds) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "speedup %.2fx%s", ratio(displacementSeconds, hybridSeconds),
+                displacementSeconds < hybridSeconds ? " (the hybrid is slower)" : "");
+  return buf;
+}
+
+// "; interpolated over spp: ..." when the interpolation is cheaper than the swept `cheapest`.
+std::string interpolatedText(const TradeResult& h, const std::vector<TradeResult>& results,
+                             const TradeResult* cheapest) {
+  const std::optional<InterpolatedDisplacement> i = interpolatedAsAccurate(results, h.errors.rmse);
+  if (!i || (cheapest && cheapest->seconds <= i->seconds)) return "";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "; interpolated between the swept spp: displacement-only (dicing %g px, relief "
+                "samples %g) reaches that rmse at about %.3g spp (%d spp: %.4g, %d spp: %.4g) in "
+                "about %.3g s: %s",
+                i->fewer->config.dicingRate, i->fewer->config.reliefSamples, i->spp,
+                i->fewer->config.spp, i->fewer->errors.rmse, i->more->config.spp,
+                i->more->errors.rmse, i->seconds, speedupText(h.seconds, i->seconds).c_str());
+  return buf;
+}
+
 // "<ratio>x", or "n/a" when the displacement configuration's figure is 0 (a peak that did not rise
 // above the process's baseline: a ratio to it says nothing).
 std::string ratioText(double hybrid, double displacement) {
@@ -88,20 +112,47 @@ std::string comparison(const TradeResult& h, const TradeResult& d, const char* a
   std::snprintf(
       buf, sizeof buf,
       "cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
-      "%.4g, worst band %+.3g%%: speedup %.2fx%s; hybrid / displacement at %s: time %.3gx, peak "
+      "%.4g, worst band %+.3g%%: %s; hybrid / displacement at %s: time %.3gx, peak "
       "memory %.3gx (%s of what each added above the process's baseline), geometry memory "
       "%.3gx, micropolygons %.3gx, spp %.3gx",
       as, d.config.dicingRate, d.config.reliefSamples, d.config.spp, d.seconds, d.errors.rmse,
-      d.errors.worstBandPct, ratio(d.seconds, h.seconds),
-      d.seconds < h.seconds ? " (the hybrid is slower)" : "", at, ratio(h.seconds, d.seconds),
-      ratio(h.peakRssMib, d.peakRssMib), ratioText(h.addedMib, d.addedMib).c_str(),
-      ratio(h.geometryMib, d.geometryMib),
+      d.errors.worstBandPct, speedupText(h.seconds, d.seconds).c_str(), at,
+      ratio(h.seconds, d.seconds), ratio(h.peakRssMib, d.peakRssMib),
+      ratioText(h.addedMib, d.addedMib).c_str(), ratio(h.geometryMib, d.geometryMib),
       ratio(static_cast<double>(h.micropolygons), static_cast<double>(d.micropolygons)),
       ratio(h.config.spp, d.config.spp));
   return buf;
 }
 
 }  // namespace
+
+std::optional<InterpolatedDisplacement> interpolatedAsAccurate(
+    const std::vector<TradeResult>& results, double rmse) {
+  std::optional<InterpolatedDisplacement> best;
+  if (!(rmse > 0.0) || !std::isfinite(rmse)) return best;
+  const auto sameSeries = [](const Configuration& a, const Configuration& b) {
+    return a.kind == Kind::Displacement && b.kind == Kind::Displacement &&
+           a.dicingRate == b.dicingRate && a.reliefSamples == b.reliefSamples;
+  };
+  for (const TradeResult& a : results) {
+    if (a.config.kind != Kind::Displacement || !(a.errors.rmse > rmse)) continue;
+    // The same series' next swept spp above a's.
+    const TradeResult* b = nullptr;
+    for (const TradeResult& r : results)
+      if (sameSeries(a.config, r.config) && r.config.spp > a.config.spp &&
+          (!b || r.config.spp < b->config.spp))
+        b = &r;
+    if (!b || !(b->errors.rmse <= rmse) || !(b->errors.rmse > 0.0)) continue;
+    const double x0 = std::log(a.config.spp), x1 = std::log(b->config.spp);
+    const double t = std::log(rmse / a.errors.rmse) / std::log(b->errors.rmse / a.errors.rmse);
+    const double spp = std::exp(x0 + std::clamp(t, 0.0, 1.0) * (x1 - x0));
+    const double seconds = a.seconds + (b->seconds - a.seconds) * (spp - a.config.spp) /
+                                           (b->config.spp - a.config.spp);
+    if (!std::isfinite(seconds)) continue;
+    if (!best || seconds < best->seconds) best = InterpolatedDisplacement{&a, b, spp, seconds};
+  }
+  return best;
+}
 
 std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStudy& study) {
   std::string s = "# " + referenceVerdict(study) + "\n";
@@ -139,7 +190,7 @@ std::string tradeSummary(const std::vector<TradeResult>& results, const Referenc
   return std::string(buf) +
          (cheapest ? "; " + comparison(h, *cheapest, "as accurate", "equal rmse")
                    : "; no displacement-only configuration swept is as accurate") +
-         "\n" + bandLine +
+         interpolatedText(h, results, cheapest) + "\n" + bandLine +
          (consistent ? comparison(h, *consistent, "as accurate", "equal rmse and band error")
                      : "no displacement-only configuration swept is as accurate and consistent") +
          "\n" + (study.converged ? "trade: " : "trade: WARNING: ") + referenceVerdict(study);

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,80 @@ TEST(TradeSummary, NothingAddedByDisplacementIsNotAnInfiniteRatio) {
   EXPECT_NE(s.find("peak memory 1.5x (n/a of what each added above the process's baseline)"),
             std::string::npos)
       << s;
+}
+
+// One displacement-only configuration of a series (dicing rate, relief samples) at `spp`.
+TradeResult displacement(float dicingRate, int spp, double seconds, double rmse) {
+  TradeResult r = result(Kind::Displacement, seconds, rmse, 200.0, 20.0);
+  r.config.dicingRate = dicingRate;
+  r.config.reliefSamples = 0.0f;
+  r.config.spp = spp;
+  return r;
+}
+
+// rmse 0.04 at 1 spp and 0.02 at 4 spp is rmse = 0.04 spp^-1/2; 1 s and 2.5 s is 0.5 + 0.5 spp.
+// 0.04 / sqrt(2) is reached at exactly 2 spp, in 1.5 s.
+TEST(TradeInterpolation, KnownPowerLawAndLinearTime) {
+  const std::vector<TradeResult> results = {displacement(1.0f, 1, 1.0, 0.04),
+                                            displacement(1.0f, 4, 2.5, 0.02),
+                                            displacement(1.0f, 16, 8.5, 0.01)};
+  const auto i = meso::trade::interpolatedAsAccurate(results, 0.04 / std::sqrt(2.0));
+  ASSERT_TRUE(i.has_value());
+  EXPECT_EQ(i->fewer, &results[0]);
+  EXPECT_EQ(i->more, &results[1]);
+  EXPECT_NEAR(i->spp, 2.0, 1e-9);
+  EXPECT_NEAR(i->seconds, 1.5, 1e-9);
+  // Between 4 and 16 spp: 0.01 * sqrt(2) at 8 spp, 2.5 + 4 * 0.5 = 4.5 s.
+  const auto j = meso::trade::interpolatedAsAccurate(results, 0.01 * std::sqrt(2.0));
+  ASSERT_TRUE(j.has_value());
+  EXPECT_NEAR(j->spp, 8.0, 1e-9);
+  EXPECT_NEAR(j->seconds, 4.5, 1e-9);
+}
+
+// Only neighbours in spp of one series are paired: a cheap 1-spp point of another dicing rate and
+// the 16-spp point of this one bracket the target but are not one series, and the 1-16 pair of a
+// series with a 4-spp point between is not used either. The cheapest bracketing series wins.
+TEST(TradeInterpolation, PairsNeighboursOfOneSeriesAndTakesTheCheapest) {
+  const std::vector<TradeResult> results = {
+      displacement(2.0f, 1, 0.2, 0.05),  // 2 px never reaches 0.015
+      displacement(2.0f, 4, 0.5, 0.03),  displacement(1.0f, 1, 1.0, 0.04),
+      displacement(1.0f, 4, 2.5, 0.02),  displacement(1.0f, 16, 8.5, 0.01),
+      displacement(0.5f, 4, 6.0, 0.016), displacement(0.5f, 16, 7.0, 0.008)};
+  const auto i = meso::trade::interpolatedAsAccurate(results, 0.015);
+  ASSERT_TRUE(i.has_value());
+  // 1 px: 0.015 between 4 and 16 spp at 4 * 4^(log(0.75) / log(0.5)) = 7.11 spp, 4.06 s; 0.5 px:
+  // 4 * 4^(log(0.9375) / log(0.5)) = 4.55 spp, 6.05 s. 1 px is cheaper.
+  EXPECT_EQ(i->fewer, &results[3]);
+  EXPECT_EQ(i->more, &results[4]);
+  EXPECT_NEAR(i->spp, 4.0 * std::pow(4.0, std::log(0.75) / std::log(0.5)), 1e-9);
+  EXPECT_NEAR(i->seconds, 2.5 + 0.5 * (i->spp - 4.0), 1e-9);
+  // Nothing brackets an rmse below every series' last point or above every first one.
+  EXPECT_FALSE(meso::trade::interpolatedAsAccurate(results, 0.005).has_value());
+  EXPECT_FALSE(meso::trade::interpolatedAsAccurate(results, 0.06).has_value());
+}
+
+// The summary names the interpolated point when it is cheaper than the swept configuration that
+// is as accurate, with its speedup; the swept comparison stays as it was.
+TEST(TradeSummary, InterpolatedEqualRmseBetweenSweptSpp) {
+  ReferenceStudy study;
+  study.levels.resize(1);
+  study.stop = "no refinement asked for";
+  TradeResult h = result(Kind::Hybrid, 2.0, 0.04 / std::sqrt(2.0), 300.0, 50.0);
+  const std::vector<TradeResult> results = {h, displacement(1.0f, 1, 1.0, 0.04),
+                                            displacement(1.0f, 4, 2.5, 0.02)};
+  const std::string s = meso::trade::tradeSummary(results, study);
+  EXPECT_NE(s.find("4 spp) 2.5 s, rmse 0.02, worst band +0%: speedup 1.25x; hybrid"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("interpolated between the swept spp: displacement-only (dicing 1 px, relief "
+                   "samples 0) reaches that rmse at about 2 spp (1 spp: 0.04, 4 spp: 0.02) in "
+                   "about 1.5 s: speedup 0.75x (the hybrid is slower)"),
+            std::string::npos)
+      << s;
+  // Where the swept configuration is itself at the hybrid's rmse, nothing is interpolated.
+  h.errors.rmse = 0.02;
+  const std::string t = meso::trade::tradeSummary({h, results[1], results[2]}, study);
+  EXPECT_EQ(t.find("interpolated"), std::string::npos) << t;
 }
 
 }  // namespace
