@@ -2,6 +2,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
+#include "meso/core/math.h"
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
 #include "meso/relief/height_table.h"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <tuple>
 
@@ -148,7 +150,11 @@ MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
   return p;
 }
 
-std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves) {
+namespace {
+
+// metricClassesFor at one step, or all samples in one bin when `oneBin`.
+std::vector<MetricClass> binnedClasses(std::span<const MetricClass> samples, float stepOctaves,
+                                       bool oneBin) {
   // One bin per quantized shape; its class takes the mean shape of the samples in it (log a, b),
   // so that a surface of a single shape (a stretched or sheared plane) gets tables of exactly its
   // own: at the quantized shape a 10:1 stretch was 6% off, and its BRDF image 1.4% darker.
@@ -160,15 +166,17 @@ std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, 
   };
   std::vector<Range> ranges;
   const float step = std::max(stepOctaves, 1e-3f);
-  for (const MetricClass& m : samples) {
+  for (MetricClass m : samples) {
     if (!(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU) || !std::isfinite(m.shape.a) ||
         !std::isfinite(m.shape.b) || !(m.shape.a > 0.0f))
       continue;
+    m.shape.a = std::clamp(m.shape.a, 1.0f / kMaxMetricStretch, kMaxMetricStretch);
+    m.shape.b = std::clamp(m.shape.b, -kMaxMetricShear, kMaxMetricShear);
     // The bin is the quantized shape; samples within 1e-3 of the identity count as exactly it, so
     // an isotropic, orthogonal uv keeps exactly the identity.
     MetricShape q;
-    q.a = std::exp2(step * std::round(std::log2(m.shape.a) / step));
-    q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
+    q.a = oneBin ? 1.0f : std::exp2(step * std::round(std::log2(m.shape.a) / step));
+    q.b = oneBin ? 0.0f : 0.5f * step * std::round(m.shape.b / (0.5f * step));
     const bool unitA = std::abs(std::log2(m.shape.a)) < 1e-3f, unitB = std::abs(m.shape.b) < 1e-3f;
     auto it =
         std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.bin == q; });
@@ -187,6 +195,22 @@ std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, 
     shape.b = std::abs(b) < 1e-3 ? 0.0f : static_cast<float>(b);
     for (float l : metricClasses(r.lo, r.hi, stepOctaves)) out.push_back({l, shape});
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves,
+                                          float* stepUsed) {
+  float step = std::max(stepOctaves, 1e-3f);
+  std::vector<MetricClass> out = binnedClasses(samples, step, false);
+  // Too many classes: the same binning at twice the step, until they fit (a step of 2^24 octaves
+  // is one bin in a and a length series of at most two classes for any finite length; b, finite
+  // but unbounded, may still need its bins merged: then one bin for all).
+  for (int k = 0; out.size() > kMaxMetricClasses && k < 27; ++k)
+    out = binnedClasses(samples, step *= 2.0f, false);
+  if (out.size() > kMaxMetricClasses) out = binnedClasses(samples, step, true);
+  if (stepUsed) *stepUsed = step;
   return out;
 }
 
@@ -246,6 +270,54 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
 
 }  // namespace
 
+namespace {
+
+// The largest rms slope per unit of u (world height per unit of u, the steeper of the two
+// directions) of the material's levels.
+float steepestSlopePerU(const MaterialRelief& r) {
+  double steepest = 0.0;
+  for (const ReliefLevel& level : r.levels) {
+    const std::vector<Vec2> points = levelSamplePoints(level);
+    double uu = 0.0, vv = 0.0;
+    for (const Vec2& uv : points) {
+      const Vec2 B = level.derivatives(uv);
+      uu += static_cast<double>(B.x) * B.x;
+      vv += static_cast<double>(B.y) * B.y;
+    }
+    steepest = std::max(steepest, std::sqrt(std::max(uu, vv) / std::max<size_t>(points.size(), 1)));
+  }
+  return std::isfinite(steepest) ? static_cast<float>(steepest) : 0.0f;
+}
+
+// Raises the length of every class on which the relief's tile would be steeper than
+// kMaxTableSlope (through the class's stretch and shear), with a warning naming the material.
+void clampTableSlopes(const MaterialRelief& r, const std::string& name,
+                      std::vector<MetricClass>& classes, std::vector<std::string>* warnings) {
+  const float slopePerU = steepestSlopePerU(r);
+  if (!(slopePerU > 0.0f)) return;
+  float steepest = 0.0f, shortest = std::numeric_limits<float>::infinity();
+  for (MetricClass& m : classes) {
+    const float stretch = std::max(m.shape.a, 1.0f / m.shape.a) + std::abs(m.shape.b);
+    const float least = slopePerU * stretch / kMaxTableSlope;
+    if (!(m.lengthPerU < least) || !std::isfinite(least)) continue;
+    steepest = std::max(steepest, slopePerU * stretch / m.lengthPerU);
+    shortest = std::min(shortest, m.lengthPerU);
+    m.lengthPerU = least;
+  }
+  if (!(steepest > 0.0f) || !warnings) return;
+  char text[500];
+  std::snprintf(text, sizeof text,
+                "material '%s': on a surface of %g world units per unit of u its relief has an "
+                "rms slope of %g (at most %g is tabulated: %.2f degrees); its tables are built at "
+                "that slope there (is the amplitude meant to be smaller, a mesh far from the "
+                "origin, or its uv degenerate?)",
+                name.c_str(), shortest, steepest, kMaxTableSlope,
+                std::atan(kMaxTableSlope) * 180.0f / kPi);
+  warnings->push_back(text);
+}
+
+}  // namespace
+
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings,
                                    const TableSettings& settings,
@@ -272,6 +344,7 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
     return !(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU);
   });
   if (classes.empty()) classes.push_back({});
+  clampTableSlopes(r, material.name, classes, warnings);
   const auto key = [](const MetricClass& m) {
     return std::tuple(m.shape.a, m.shape.b, m.lengthPerU);
   };

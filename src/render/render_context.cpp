@@ -5,8 +5,11 @@
 #include "meso/scene/mesh_io.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
+#include <string>
 
 namespace meso {
 
@@ -39,6 +42,31 @@ bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
   return curved;
 }
 
+// A warning when the mesh lies so far from the origin that float positions are spaced more than
+// 0.1% of its size apart there (its shape, relief and metric are lost: a torus 2 units wide at
+// x = 1e7, where floats are 1 unit apart, once asked for 332 table sets).
+std::optional<std::string> precisionWarning(const ControlMesh& mesh, const std::string& name) {
+  if (mesh.positions.empty()) return std::nullopt;
+  Vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (const Vec3& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const Vec3 extent = hi - lo;
+  const float size = std::max({extent.x, extent.y, extent.z});
+  const float far = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x),
+                              std::abs(hi.y), std::abs(hi.z)});
+  const float spacing = far * std::numeric_limits<float>::epsilon();
+  if (!std::isfinite(far) || !(spacing > 1e-3f * size)) return std::nullopt;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "%s: it lies %g units from the origin, where positions (32-bit floats) are %g "
+                "apart, %.3g%% of its size (%g): its shape and relief are not kept there; move the "
+                "scene nearer the origin",
+                name.c_str(), far, spacing, 100.0f * spacing / size, size);
+  return text;
+}
+
 }  // namespace
 
 bool RenderContext::viewDependent() const {
@@ -62,6 +90,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     Timer load;
     ControlMesh mesh = loadControlMesh(object.mesh);
     transformControlMesh(mesh, object.transform);
+    if (std::optional<std::string> w = precisionWarning(mesh, object.mesh.string()))
+      ctx.warnings.push_back(*w);
     times.load += load.seconds();
     Timer tess;
     if (!mesh.hasUvs() && hasRelief(scene.materials[object.material]))
@@ -96,8 +126,21 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
         used = true;
       }
     if (!used || !hasRelief(scene.materials[m])) continue;
-    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
-                                         metricClassesFor(samples, scene.render.tables.metricStep));
+    float step = scene.render.tables.metricStep;
+    std::vector<MetricClass> classes = metricClassesFor(samples, step, &step);
+    if (step > scene.render.tables.metricStep) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "material '%s': its surfaces' metrics (uv stretch, shear and length per unit "
+                    "of u) need more than %zu table sets per level at render.tables.metric_step "
+                    "%g; they were binned at a step of %g octaves into %zu (is a mesh far from the "
+                    "origin, or its uv degenerate?)",
+                    scene.materials[m].name.c_str(), kMaxMetricClasses,
+                    scene.render.tables.metricStep, step, classes.size());
+      ctx.warnings.push_back(text);
+    }
+    ctx.reliefs[m] =
+        buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings, std::move(classes));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], curved);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;

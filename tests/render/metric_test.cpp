@@ -8,6 +8,8 @@
 #include "meso/render/tile_map.h"
 #include "meso/core/rng.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
@@ -198,6 +200,85 @@ TEST(Metric, ClassesTakeTheMeanShapeOfTheirBin) {
   for (const MetricClass& c : metricClassesFor(unit, 0.25f)) EXPECT_TRUE(c.shape.identity());
   const std::vector<MetricClass> mild = {shaped(1.0f, 1.05f, 0.0f)};
   EXPECT_EQ(metricClassesFor(mild, 0.25f).at(0).shape.a, 1.05f);
+}
+
+// Garbage metrics (a mesh so far from the origin that its float positions collapse once asked
+// for 111 classes): at most kMaxMetricClasses, at a coarser step, every shape within the clamps.
+// A sphere's range of metrics keeps the requested step.
+TEST(Metric, GarbageMetricsFitTheClassCapAndTheShapeClamps) {
+  Rng rng(3);
+  std::vector<MetricClass> garbage;
+  for (int k = 0; k < 2000; ++k)
+    garbage.push_back(
+        {std::exp2(40.0f * rng.uniform() - 20.0f),
+         MetricShape{std::exp2(24.0f * rng.uniform() - 12.0f), 2000.0f * rng.uniform() - 1000.0f}});
+  float step = 0.0f;
+  const std::vector<MetricClass> classes = metricClassesFor(garbage, 0.25f, &step);
+  EXPECT_LE(classes.size(), kMaxMetricClasses);
+  EXPECT_GE(classes.size(), 2u);
+  EXPECT_GT(step, 0.25f) << "the cap must have coarsened the step";
+  for (const MetricClass& c : classes) {
+    EXPECT_GE(c.shape.a, 1.0f / kMaxMetricStretch);
+    EXPECT_LE(c.shape.a, kMaxMetricStretch);
+    EXPECT_LE(std::abs(c.shape.b), kMaxMetricShear);
+    EXPECT_TRUE(std::isfinite(c.lengthPerU) && c.lengthPerU > 0.0f);
+  }
+  // A UV sphere's metrics (u once around, v pole to pole): on the ring of radius r, |P_u| = 2 pi r
+  // and |P_v| = pi, so l = pi sqrt(2 r) and a = sqrt(2 r), r from 0.05 to 1.
+  std::vector<MetricClass> sphere;
+  for (int k = 0; k <= 100; ++k) {
+    const float r = 0.05f + 0.0095f * static_cast<float>(k);
+    sphere.push_back({kPi * std::sqrt(2.0f * r), MetricShape{std::sqrt(2.0f * r), 0.0f}});
+  }
+  const std::vector<MetricClass> kept = metricClassesFor(sphere, 0.25f, &step);
+  EXPECT_EQ(step, 0.25f);
+  EXPECT_GT(kept.size(), 1u);
+  EXPECT_LE(kept.size(), kMaxMetricClasses);
+}
+
+// Relief too steep to tabulate (an amplitude of 1e6 once took 467 s of table building): the class
+// is raised to the length at which the relief's rms slope is kMaxTableSlope, so twice the
+// amplitude gives twice that length, with a warning; a sane amplitude keeps the plane's length.
+TEST(Metric, ReliefSteeperThanTheTableCapIsTabulatedAtTheCap) {
+  const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  std::vector<float> lengths;
+  for (float amplitude : {0.03f, 1e6f, 2e6f}) {
+    // Bump builds no tables but lists the classes, as the table renderers would get them.
+    const Scene s = metricScene("bump", "steep", unit, 2.0f, amplitude);
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, false);
+    ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u);
+    lengths.push_back(ctx.reliefs[0].metrics[0].lengthPerU);
+    const bool steep = amplitude > 1.0f;
+    bool warned = false;
+    for (const std::string& w : ctx.warnings)
+      warned = warned || (w.find("at most 100 is tabulated") != std::string::npos &&
+                          w.find("world units per unit of u") != std::string::npos);
+    EXPECT_EQ(warned, steep) << amplitude;
+  }
+  EXPECT_NEAR(lengths[0], 1.0f, 1e-4f);
+  EXPECT_GT(lengths[1], 1e3f) << "an rms slope of about 1e6 per unit length, over 100";
+  EXPECT_NEAR(lengths[2] / lengths[1], 2.0f, 1e-4f);
+}
+
+// A mesh so far from the origin that 32-bit positions are spaced more than 0.1% of its size apart
+// is warned about, naming its file; at 1e3 units (spacing 6e-5) it is not.
+TEST(Metric, AMeshFarFromTheOriginIsWarnedAbout) {
+  const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  for (float offset : {1e3f, 1e7f}) {
+    Scene s = metricScene("bump", "far", unit, 2.0f, 0.03f);
+    s.objects[0].transform = glm::translate(Mat4(1.0f), Vec3(offset, 0.0f, 0.0f));
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, false);
+    bool warned = false;
+    const std::string expected =
+        s.objects[0].mesh.string() +
+        ": it lies 1e+07 units from the origin, where positions (32-bit floats) are 1.1921 "
+        "apart, 2.98% of its size (40)";
+    for (const std::string& w : ctx.warnings)
+      warned = warned || w.find(expected) != std::string::npos;
+    EXPECT_EQ(warned, offset > 1e6f) << offset;
+  }
 }
 
 // A plane whose u runs 10 times faster than v, its BRDF tables at the default 0.25-octave step and

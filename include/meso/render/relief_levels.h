@@ -143,11 +143,29 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                                    const TableSettings& settings = {},
                                    std::vector<MetricClass> classes = {});
 
+// At most this many metric classes per material (each is a table set per level, about 11 MB and
+// half a second to a few seconds to build; a UV sphere needs 15, a torus 6): a surface whose
+// metric is garbage, such as a mesh so far from the origin that its float positions collapse, once
+// asked for 111 classes (332 table sets, minutes to build and gigabytes to hold).
+inline constexpr size_t kMaxMetricClasses = 32;
+// The stretch a and shear b of a class are clamped to [1/16, 16] (a 256:1 ratio of |P_u| to
+// |P_v|) and [-4, 4]; a sample beyond is looked up in the nearest class (docs/metric.md).
+inline constexpr float kMaxMetricStretch = 16.0f;
+inline constexpr float kMaxMetricShear = 4.0f;
+// The steepest rms slope a class's tables are built for (89.4 degrees): beyond it the class's
+// length per unit of u is raised until the relief is this steep, with a warning. Tracing a tile
+// many periods tall costs minutes per table set (an amplitude of 1e6 took 467 s) and describes a
+// bed of needles that no real surface is.
+inline constexpr float kMaxTableSlope = 100.0f;
+
 // The classes for the metrics sampled on a material's surfaces: samples binned by their shape
 // quantized to stepOctaves in a and stepOctaves / 2 in b; each bin's class has the bin's mean shape
 // (geometric in a; exactly the identity when that is within 1e-3 of it) and metricClasses over the
-// bin's range of lengths.
-std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves);
+// bin's range of lengths. Shapes are clamped to kMaxMetricStretch and kMaxMetricShear first. Past
+// kMaxMetricClasses the step is doubled until they fit (in the end,
+// one bin for all samples); `stepUsed` (may be null) receives the step that was used.
+std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves,
+                                          float* stepUsed = nullptr);
 
 // The metric classes that cover lengths per unit of u in [lo, hi]: one class at sqrt(lo hi) when
 // hi / lo < 1 + 1e-3, else a geometric series from lo to hi with ratio at most 2^stepOctaves.
