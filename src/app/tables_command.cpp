@@ -22,7 +22,7 @@ void runTables(const TablesCommandOptions& o) {
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(scene, times, false);
+  const RenderContext ctx = prepareRenderContext(scene, times, false, !o.noPlots);
   for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::printf(
       "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,cache,seconds,bytes\n");

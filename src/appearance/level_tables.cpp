@@ -86,7 +86,11 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
       distr.fromData(std::span<const float>(*cached).first(histogramSize))) {
     brdfData.assign(cached->begin() + static_cast<std::ptrdiff_t>(histogramSize), cached->end());
     fromCache = true;
-  } else {
+  }
+  // What the cache holds (or would): masses, then the BRDF.
+  size_t bytes = cached ? cached->size() * sizeof(float) : 0;
+  cached.reset();  // copied out: its memory goes to the tables built next
+  if (!fromCache) {
     distr = buildVisibleNormalHistogram(relief, settings.histogram);
   }
   std::vector<float> thetaV(distr.resolution().thetaV);
@@ -97,9 +101,10 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, lobe);
   fromCache = fromCache && brdf.data().size() == brdfSize;
-  std::vector<float> payload = distr.toData(false);
-  payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());
-  if (!fromCache) {
+  if (!fromCache) {  // assembled only to be stored
+    std::vector<float> payload = distr.toData(false);
+    payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());
+    bytes = payload.size() * sizeof(float);
     warning.clear();
     cache.store(key, payload, &warning);
     if (!warning.empty() && warnings) warnings->push_back(warning);
@@ -113,6 +118,9 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
     shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings);
     shadowingSeconds = shadowTimer.seconds();
   }
+  if (!settings.keepHistograms)
+    distr = VisibleNormalHistogram(distr.resolution(), distr.thetaVMax(),
+                                   VisibleNormalHistogram::LayoutOnly{});
   return LevelTables{std::move(distr),
                      std::move(redistribution),
                      std::move(brdf),
@@ -121,7 +129,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                      key,
                      fromCache,
                      timer.seconds(),
-                     payload.size() * sizeof(float)};
+                     bytes};
 }
 
 }  // namespace meso

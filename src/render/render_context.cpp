@@ -75,7 +75,8 @@ bool RenderContext::viewDependent() const {
   return false;
 }
 
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame) {
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame,
+                                   bool keepHistograms) {
   RenderContext ctx{&scene,
                     Camera(scene.camera),
                     {},
@@ -117,6 +118,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump &&
                      ctx.algorithm != Algorithm::Displacement;
   settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
+  settings.keepHistograms = keepHistograms;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
     bool used = false, curved = false;

@@ -105,8 +105,8 @@ TEST(Metric, TablesFollowTheLengthPerU) {
   Scene a = metricScene("brdf", "unit", unit, 2.0f, 0.03f);
   Scene b = metricScene("brdf", "one", one, 80.0f, 0.03f);
   PrepareTimes times;
-  const RenderContext ca = prepareRenderContext(a, times, false),
-                      cb = prepareRenderContext(b, times, false);
+  const RenderContext ca = prepareRenderContext(a, times, false, true),
+                      cb = prepareRenderContext(b, times, false, true);
   ASSERT_EQ(ca.reliefs[0].metrics.size(), 1u);
   ASSERT_EQ(cb.reliefs[0].metrics.size(), 1u);
   EXPECT_NEAR(ca.reliefs[0].metrics[0].lengthPerU, 1.0f, 1e-4f);
@@ -135,6 +135,25 @@ TEST(Metric, OnlyTableRenderersGetTables) {
     EXPECT_EQ(ctx.reliefs[0].metrics[0].levels.size(), tables ? 1u : 0u) << algorithm;
     EXPECT_EQ(times.tablesBuilt + times.tablesFromCache, tables ? 1 : 0) << algorithm;
   }
+}
+
+// A render's tables keep only the layout of their histograms (3 MB each at the default resolution;
+// no renderer reads the masses once the BRDF, redistribution and self-shadowing tables are built);
+// `meso tables` (keepHistograms) keeps the masses for its plots. The BRDF is the same either way.
+TEST(Metric, RenderContextsKeepNoHistogramMasses) {
+  const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  const Scene s = metricScene("brdf", "masses", unit, 2.0f, 0.03f);
+  PrepareTimes times;
+  const RenderContext lean = prepareRenderContext(s, times, false),
+                      kept = prepareRenderContext(s, times, false, true);
+  const LevelTables &a = lean.reliefs[0].tables(0), &b = kept.reliefs[0].tables(0);
+  EXPECT_TRUE(a.distr.toData(false).empty());
+  EXPECT_EQ(b.distr.toData(false).size(), b.distr.numBins());
+  EXPECT_EQ(a.distr.resolution().thetaN, b.distr.resolution().thetaN) << "the layout stays";
+  EXPECT_EQ(a.distr.resolution().phiV, b.distr.resolution().phiV);
+  EXPECT_EQ(a.distr.thetaVMax(), b.distr.thetaVMax());
+  EXPECT_EQ(a.brdf.data(), b.brdf.data());
+  EXPECT_EQ(a.bytes, b.bytes);
 }
 
 // Stretched (|P_u| = 3 |P_v|) and sheared (45 degrees) uv on the same world relief as unit-speed

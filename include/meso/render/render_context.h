@@ -72,8 +72,10 @@ struct RenderContext {
 
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that
 // objects use (only those), then (unless buildFrame is false) the geometry of the scene's own
-// camera (prepareFrame).
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame = true);
+// camera (prepareFrame). The tables' histograms keep their masses only when keepHistograms is true
+// (`meso tables` plots them; TableSettings::keepHistograms).
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame = true,
+                                   bool keepHistograms = false);
 
 // Sets the camera and builds the frame's geometry: objects whose material has relief are diced
 // into displaced micropolygons where the algorithm raises relief in this view (everywhere for
