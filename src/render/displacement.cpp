@@ -239,16 +239,7 @@ constexpr float kMaskingSlopes = 3.0f;
 
 float reliefSlopeRmsPerU(const MaterialRelief& relief) {
   double sum = 0.0;
-  for (const ReliefLevel& level : relief.levels) {
-    const std::vector<Vec2> points = levelSamplePoints(level);
-    double uu = 0.0, vv = 0.0;
-    for (const Vec2& uv : points) {
-      const Vec2 B = level.derivatives(uv);
-      uu += static_cast<double>(B.x) * B.x;
-      vv += static_cast<double>(B.y) * B.y;
-    }
-    sum += std::max(uu, vv) / static_cast<double>(points.size());
-  }
+  for (const ReliefLevel& level : relief.levels) sum += levelSlopeMeanSquarePerU(level);
   const float rms = static_cast<float>(std::sqrt(sum));
   return std::isfinite(rms) ? rms : std::numeric_limits<float>::infinity();
 }

@@ -43,6 +43,17 @@ std::vector<Vec2> levelSamplePoints(const ReliefLevel& level) {
   return points;
 }
 
+double levelSlopeMeanSquarePerU(const ReliefLevel& level) {
+  const std::vector<Vec2> points = levelSamplePoints(level);
+  double uu = 0.0, vv = 0.0;
+  for (const Vec2& uv : points) {
+    const Vec2 B = level.derivatives(uv);
+    uu += static_cast<double>(B.x) * B.x;
+    vv += static_cast<double>(B.y) * B.y;
+  }
+  return std::max(uu, vv) / static_cast<double>(points.size());
+}
+
 ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
   ReliefLevel level;
   level.source = makeHeightSource(d);
@@ -268,25 +279,13 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   return m;
 }
 
-}  // namespace
-
-namespace {
-
 // The largest rms slope per unit of u (world height per unit of u, the steeper of the two
 // directions) of the material's levels.
 float steepestSlopePerU(const MaterialRelief& r) {
-  double steepest = 0.0;
-  for (const ReliefLevel& level : r.levels) {
-    const std::vector<Vec2> points = levelSamplePoints(level);
-    double uu = 0.0, vv = 0.0;
-    for (const Vec2& uv : points) {
-      const Vec2 B = level.derivatives(uv);
-      uu += static_cast<double>(B.x) * B.x;
-      vv += static_cast<double>(B.y) * B.y;
-    }
-    steepest = std::max(steepest, std::sqrt(std::max(uu, vv) / std::max<size_t>(points.size(), 1)));
-  }
-  return std::isfinite(steepest) ? static_cast<float>(steepest) : 0.0f;
+  float steepest = 0.0f;
+  for (const ReliefLevel& level : r.levels)
+    steepest = std::max(steepest, static_cast<float>(std::sqrt(levelSlopeMeanSquarePerU(level))));
+  return std::isfinite(steepest) ? steepest : 0.0f;
 }
 
 // Raises the length of every class on which the relief's tile would be steeper than
