@@ -166,8 +166,8 @@ inline constexpr float kMaxTableSlope = 100.0f;
 // quantized to stepOctaves in a and stepOctaves / 2 in b; each bin's class has the bin's mean shape
 // (geometric in a; exactly the identity when that is within 1e-3 of it) and metricClasses over the
 // bin's range of lengths. Shapes are clamped to kMaxMetricStretch and kMaxMetricShear first. Past
-// kMaxMetricClasses the step is doubled until they fit (in the end, one bin for all samples);
-// `stepUsed` (may be null) receives the step that was used.
+// kMaxMetricClasses the step is doubled until they fit; `stepUsed` (may be null) receives the step
+// that was used.
 std::vector<MetricClass> metricClassesFor(std::span<const MetricClass> samples, float stepOctaves,
                                           float* stepUsed = nullptr);
 
