@@ -51,7 +51,8 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   hash.value(phong);
   const uint64_t key = hash.digest();
   std::string warning;
-  std::optional<std::vector<float>> cached = cache.load(key, &warning);
+  TableCache::Lock buildLock;  // from a miss until the table is stored: one build per key
+  std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
   if (!warning.empty() && warnings) warnings->push_back(warning);
   ShadowingTable table;
   if (cached && ShadowingTable::fromData(*cached, r, table) &&
@@ -77,7 +78,8 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
   const uint64_t key = tableKey(relief, phong, settings, finer, lobe);
   VisibleNormalHistogram distr(settings.histogram.resolution);
   std::string warning;
-  std::optional<std::vector<float>> cached = cache.load(key, &warning);
+  TableCache::Lock buildLock;  // from a miss until the tables are stored: one build per key
+  std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
   if (!warning.empty() && warnings) warnings->push_back(warning);
   const size_t histogramSize = distr.numBins();  // the cache holds masses, then the BRDF
   bool fromCache = false;
@@ -109,6 +111,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
     cache.store(key, payload, &warning);
     if (!warning.empty() && warnings) warnings->push_back(warning);
   }
+  buildLock.unlock();
   Redistribution redistribution(distr, settings.variant);
   distr.dropMeanNormals();
   ShadowingTable shadowing;
