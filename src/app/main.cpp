@@ -1,5 +1,6 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
 #include "bands_command.h"
+#include "cache_command.h"
 #include "cli_values.h"
 #include "consistency_command.h"
 #include "render_command.h"
@@ -244,6 +245,35 @@ void addBandsCommand(CLI::App& cli, meso::app::BandsCommandOptions& o) {
   b->callback([&o] { meso::app::runBands(o); });
 }
 
+void addCacheCommand(CLI::App& cli, meso::app::CacheCommandOptions& o) {
+  CLI::App* c = cli.add_subcommand(
+      "cache", "The table cache folder: list its tables, clear it, or prune it to a size");
+  c->require_subcommand(1);
+  const auto addFolder = [&o](CLI::App* sub) {
+    sub->add_option(
+        "--cache-dir", o.cacheDir,
+        "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
+  };
+  CLI::App* list = c->add_subcommand(
+      "list",
+      "One line per table, least recently used first: file, size, last use; then the total");
+  addFolder(list);
+  list->callback([&o] { meso::app::runCacheList(o); });
+  CLI::App* clear =
+      c->add_subcommand("clear", "Remove every table and lock file (those in use are kept)");
+  addFolder(clear);
+  clear->callback([&o] { meso::app::runCacheClear(o); });
+  CLI::App* prune = c->add_subcommand(
+      "prune",
+      "Remove least recently used tables until the rest fit in a size (the same eviction "
+      "that runs after every store)");
+  addFolder(prune);
+  prune->add_option("--to,--cache-limit", o.to,
+                    "Size to prune to: bytes with an optional K, M, G or T suffix (500M, 4G); "
+                    "default $MESO_CACHE_LIMIT, else 4G");
+  prune->callback([&o] { meso::app::runCachePrune(o); });
+}
+
 // Options live for the whole run (CLI11 writes into them when it parses).
 void addTradeCommand(CLI::App& cli) {
   static meso::app::TradeCommandOptions o;
@@ -381,6 +411,8 @@ int main(int argc, char** argv) {
   meso::app::BandsCommandOptions bandsOptions;
   addBandsCommand(cli, bandsOptions);
   addTradeCommand(cli);
+  meso::app::CacheCommandOptions cacheOptions;
+  addCacheCommand(cli, cacheOptions);
   requireSaneValues(cli);
   addMemoryLimit(cli);
   meso::app::installInterruptHandler();

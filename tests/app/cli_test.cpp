@@ -3,12 +3,16 @@
 #include "support/run_meso.h"
 #include "support/temp_dir.h"
 
+#include "meso/appearance/table_cache.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -227,6 +231,69 @@ TEST_F(CliTest, UpperCaseExrExtensionIsAccepted) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir_ / "out/X.EXR"));
   EXPECT_TRUE(fs::exists(dir_ / "out/X.png"));
+}
+
+// A cache folder of three tables, used 3, 2 and 1 hours ago by key.
+class CliCacheTest : public CliTest {
+ protected:
+  void SetUp() override {
+    CliTest::SetUp();
+    cache_ = meso::TableCache(dir_ / "cache", uint64_t{1} << 40);
+    const std::vector<float> table(1000, 0.5f);
+    for (uint64_t key : {1, 2, 3}) {
+      cache_.store(key, table, nullptr);
+      fs::last_write_time(cache_.fileFor(key),
+                          fs::file_time_type::clock::now() - std::chrono::hours(key));
+    }
+    fs::create_directories(cache_.folder() / "references");
+    bytes_ = fs::file_size(cache_.fileFor(1));
+  }
+  RunResult runCache(const std::string& args) {
+    return run("cache " + args + " --cache-dir " + cache_.folder().string());
+  }
+  meso::TableCache cache_{fs::path()};
+  uint64_t bytes_ = 0;
+};
+
+TEST_F(CliCacheTest, ListShowsTablesLeastRecentlyUsedFirst) {
+  const RunResult r = runCache("list");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const size_t at3 = r.output.find("0000000000000003.tbl");
+  const size_t at2 = r.output.find("0000000000000002.tbl");
+  const size_t at1 = r.output.find("0000000000000001.tbl");
+  ASSERT_NE(at1, std::string::npos) << r.output;
+  EXPECT_TRUE(at3 < at2 && at2 < at1) << r.output;
+  EXPECT_NE(r.output.find("total: 3 tables"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::to_string(3 * bytes_) + " bytes)"), std::string::npos) << r.output;
+}
+
+TEST_F(CliCacheTest, PruneThenClear) {
+  RunResult r = runCache("prune --to " + std::to_string(2 * bytes_));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 1 table "), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(cache_.fileFor(3)));  // the least recently used
+  EXPECT_TRUE(fs::exists(cache_.fileFor(1)));
+  r = runCache("clear");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 2 tables"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::to_string(2 * bytes_) + " bytes"), std::string::npos) << r.output;
+  EXPECT_TRUE(cache_.entries().empty());
+  EXPECT_TRUE(fs::exists(cache_.folder() / "references"));
+}
+
+// A bad size, as an option or in MESO_CACHE_LIMIT: status 2 and a message naming where it came
+// from.
+TEST_F(CliTest, CacheBadSizesExitWithStatusTwo) {
+  const std::string dirArg = " --cache-dir " + (dir_ / "cache").string();
+  RunResult r = run("cache prune --to 12Q" + dirArg);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--to: expected a size in bytes"), std::string::npos) << r.output;
+  setenv("MESO_CACHE_LIMIT", "plenty", 1);
+  r = run("cache prune" + dirArg);
+  unsetenv("MESO_CACHE_LIMIT");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("MESO_CACHE_LIMIT: expected a size in bytes"), std::string::npos)
+      << r.output;
 }
 
 }  // namespace
