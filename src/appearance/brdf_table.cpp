@@ -4,54 +4,140 @@
 #include "meso/appearance/table_axis.h"
 
 #include "meso/core/math.h"
+#include "meso/core/power.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include <span>
 
 #include <tbb/parallel_for.h>
 
 namespace meso {
 namespace {
 
-// Sums f(V, L, N) * mass over the visible normals of each view slice, for every table entry.
-// V has azimuth 0 (the histogram's phi axis is phi_N - phi_V) and L azimuth -phi_{V-L}; perNormal
-// also gets the slice's view azimuth phi_V about the relief's axes.
-template <typename PerNormal>
-BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, PerNormal perNormal) {
+// The visible normals of one view slice as quadrature points: each a group of neighbouring
+// histogram bins with their total mass and mass-weighted mean normal (unnormalized, so that the
+// diffuse term, linear in N, stays exact), structure of arrays for loops the compiler vectorizes.
+constexpr size_t kLanes = 8;
+
+struct QuadratureNormals {
+  std::vector<float> mass, x, y, z, invLength;
+  size_t size() const { return mass.size(); }
+};
+
+QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
+                                    const NormalGrouping& g) {
+  const HistogramResolution& h = distr.resolution();
+  const int gt = std::min(g.thetaNBins(distr.thetaNWidth()), h.thetaN);
+  const int gp = std::min(g.phiBins(distr.phiWidth()), h.phi);
+  QuadratureNormals q;
+  for (int a0 = 0; a0 < h.thetaN; a0 += gt)
+    for (int b0 = 0; b0 < h.phi; b0 += gp) {
+      double m = 0.0;
+      glm::dvec3 n(0.0);
+      for (int a = a0; a < std::min(a0 + gt, h.thetaN); ++a)
+        for (int b = b0; b < std::min(b0 + gp, h.phi); ++b) {
+          const float mb = distr.mass(k, a, b);
+          if (mb == 0.0f) continue;
+          m += mb;
+          n += static_cast<double>(mb) * glm::dvec3(distr.meanNormal(k, a, b));
+        }
+      if (m == 0.0) continue;
+      const Vec3 mean(n / m);
+      const float len = glm::length(mean);
+      q.mass.push_back(static_cast<float>(m));
+      q.x.push_back(mean.x), q.y.push_back(mean.y), q.z.push_back(mean.z);
+      q.invLength.push_back(len > 0.0f ? 1.0f / len : 0.0f);
+    }
+  while (q.size() % kLanes != 0)  // massless padding for the lanes of sumLocalModel
+    for (std::vector<float>* v : {&q.mass, &q.x, &q.y, &q.z, &q.invLength}) v->push_back(0.0f);
+  return q;
+}
+
+// The table's light directions in the view-aligned frame of a slice (V at azimuth 0): theta_L node
+// i, phi_{V-L} node j at azimuth -phi_{V-L}.
+Vec3 lightOfNode(const BrdfResolution& res, int phiV, int i, int j) {
+  const int nL = BrdfTable::thetaLNodes(res);
+  const float tl = kPi * static_cast<float>(i) / static_cast<float>(nL - 1);
+  const float pvl =
+      (phiV > 1 ? -kPi : 0.0f) + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
+  return polarDirection(tl, -pvl);
+}
+
+// Fills every (theta_V, phi_V) slice of a table with perSlice(k, V, q, out), which writes the
+// slice's nL * nPhi diffuse values to out and the specular ones after them. Slices are
+// independent: parallel, and the same bits for any thread count.
+template <typename PerSlice>
+BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, PerSlice perSlice) {
   const HistogramResolution& h = distr.resolution();
   std::vector<float> thetaV(h.thetaV);
   for (int k = 0; k < h.thetaV; ++k) thetaV[k] = distr.thetaV(k);
-  const int nPhi = BrdfTable::phiNodes(res, h.phiV), nL = BrdfTable::thetaLNodes(res);
-  const float phiLo = h.phiV > 1 ? -kPi : 0.0f;
+  const size_t perView =
+      static_cast<size_t>(BrdfTable::phiNodes(res, h.phiV)) * BrdfTable::thetaLNodes(res);
   std::vector<float> data(BrdfTable::dataSize(res, h.thetaV, h.phiV), 0.0f);
   const size_t half = data.size() / 2;
-  // Slices are independent: parallel, and the same bits for any thread count.
   tbb::parallel_for(0, distr.numSlices(), [&](int k) {
-    const Vec3 V = polarDirection(distr.sliceThetaV(k), 0.0f);
-    const float phiV = h.phiV > 1 ? distr.slicePhiV(k) : 0.0f;
-    for (int i = 0; i < nL; ++i)
-      for (int j = 0; j < nPhi; ++j) {
-        const float tl = kPi * static_cast<float>(i) / static_cast<float>(nL - 1);
-        const float pvl = phiLo + kPi * static_cast<float>(j) / static_cast<float>(res.phi - 1);
-        const Vec3 L = polarDirection(tl, -pvl);
-        double diff = 0.0, spec = 0.0;
-        for (int a = 0; a < h.thetaN; ++a)
-          for (int b = 0; b < h.phi; ++b) {
-            const float m = distr.mass(k, a, b);
-            if (m == 0.0f) continue;
-            const BrdfTable::Value v = perNormal(V, L, distr.meanNormal(k, a, b), phiV);
-            diff += m * v.diffuse;
-            spec += m * v.specular;
-          }
-        const size_t idx = (static_cast<size_t>(k) * nL + i) * nPhi + j;
-        data[idx] = static_cast<float>(diff);
-        data[half + idx] = static_cast<float>(spec);
-      }
+    std::vector<double> sums(2 * perView, 0.0);
+    perSlice(k, polarDirection(distr.sliceThetaV(k), 0.0f), sums);
+    for (size_t e = 0; e < perView; ++e) {
+      data[k * perView + e] = static_cast<float>(sums[e]);
+      data[half + k * perView + e] = static_cast<float>(sums[perView + e]);
+    }
   });
   return BrdfTable::fromData(std::move(thetaV), res, std::move(data), h.phiV);
 }
 
+// Figure 2's first branch over the quadrature normals: sums[node] gets sum m (L.N)+ and
+// sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the clamped
+// cosines of one light, in place, into the lobe's values.
+template <typename LobeOf>
+void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int phiV, const Vec3& V,
+                   LobeOf lobeOf, std::vector<double>& sums) {
+  const int nL = BrdfTable::thetaLNodes(res), nPhi = BrdfTable::phiNodes(res, phiV);
+  const size_t perView = static_cast<size_t>(nL) * nPhi, n = q.size();
+  std::vector<float> d(n), c(n);
+  for (int i = 0; i < nL; ++i)
+    for (int j = 0; j < nPhi; ++j) {
+      const Vec3 L = lightOfNode(res, phiV, i, j);
+      const Vec3 h = V + L;
+      const float hl = glm::length(h);
+      const Vec3 H = hl > 1e-12f ? h / hl : Vec3(0.0f);
+      const float *x = q.x.data(), *y = q.y.data(), *z = q.z.data(), *inv = q.invLength.data();
+      float *dOut = d.data(), *cOut = c.data();
+      for (size_t b = 0; b < n; ++b) {  // branch-free, so that it vectorizes
+        const float lDotN = L.x * x[b] + L.y * y[b] + L.z * z[b];
+        const float cosHN = (H.x * x[b] + H.y * y[b] + H.z * z[b]) * inv[b];
+        const float lit = lDotN > 0.0f ? 1.0f : 0.0f;
+        dOut[b] = lit * lDotN;
+        cOut[b] = lit * std::min(std::max(cosHN, 0.0f), 1.0f);
+      }
+      lobeOf(std::span<float>(c));
+      // Independent lanes (the arrays are padded with massless points to a multiple of kLanes):
+      // a reduction the compiler vectorizes without reordering any one sum, so the same bits on
+      // every machine.
+      float diff[kLanes] = {}, spec[kLanes] = {};
+      for (size_t b = 0; b < n; b += kLanes)
+        for (size_t l = 0; l < kLanes; ++l)
+          diff[l] += q.mass[b + l] * d[b + l], spec[l] += q.mass[b + l] * c[b + l];
+      double dSum = 0.0, sSum = 0.0;
+      for (size_t l = 0; l < kLanes; ++l) dSum += diff[l], sSum += spec[l];
+      sums[static_cast<size_t>(i) * nPhi + j] = dSum;
+      sums[perView + static_cast<size_t>(i) * nPhi + j] = sSum;
+    }
+}
+
 }  // namespace
+
+namespace {
+int binsWithin(float groupWidth, float binWidth) {
+  const float n = groupWidth / binWidth;
+  return std::isfinite(n) && n >= 1.0f ? static_cast<int>(std::floor(n + 1e-3f)) : 1;
+}
+}  // namespace
+
+int NormalGrouping::thetaNBins(float width) const { return binsWithin(thetaN, width); }
+int NormalGrouping::phiBins(float width) const { return binsWithin(phi, width); }
 
 BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res,
                               std::vector<float> data, int phiV) {
@@ -66,58 +152,67 @@ BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res,
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
                                       const SpecularLobe& lobe) {
-  return integrate(distr, res, [&lobe](const Vec3& V, const Vec3& L, const Vec3& nMean, float) {
-    Value v;
-    v.diffuse = std::max(glm::dot(L, nMean), 0.0f);
-    const float len = glm::length(nMean);
-    const Vec3 h = V + L;
-    const float hl = glm::length(h);
-    if (v.diffuse > 0.0f && len > 0.0f && hl > 1e-12f) {  // lit facets only, as shadeLocal
-      const float s = lobe.value(std::clamp(glm::dot(h / hl, nMean / len), -1.0f, 1.0f));
-      v.specular = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
-    }
-    return v;
+  const int phiV = distr.resolution().phiV;
+  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+    const auto lobeOf = [&lobe](std::span<float> c) {
+      for (float& v : c) {
+        if (v == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
+        const float s = lobe.value(v);
+        v = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
+      }
+    };
+    sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
   });
 }
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
                                       float phong) {
-  return integrate(distr, res, [phong](const Vec3& V, const Vec3& L, const Vec3& nMean, float) {
-    // The diffuse term is linear in N: the bin's mean normal (unnormalized) makes it exact.
-    Value v;
-    v.diffuse = std::max(glm::dot(L, nMean), 0.0f);
-    const float len = glm::length(nMean);
-    const Vec3 h = V + L;
-    const float hl = glm::length(h);
-    if (v.diffuse > 0.0f && len > 0.0f && hl > 1e-12f)  // lit facets only, as shadeLocal
-      v.specular = std::pow(std::max(glm::dot(h / hl, nMean / len), 0.0f), phong);
-    return v;
+  const int phiV = distr.resolution().phiV;
+  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+    const auto lobeOf = [phong](std::span<float> c) { raiseToPower(c, phong); };
+    sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
   });
 }
 
 BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
                                     const BrdfTable& finer) {
-  return integrate(
-      distr, res, [&finer](const Vec3& V, const Vec3& L, const Vec3& nMean, float phiV) {
-        const float len = glm::length(nMean);
-        if (len == 0.0f) return Value{};
-        const Vec3 N = nMean / len;
-        // Eq. (1): angles of V and L measured from the bin normal; azimuths in the plane
-        // perpendicular to N, against the relief's axes x and y (seen from the view-aligned frame,
-        // they are turned by -phi_V; with isotropic tables phi_V is 0 and only phi_{V-L} matters).
-        const float c = std::cos(phiV), sn = std::sin(phiV);
-        const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
-        const float tv = std::acos(std::clamp(glm::dot(V, N), -1.0f, 1.0f));
-        const float tl = std::acos(std::clamp(glm::dot(L, N), -1.0f, 1.0f));
-        if (tv >= 0.5f * kPi) return Value{};  // seen from behind the facet
-        // A light behind the facet may still light its finer relief: the finer table goes on to
-        // theta_L = pi.
-        const float pl = std::atan2(glm::dot(L, glm::cross(N, x)), glm::dot(L, glm::cross(y, N)));
-        const float pv = std::atan2(glm::dot(V, glm::cross(N, x)), glm::dot(V, glm::cross(y, N)));
-        const float pvl = std::fmod(pv - pl + 3.0f * kPi, 2.0f * kPi) - kPi;
-        return finer.numPhiV() > 1 ? finer.lookup(tv, pv, tl, pvl)
-                                   : finer.lookup(tv, tl, std::abs(pvl));
-      });
+  const int phiV = distr.resolution().phiV;
+  const int nL = thetaLNodes(res), nPhi = phiNodes(res, phiV);
+  const size_t perView = static_cast<size_t>(nL) * nPhi;
+  std::vector<Vec3> lights(perView);
+  for (int i = 0; i < nL; ++i)
+    for (int j = 0; j < nPhi; ++j)
+      lights[static_cast<size_t>(i) * nPhi + j] = lightOfNode(res, phiV, i, j);
+  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+    const QuadratureNormals q = quadratureNormals(distr, k, res.coarser);
+    // Eq. (1): angles of V and L measured from the quadrature normal; azimuths in the plane
+    // perpendicular to N, against the relief's axes x and y (seen from the view-aligned frame,
+    // they are turned by -phi_V; with isotropic tables phi_V is 0 and only phi_{V-L} matters).
+    const float phiVSlice = phiV > 1 ? distr.slicePhiV(k) : 0.0f;
+    const float c = std::cos(phiVSlice), sn = std::sin(phiVSlice);
+    const Vec3 x(c, -sn, 0.0f), y(sn, c, 0.0f);
+    for (size_t b = 0; b < q.size(); ++b) {
+      if (q.invLength[b] == 0.0f) continue;
+      const Vec3 N = Vec3(q.x[b], q.y[b], q.z[b]) * q.invLength[b];
+      const float tv = fastAcos(glm::dot(V, N));
+      if (tv >= 0.5f * kPi) continue;  // seen from behind the facet
+      const Vec3 ex = glm::cross(N, x), ey = glm::cross(y, N);
+      const float pv = fastAtan2(glm::dot(V, ex), glm::dot(V, ey));
+      const ViewAxes view = finer.locateView(tv, pv);
+      const double m = q.mass[b];
+      for (size_t e = 0; e < perView; ++e) {
+        const Vec3& L = lights[e];
+        // A light behind the facet may still light its finer relief: the finer table goes on
+        // to theta_L = pi.
+        const float tl = fastAcos(glm::dot(L, N));
+        const float pl = fastAtan2(glm::dot(L, ex), glm::dot(L, ey));
+        const float pvl = wrapAngle(pv - pl);
+        const Value v = finer.lookup(view, tl, pvl);
+        sums[e] += m * v.diffuse;
+        sums[perView + e] += m * v.specular;
+      }
+    }
+  });
 }
 
 float BrdfTable::thetaL(int i) const {
@@ -131,22 +226,29 @@ BrdfTable::Value BrdfTable::entry(int k, int i, int j) const {
   return {data_[index(k, i, j)], data_[data_.size() / 2 + index(k, i, j)]};
 }
 
-BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) const {
-  if (phiV_ > 1) return lookup(thetaV, 0.0f, thetaL, phiVL);
-  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+BrdfTable::ViewAxes BrdfTable::locateView(float thetaV, float phiV) const {
+  return {locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV()),
+          locateViewAzimuth(phiV, phiV_)};
+}
+
+BrdfTable::Value BrdfTable::lookup(const ViewAxes& view, float thetaL, float phiVL) const {
   const TableAxis b = locateOnAxis(thetaL, 0.0f, kPi, thetaLNodes(res_));
-  const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
-  const TableAxis c = locateOnAxis(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
-  return interpolateTable<Value>(a, TableAxis{}, b, c, layout());
+  TableAxis c;
+  if (phiV_ > 1) {
+    c = locateOnAxis(wrapAngle(phiVL), -kPi, kPi, nPhi_);
+  } else {  // isotropic: |phi_{V-L}| over [0, pi]
+    const float p = std::abs(std::fmod(std::isfinite(phiVL) ? phiVL : 0.0f, 2.0f * kPi));
+    c = locateOnAxis(p > kPi ? 2.0f * kPi - p : p, 0.0f, kPi, res_.phi);
+  }
+  return interpolateTable<Value>(view.thetaV, view.phiV, b, c, layout());
+}
+
+BrdfTable::Value BrdfTable::lookup(float thetaV, float thetaL, float phiVL) const {
+  return lookup(locateView(thetaV, 0.0f), thetaL, phiVL);
 }
 
 BrdfTable::Value BrdfTable::lookup(float thetaV, float phiV, float thetaL, float phiVL) const {
-  if (phiV_ == 1) return lookup(thetaV, thetaL, phiVL);
-  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
-  const TableAxis m = locateViewAzimuth(phiV, phiV_);
-  const TableAxis b = locateOnAxis(thetaL, 0.0f, kPi, thetaLNodes(res_));
-  const TableAxis c = locateOnAxis(wrapAngle(phiVL), -kPi, kPi, nPhi_);
-  return interpolateTable<Value>(a, m, b, c, layout());
+  return lookup(locateView(thetaV, phiV), thetaL, phiVL);
 }
 
 }  // namespace meso

@@ -13,6 +13,10 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
   hash.value(h.resolution.thetaV).value(h.resolution.thetaN).value(h.resolution.phi);
   hash.value(h.azimuths).value(h.raysPerView).value(h.meshResolution).value(h.seed);
   hash.value(s.brdf.thetaL).value(s.brdf.phi);
+  const NormalGrouping& gf = s.brdf.finest;
+  const NormalGrouping& gc = s.brdf.coarser;
+  if (gf.thetaN != 0.0f || gf.phi != 0.0f || gc.thetaN != 0.0f || gc.phi != 0.0f)
+    hash.string("grouping").value(gf.thetaN).value(gf.phi).value(gc.thetaN).value(gc.phi);
   if (h.resolution.phiV != 1)
     hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
   if (!h.shape.identity()) hash.string("shape").value(h.shape.a).value(h.shape.b);

@@ -4,6 +4,7 @@
 
 #include "meso/appearance/table_axis.h"
 
+#include "meso/core/power.h"
 #include "meso/core/rng.h"
 
 #include <tbb/parallel_for.h>
@@ -59,30 +60,6 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
 struct NodeSums {
   double d = 0.0, dLit = 0.0, s = 0.0, sLit = 0.0;
 };
-
-// x[q] = x[q]^e for x in [0, 1]: by repeated squaring when e is a whole number (Phong exponents
-// usually are; std::pow's value to a few float roundings, in loops the compiler vectorizes:
-// std::pow was a third of the table's cost), else std::pow. No cutoff for small values: where a
-// node's highlight is tiny its S_spec still interpolates with the neighbours' that are not.
-void raiseToPower(std::span<float> x, float e) {
-  const bool whole = e >= 1.0f && e <= 65536.0f && e == std::floor(e);
-  if (!whole) {
-    for (float& v : x) v = std::pow(v, e);
-    return;
-  }
-  constexpr int kMax = 64;
-  float base[kMax], acc[kMax];
-  for (size_t q0 = 0; q0 < x.size(); q0 += kMax) {
-    const int m = static_cast<int>(std::min(x.size() - q0, static_cast<size_t>(kMax)));
-    for (int q = 0; q < m; ++q) base[q] = x[q0 + q], acc[q] = 1.0f;
-    for (unsigned bits = static_cast<unsigned>(e); bits != 0; bits >>= 1) {
-      if (bits & 1u)
-        for (int q = 0; q < m; ++q) acc[q] *= base[q];
-      for (int q = 0; q < m; ++q) base[q] *= base[q];
-    }
-    for (int q = 0; q < m; ++q) x[q0 + q] = acc[q];
-  }
-}
 
 // Adds every visible hit's reflected light at the nodes thetaL (ascending, in (0, pi/2]) x phiVL
 // into sums[i * phiVL.size() + j], lit or not. A hit's lights at one azimuth share their

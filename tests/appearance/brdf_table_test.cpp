@@ -143,13 +143,88 @@ TEST(BrdfTable, SpecularLobeGeneralizesPhong) {
   const BrdfResolution res{8, 8};
   const BrdfTable phong = BrdfTable::fromDistribution(h, res, 30.0f);
   const SpecularLobe same{[](float c) { return std::pow(std::max(c, 0.0f), 30.0f); }, 1};
-  EXPECT_EQ(BrdfTable::fromDistribution(h, res, same).data(), phong.data());
+  // The built-in exponent is raised by repeated squaring, the lobe by std::pow: equal to a few
+  // float roundings.
+  const std::vector<float> general = BrdfTable::fromDistribution(h, res, same).data();
+  ASSERT_EQ(general.size(), phong.data().size());
+  for (size_t e = 0; e < general.size(); ++e)
+    EXPECT_NEAR(general[e], phong.data()[e], 1e-5f * std::max(1.0f, phong.data()[e]));
   const SpecularLobe wide{[](float c) { return std::pow(std::max(c, 0.0f), 5.0f); }, 2};
   const BrdfTable w = BrdfTable::fromDistribution(h, res, wide);
   EXPECT_GT(w.lookup(0.2f, 1.2f, 0.0f).specular, phong.lookup(0.2f, 1.2f, 0.0f).specular);
   const SpecularLobe broken{[](float) { return std::nanf(""); }, 3};
   const BrdfTable b = BrdfTable::fromDistribution(h, res, broken);
   for (float v : b.data()) EXPECT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// A rough histogram at the renderer's resolution (96 x 32 bins, 4 view slices).
+VisibleNormalHistogram fineRoughHistogram() {
+  VisibleNormalHistogram h(HistogramResolution{4, 96, 32});
+  Rng rng(5);
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 V(std::sin(h.thetaV(k)), 0.0f, std::cos(h.thetaV(k)));
+    for (int n = 0; n < 200000; ++n) {
+      const float t = 0.5f * std::sqrt(-std::log(std::max(rng.uniform(), 1e-7f)));
+      const float p = 2.0f * kPi * rng.uniform();
+      const Vec3 N(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+      if (t < 1.5f && glm::dot(N, V) > 0.0f) h.add(k, N, glm::dot(N, V) / N.z);
+    }
+  }
+  h.normalize();
+  return h;
+}
+
+// Grouping bins into quadrature normals (the default widths) against every bin its own point: the
+// diffuse term, linear in N, is exact wherever every normal is lit (the light at the zenith), and
+// the Phong and finer-level terms stay within a small fraction of their values. A grouping four
+// times as wide is measurably worse, so the comparison can fail.
+TEST(BrdfTable, GroupedQuadratureNormalsMatchEveryBin) {
+  const VisibleNormalHistogram h = fineRoughHistogram();
+  BrdfResolution every{9, 7};
+  every.finest = every.coarser = NormalGrouping{};
+  const BrdfResolution grouped{9, 7};
+  BrdfResolution wide = grouped;
+  wide.finest = {4.0f * grouped.finest.thetaN, 4.0f * grouped.finest.phi};
+  wide.coarser = {4.0f * grouped.coarser.thetaN, 4.0f * grouped.coarser.phi};
+  const BrdfTable exact = BrdfTable::fromDistribution(h, every, 40.0f);
+  const BrdfTable fast = BrdfTable::fromDistribution(h, grouped, 40.0f);
+  const BrdfTable coarse = BrdfTable::fromDistribution(h, wide, 40.0f);
+  for (int k = 0; k < exact.numThetaV(); ++k)
+    EXPECT_NEAR(fast.entry(k, 0, 0).diffuse, exact.entry(k, 0, 0).diffuse, 1e-5f);
+  // Relative error of the specular sums over the whole table (mean and worst node above 1% of
+  // the table's peak).
+  const auto specularError = [&](const BrdfTable& t, const BrdfTable& ref, double* worst) {
+    double num = 0.0, den = 0.0, peak = 0.0;
+    for (float v : ref.data()) peak = std::max(peak, static_cast<double>(v));
+    *worst = 0.0;
+    const size_t half = ref.data().size() / 2;
+    for (size_t e = half; e < ref.data().size(); ++e) {
+      const double d = std::abs(t.data()[e] - ref.data()[e]);
+      num += d, den += ref.data()[e];
+      if (ref.data()[e] > 0.01 * peak) *worst = std::max(*worst, d / ref.data()[e]);
+    }
+    return num / den;
+  };
+  double worstFast = 0.0, worstCoarse = 0.0;
+  const double meanFast = specularError(fast, exact, &worstFast);
+  const double meanCoarse = specularError(coarse, exact, &worstCoarse);
+  // Measured: mean 0.05%, worst node 1.6% (a highlight's tail); four times as wide 8.6% and 68%.
+  EXPECT_LT(meanFast, 0.002);
+  EXPECT_LT(worstFast, 0.03);
+  EXPECT_GT(meanCoarse, 10.0 * meanFast);
+  // Eq. (1) over a finer level: the same relief's table as the finer level.
+  const BrdfTable exactTwo = BrdfTable::fromFinerLevel(h, every, exact);
+  const BrdfTable fastTwo = BrdfTable::fromFinerLevel(h, grouped, exact);
+  double num = 0.0, den = 0.0;
+  for (size_t e = 0; e < exactTwo.data().size(); ++e)
+    num += std::abs(fastTwo.data()[e] - exactTwo.data()[e]), den += exactTwo.data()[e];
+  EXPECT_LT(num / den, 0.002);
 }
 
 }  // namespace
