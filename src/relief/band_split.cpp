@@ -123,3 +123,94 @@ std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels) {
 }
 
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// Mean of |grad h|^2 in texel units, by central differences (wrapped or clamped as the table).
+double slopeEnergy(const HeightTable& t) {
+  double sum = 0.0;
+  for (int j = 0; j < t.heightTexels(); ++j)
+    for (int i = 0; i < t.width(); ++i) {
+      const double gx = 0.5 * (t.texel(i + 1, j) - t.texel(i - 1, j));
+      const double gy = 0.5 * (t.texel(i, j + 1) - t.texel(i, j - 1));
+      sum += gx * gx + gy * gy;
+    }
+  return sum / (static_cast<double>(t.width()) * t.heightTexels());
+}
+
+}  // namespace
+
+BandPlan planBands(const HeightTable& table, int requested, int maxLevels, double minSlopeShare) {
+  BandPlan plan;
+  const int most = maxBandLevels(table);
+  plan.bands = requested > 0 ? std::min(requested, most) : most;
+  maxLevels = std::max(maxLevels, 1);
+  if (plan.bands == 1) {
+    plan.levels = {BandLevel{0, 0, 1.0}};
+    return plan;
+  }
+  const std::vector<HeightBand> bands = splitBands(table, plan.bands);
+  double total = 0.0;
+  for (const HeightBand& b : bands) {
+    plan.levels.push_back({static_cast<int>(plan.levels.size()),
+                           static_cast<int>(plan.levels.size()), slopeEnergy(b.table)});
+    total += plan.levels.back().slopeShare;
+  }
+  for (BandLevel& l : plan.levels) l.slopeShare = total > 0.0 ? l.slopeShare / total : 0.0;
+  // Merge the weakest level into its neighbour (the finer one, or the coarser one for the finest)
+  // until every level has its share and there are at most maxLevels. Summing bands is exact (the
+  // split is linear), so the shares of merged bands add.
+  while (plan.levels.size() > 1) {
+    size_t weakest = 0;
+    for (size_t k = 1; k < plan.levels.size(); ++k)
+      if (plan.levels[k].slopeShare < plan.levels[weakest].slopeShare) weakest = k;
+    if (plan.levels[weakest].slopeShare >= minSlopeShare &&
+        plan.levels.size() <= static_cast<size_t>(maxLevels))
+      break;
+    const size_t into = weakest + 1 < plan.levels.size() ? weakest + 1 : weakest - 1;
+    BandLevel& target = plan.levels[into];
+    target.first = std::min(target.first, plan.levels[weakest].first);
+    target.last = std::max(target.last, plan.levels[weakest].last);
+    target.slopeShare += plan.levels[weakest].slopeShare;
+    plan.levels.erase(plan.levels.begin() + static_cast<std::ptrdiff_t>(weakest));
+  }
+  // Neighbours of about one frequency are one level: a wave at a crossover falls into both bands
+  // (half its amplitude in each), and two levels with the same T would only cost twice.
+  const auto freqOf = [&](const BandLevel& l) {
+    std::vector<float> texels(table.texels().size(), 0.0f);
+    for (int b = l.first; b <= l.last; ++b)
+      for (size_t t = 0; t < texels.size(); ++t) texels[t] += bands[b].table.texels()[t];
+    HeightTableOptions o = table.options();
+    o.frequency = FrequencyEstimate::Spectral;
+    return HeightTable(table.width(), table.heightTexels(), std::move(texels), o)
+        .highestFrequency();
+  };
+  for (size_t k = 1; k < plan.levels.size();) {
+    if (freqOf(plan.levels[k]) < kMinLevelFrequencyRatio * freqOf(plan.levels[k - 1])) {
+      plan.levels[k - 1].last = plan.levels[k].last;
+      plan.levels[k - 1].slopeShare += plan.levels[k].slopeShare;
+      plan.levels.erase(plan.levels.begin() + static_cast<std::ptrdiff_t>(k));
+    } else {
+      ++k;
+    }
+  }
+  return plan;
+}
+
+HeightTable bandLevelTable(const HeightTable& table, int bands, int first, int last) {
+  if (bands <= 1 || (first <= 0 && last >= bands - 1)) {
+    HeightTableOptions o = table.options();
+    o.frequency = FrequencyEstimate::Spectral;
+    return HeightTable(table.width(), table.heightTexels(), table.texels(), o);
+  }
+  const std::vector<HeightBand> split = splitBands(table, bands);
+  std::vector<float> texels(table.texels().size(), 0.0f);
+  for (int b = std::max(first, 0); b <= std::min(last, bands - 1); ++b)
+    for (size_t t = 0; t < texels.size(); ++t) texels[t] += split[b].table.texels()[t];
+  HeightTableOptions o = table.options();
+  o.frequency = FrequencyEstimate::Spectral;
+  return HeightTable(table.width(), table.heightTexels(), std::move(texels), o);
+}
+
+}  // namespace meso

@@ -96,3 +96,84 @@ TEST(BandSplit, BandsAreAtLeastAnOctaveWide) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// Sinusoids of given (cycles per tile, amplitude) along x, on a periodic 128 x 128 table.
+HeightTable waves(std::initializer_list<std::pair<float, float>> parts) {
+  const int n = 128;
+  std::vector<float> t(static_cast<size_t>(n) * n, 0.0f);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      for (const auto& [f, a] : parts)
+        t[static_cast<size_t>(j) * n + i] += a * std::sin(2 * kPi * f * (i + 0.5f) / n);
+  return HeightTable(n, n, std::move(t), HeightTableOptions{true});
+}
+
+// The default plan of a height image: as many octave bands as it holds, the levels cover every
+// band once, coarse to fine, their tables sum back to the image, and their shares sum to 1.
+TEST(BandPlan, LevelsCoverEveryBandOnceAndSumBack) {
+  const HeightTable t = mixture(128, 128, true);
+  const BandPlan plan = planBands(t, 0, 8, 0.0);
+  EXPECT_EQ(plan.bands, maxBandLevels(t));
+  ASSERT_EQ(static_cast<int>(plan.levels.size()), plan.bands);  // share 0: nothing merged
+  double shares = 0.0;
+  std::vector<double> sum(t.texels().size(), 0.0);
+  for (size_t k = 0; k < plan.levels.size(); ++k) {
+    EXPECT_EQ(plan.levels[k].first, static_cast<int>(k));
+    EXPECT_EQ(plan.levels[k].last, static_cast<int>(k));
+    shares += plan.levels[k].slopeShare;
+    const HeightTable level =
+        bandLevelTable(t, plan.bands, plan.levels[k].first, plan.levels[k].last);
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += level.texels()[i];
+  }
+  EXPECT_NEAR(shares, 1.0, 1e-9);
+  double worst = 0.0;
+  for (size_t i = 0; i < sum.size(); ++i) worst = std::max(worst, std::abs(sum[i] - t.texels()[i]));
+  EXPECT_LT(worst, 1e-4);
+}
+
+// A strong wave at 20 cycles and a weak one at 3 (slope share (3 * 0.02)^2 / ... ~ 1e-3): the
+// weak band joins its finer neighbour and the level that carries the slope keeps it; a wave of
+// equal slope at 3 cycles (amplitude 20/3 times larger) stays a level of its own.
+TEST(BandPlan, WeakBandsJoinTheirFinerNeighbour) {
+  const BandPlan weak = planBands(waves({{20.0f, 0.1f}, {3.0f, 0.01f}}), 0, 8);
+  for (const BandLevel& l : weak.levels) EXPECT_GE(l.slopeShare, kMinBandSlopeShare);
+  ASSERT_GE(weak.levels.size(), 1u);
+  EXPECT_EQ(weak.levels.front().first, 0);
+  EXPECT_EQ(weak.levels.back().last, weak.bands - 1);
+  // Every band is in exactly one level, in order.
+  for (size_t k = 1; k < weak.levels.size(); ++k)
+    EXPECT_EQ(weak.levels[k].first, weak.levels[k - 1].last + 1);
+  // The 3-cycle wave is in the same level as the 20-cycle one.
+  const auto levelOf = [](const BandPlan& p, float f) {
+    const int n = p.bands;
+    const double nyquist = 64.0;
+    // band m (0-based) spans edges nyquist^(m / n) .. nyquist^((m + 1) / n)
+    int band = 0;
+    while (band + 1 < n && f > std::pow(nyquist, static_cast<double>(band + 1) / n)) ++band;
+    for (size_t k = 0; k < p.levels.size(); ++k)
+      if (band >= p.levels[k].first && band <= p.levels[k].last) return static_cast<int>(k);
+    return -1;
+  };
+  EXPECT_EQ(levelOf(weak, 3.0f), levelOf(weak, 20.0f));
+  const BandPlan strong = planBands(waves({{20.0f, 0.1f}, {3.0f, 0.1f * 20.0f / 3.0f}}), 0, 8);
+  EXPECT_NE(levelOf(strong, 3.0f), levelOf(strong, 20.0f));
+  EXPECT_EQ(strong.levels.size(), 2u);
+}
+
+// At most maxLevels levels; bands = 1 is the image itself; a request above what the image holds
+// is cut to it.
+TEST(BandPlan, LevelCountLimits) {
+  const HeightTable t = mixture(128, 128, true);
+  EXPECT_LE(planBands(t, 0, 2, 0.0).levels.size(), 2u);
+  const BandPlan one = planBands(t, 1, 8);
+  EXPECT_EQ(one.bands, 1);
+  ASSERT_EQ(one.levels.size(), 1u);
+  EXPECT_EQ(bandLevelTable(t, 1, 0, 0).texels(), t.texels());
+  EXPECT_EQ(planBands(t, 99, 8, 0.0).bands, maxBandLevels(t));
+}
+
+}  // namespace
+}  // namespace meso

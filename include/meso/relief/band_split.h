@@ -34,3 +34,39 @@ void checkBandLevels(const HeightTable& table, int numLevels);
 int maxBandLevels(const HeightTable& table);
 
 }  // namespace meso
+
+namespace meso {
+
+// A height image as levels (DESIGN.md section 1): its octave bands, neighbours merged where a band
+// carries too little of the image's slope energy to be a level of its own.
+struct BandLevel {
+  int first = 0;  // bands first..last (0-based, coarse to fine) summed into the level
+  int last = 0;
+  double slopeShare = 1.0;  // the level's share of the sum of the bands' slope energies
+};
+struct BandPlan {
+  int bands = 1;                  // octave bands the image is split into (splitBands' numLevels)
+  std::vector<BandLevel> levels;  // coarse to fine, covering 0..bands-1 once
+};
+
+// The default minimum slope share of a level: a band below it joins its finer neighbour (the
+// finest joins its coarser one). Coarse bands of an image hold its large heights but little
+// slope, so they ride with the first band that matters for shading.
+inline constexpr double kMinBandSlopeShare = 0.05;
+
+// Neighbouring levels whose highest frequencies (Spectral estimates) are closer than this ratio
+// are merged: they hold the same waves.
+inline constexpr float kMinLevelFrequencyRatio = 1.41421356f;
+
+// Splits `table` into min(requested, maxBandLevels) bands (requested 0: maxBandLevels), at most
+// maxLevels levels after merging (the weakest neighbours merged first), then neighbours closer in
+// frequency than kMinLevelFrequencyRatio merged. The slope energy of a band is the mean of
+// |grad h|^2 over its texels (central differences).
+BandPlan planBands(const HeightTable& table, int requested, int maxLevels,
+                   double minSlopeShare = kMinBandSlopeShare);
+
+// The level bands first..last of `bands` of `table` summed: a table of the same size and options
+// (a Spectral frequency estimate), as the renderer uses it.
+HeightTable bandLevelTable(const HeightTable& table, int bands, int first, int last);
+
+}  // namespace meso
