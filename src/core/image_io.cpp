@@ -233,7 +233,12 @@ Image readImage(const std::filesystem::path& file) {
           size, file);
     }
   }
-  auto in = OIIO::ImageInput::open(file.string());
+  // Colour channels as stored, not multiplied by alpha: a height or data image with a
+  // half-transparent alpha keeps its values (formats that store associated alpha, like OpenEXR,
+  // are read as they are).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(file.string(), &config);
   if (!in) fail(file, "cannot read image: " + oiioMessage(""));
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(file, ec);

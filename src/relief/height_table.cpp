@@ -28,6 +28,9 @@ float estimateFrequency(const std::vector<float>& texels, int width, int height,
   return std::max(1.0f, std::max(f.x, f.y));
 }
 
+// A second (of two) or fourth (of four) channel is alpha, which heights ignore.
+bool hasAlpha(const Image& image) { return image.numChannels() == 2 || image.numChannels() == 4; }
+
 // Image rows go top to bottom; table rows go bottom to top (v grows upwards).
 std::vector<float> heightsOf(const Image& image, const std::filesystem::path& file) {
   const std::string name = file.string();
@@ -35,9 +38,10 @@ std::vector<float> heightsOf(const Image& image, const std::filesystem::path& fi
     throw Error(name + ": height image has zero size (" + std::to_string(image.width) + "x" +
                 std::to_string(image.height) + ")");
   const int c = image.numChannels();
-  if (c != 1 && c != 3 && c != 4)
+  if (c < 1 || c > 4)
     throw Error(name + ": height image has " + std::to_string(c) +
-                " channels; expected 1 (height), 3 (RGB) or 4 (RGBA), whose luminance is used");
+                " channels; expected 1 (height), 2 (height and alpha), 3 (RGB) or 4 (RGBA), "
+                "whose luminance is used");
   if (image.pixels.size() != static_cast<size_t>(image.width) * image.height * c)
     throw Error(name + ": height image has " + std::to_string(image.pixels.size()) +
                 " values for " + std::to_string(image.width) + "x" + std::to_string(image.height) +
@@ -45,7 +49,7 @@ std::vector<float> heightsOf(const Image& image, const std::filesystem::path& fi
   std::vector<float> texels(static_cast<size_t>(image.width) * image.height);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
-      const float v = c == 1 ? image.at(x, y, 0)
+      const float v = c <= 2 ? image.at(x, y, 0)
                              : 0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) +
                                    0.0722f * image.at(x, y, 2);
       if (!std::isfinite(v))
@@ -85,7 +89,9 @@ HeightTable::HeightTable(int width, int height, std::vector<float> texels, bool 
 
 HeightTable::HeightTable(const Image& image, const std::filesystem::path& file,
                          HeightTableOptions options)
-    : HeightTable(image.width, image.height, heightsOf(image, file), options) {}
+    : HeightTable(image.width, image.height, heightsOf(image, file), options) {
+  ignoredAlpha_ = hasAlpha(image);
+}
 
 HeightTable HeightTable::fromImage(const Image& image, const std::filesystem::path& file,
                                    bool periodic) {

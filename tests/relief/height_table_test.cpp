@@ -96,19 +96,47 @@ TEST_F(HeightTableFiles, BadImagesNameTheFileAndTheProblem) {
   EXPECT_HAS(errorOf([&] { HeightTable(empty, "zero.png"); }),
              "zero.png: height image has zero size (0x4)");
 
-  Image two(4, 4, {"Y", "A"});
-  writeExr(dir_ / "two.exr", two);
-  const std::string e2 = errorOf([&] { loadHeightTable(dir_ / "two.exr"); });
-  EXPECT_HAS(e2, (dir_ / "two.exr").string() + ": height image has 2 channels");
-  EXPECT_HAS(e2, "expected 1 (height), 3 (RGB) or 4 (RGBA)");
   Image five(2, 2, {"R", "G", "B", "A", "Z"});
-  EXPECT_HAS(errorOf([&] { HeightTable(five, "five.exr"); }),
-             "five.exr: height image has 5 channels");
+  const std::string e5 = errorOf([&] { HeightTable(five, "five.exr"); });
+  EXPECT_HAS(e5, "five.exr: height image has 5 channels");
+  EXPECT_HAS(e5, "expected 1 (height), 2 (height and alpha), 3 (RGB) or 4 (RGBA)");
 
   Image nan(2, 2, {"Y"});
   nan.at(1, 0, 0) = NAN;
   EXPECT_HAS(errorOf([&] { HeightTable(nan, "nan.exr"); }),
              "nan.exr: height image has a NaN or infinite texel at (1, 0)");
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// Alpha never changes the relief: grey + alpha and RGBA images give the heights of the same
+// image without alpha (half-transparent and opaque texels alike), and say they ignored it; from a
+// file too (OpenEXR keeps its channels as written).
+TEST_F(HeightTableFiles, AlphaIsIgnoredAndReported) {
+  Image grey(8, 8, {"Y"}), greyAlpha(8, 8, {"Y", "A"}), rgba(8, 8, {"R", "G", "B", "A"});
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const float h = 0.1f * x + 0.03f * y * y, a = (x + y) % 2 ? 0.5f : 1.0f;
+      grey.at(x, y, 0) = h;
+      greyAlpha.at(x, y, 0) = h, greyAlpha.at(x, y, 1) = a;
+      for (int c = 0; c < 3; ++c) rgba.at(x, y, c) = h;
+      rgba.at(x, y, 3) = a;
+    }
+  const HeightTable plain(grey, "grey.exr");
+  EXPECT_FALSE(plain.ignoredAlpha());
+  writeExr(dir_ / "rgba.exr", rgba);
+  for (const HeightTable& t : {HeightTable(greyAlpha, "ya.exr"), HeightTable(rgba, "rgba.exr"),
+                               loadHeightTable(dir_ / "rgba.exr")}) {
+    EXPECT_TRUE(t.ignoredAlpha());
+    ASSERT_EQ(t.texels().size(), plain.texels().size());
+    for (size_t k = 0; k < t.texels().size(); ++k)
+      EXPECT_NEAR(t.texels()[k], plain.texels()[k], 1e-6f);
+    EXPECT_EQ(t.highestFrequency(), plain.highestFrequency());
+  }
 }
 
 }  // namespace

@@ -42,8 +42,10 @@ class HeightTable : public HeightSource {
   HeightTable(int width, int height, std::vector<float> texels, HeightTableOptions options = {});
   HeightTable(int width, int height, std::vector<float> texels, bool periodic,
               BumpDerivativeMethod method = BumpDerivativeMethod::Quadratic);
-  // One channel, or the Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B of RGB / RGBA. Throws
-  // meso::Error("FILE: ...") for zero size, 2 or more than 4 channels, NaN or infinite texels.
+  // One channel, or the Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B of RGB; the alpha of
+  // grey + alpha or RGBA images is ignored (ignoredAlpha() says so; colour is read unassociated,
+  // not multiplied by alpha). Throws meso::Error("FILE: ...") for zero size, more than 4
+  // channels, NaN or infinite texels (naming the texel).
   HeightTable(const Image& image, const std::filesystem::path& file,
               HeightTableOptions options = {});
   static HeightTable fromImage(const Image& image, const std::filesystem::path& file,
@@ -57,6 +59,8 @@ class HeightTable : public HeightSource {
   float maxAbsHeight() const override { return maxAbs_; }  // bilinear never leaves the texel range
   float meanHeight() const override { return mean_; }  // texel mean (a periodic bilinear's mean)
 
+  // The image it was read from had an alpha channel, which the heights ignore.
+  bool ignoredAlpha() const { return ignoredAlpha_; }
   int width() const { return width_; }
   int heightTexels() const { return height_; }
   bool periodic() const { return options_.periodic; }
@@ -85,6 +89,7 @@ class HeightTable : public HeightSource {
   float freq_ = 1.0f;
   float maxAbs_ = 0.0f;
   float mean_ = 0.0f;
+  bool ignoredAlpha_ = false;
 };
 
 // floor(x) for |x| < 2^62 without a libm call (x86-64 without SSE4.1 has no inline floor).
