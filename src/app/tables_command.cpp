@@ -16,6 +16,9 @@ namespace meso::app {
 
 void runTables(const TablesCommandOptions& o) {
   Scene scene = loadScene(o.scene);
+  // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
+  // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
+  scene.render.algorithm = Algorithm::Auto;
   std::vector<std::string> memoryWarnings;
   checkRenderMemory(scene, memoryWarnings, false);
   if (!o.noPlots) createOutputFolder(o.outDir, "-o");

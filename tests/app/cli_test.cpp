@@ -297,3 +297,22 @@ TEST_F(CliTest, CacheBadSizesExitWithStatusTwo) {
 }
 
 }  // namespace
+
+namespace {
+
+// `meso tables` on a scene whose algorithm reads no tables (bump) still builds and lists the
+// tables of its relief levels (it used to crash with a segmentation fault there).
+TEST_F(CliTest, TablesOfABumpSceneAreBuilt) {
+  write("scene.toml",
+        scene("material = \"m\"\n[[materials]]\nname = \"m\"\n[[materials.relief]]\nnoise = { "
+              "octaves = 2 }\namplitude = 0.01\nscale = 2\n[render]\nalgorithm = \"bump\"\n"
+              "cache_dir = \"cache\"\n"
+              "[render.tables]\ntheta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nphi_v_bins = "
+              "2\nazimuths = 4\nrays_per_view = 64\nmesh_resolution = 16\nbrdf_theta_l = 4\n"
+              "brdf_phi = 4\n"));
+  const RunResult r = run("tables " + (dir_ / "scene.toml").string() + " --no-plots");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\nm,1,"), std::string::npos) << r.output;
+}
+
+}  // namespace
