@@ -5,6 +5,7 @@
 #include "meso/core/math.h"
 #include "meso/render/consistency.h"
 #include "meso/render/integrator.h"
+#include "meso/render/local_contrast.h"
 #include "meso/render/relief_levels.h"
 #include "meso/render/scene_consistency.h"
 #include "meso/scene/scene_parser.h"
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace meso::app {
 namespace {
@@ -26,6 +28,27 @@ ReliefLevelDecl reliefFrom(const ConsistencyCommandOptions& o) {
   d.octaves = o.octaves;
   d.seed = o.seed;
   return d;
+}
+
+// "as detailed (...): fails: brdf, redistribution; worst ..." for stderr.
+std::string detailVerdict(const SceneConsistencyReport& report, float referenceDicing) {
+  char head[200];
+  std::snprintf(head, sizeof head,
+                "as detailed (local contrast within %g%% of the reference's where its contrast is "
+                "at least %g): ",
+                100.0 * kContrastTolerance, kReliefContrastFloor);
+  if (std::isnan(report.worstContrastRatio)) return head + std::string("no region shows relief");
+  std::string failing;
+  for (const std::string& r : report.notDetailed) failing += (failing.empty() ? "" : ", ") + r;
+  char tail[400];
+  std::snprintf(tail, sizeof tail,
+                "; worst: %s in %s, contrast ratio %.3f; the reference's contrast moves %.2f%% "
+                "when diced at %g px",
+                report.worstContrastRenderer.c_str(), report.worstContrastRegion.c_str(),
+                report.worstContrastRatio, 100.0 * report.referenceContrastChange,
+                2.0 * referenceDicing);
+  return head + (failing.empty() ? std::string("every renderer passes") : "fails: " + failing) +
+         tail;
 }
 
 }  // namespace
@@ -53,6 +76,7 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
                "%.2f%% when diced at %g px\n",
                report.worstRenderer.c_str(), report.worstRegion.c_str(), 100.0 * report.worst,
                o.referenceDicing, 100.0 * report.referenceChange, 2.0 * o.referenceDicing);
+  std::fprintf(stderr, "meso: %s\n", detailVerdict(report, o.referenceDicing).c_str());
   for (const std::string& w : report.warnings)
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   if (report.referenceCoarsened)

@@ -3,6 +3,7 @@
 
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
+#include "meso/render/local_contrast.h"
 #include "meso/render/render_context.h"
 
 #include <algorithm>
@@ -12,8 +13,23 @@
 namespace meso {
 namespace {
 
+double luminance(const Image& film, int x, int y) {
+  return meso::luminance(film.at(x, y, FilmLayout::R), film.at(x, y, FilmLayout::G),
+                         film.at(x, y, FilmLayout::B));
+}
+
+// The film's luminance, row-major.
+std::vector<float> luminanceOf(const Image& film) {
+  std::vector<float> y(static_cast<size_t>(film.width) * film.height);
+  for (int row = 0; row < film.height; ++row)
+    for (int x = 0; x < film.width; ++x)
+      y[static_cast<size_t>(row) * film.width + x] = static_cast<float>(luminance(film, x, row));
+  return y;
+}
+
 struct Rendered {
   Image image;
+  LuminanceImage lum;       // of image, and of the same frame rendered with secondSeed
   std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
   float coarsening = 1.0f;  // > 1: the micropolygon cap coarsened dicing
   std::vector<std::string> warnings;
@@ -40,6 +56,10 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float 
   r.coarsening = geometry.coarsening;
   r.warnings = ctx.warnings;
   r.image = renderFrame(ctx, options, counters);
+  RenderOptions second = options;
+  second.seed = secondSeed(options.seed);
+  r.lum = {r.image.width, r.image.height, luminanceOf(r.image),
+           luminanceOf(renderFrame(ctx, second, counters))};
   if (objects) {
     r.object.assign(static_cast<size_t>(r.image.width) * r.image.height, -1);
     for (int y = 0; y < r.image.height; ++y)
@@ -52,11 +72,6 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, float dicing, float 
       }
   }
   return r;
-}
-
-double luminance(const Image& film, int x, int y) {
-  return 0.2126 * film.at(x, y, FilmLayout::R) + 0.7152 * film.at(x, y, FilmLayout::G) +
-         0.0722 * film.at(x, y, FilmLayout::B);
 }
 
 // The regions (objects, then bands of rows) of the pixels whose centre ray hits an object in the
@@ -101,6 +116,55 @@ void accumulateRegions(const Scene& scene, const std::vector<Rendered>& images, 
   }
 }
 
+// Each region's local contrast per image, its ratio to the reference's, and the verdicts. Objects
+// are labelled by the reference's object map; a band's blocks by band and object, so that a block
+// across an occluding contour counts for neither.
+void measureContrast(const std::vector<Rendered>& images, int bands,
+                     SceneConsistencyReport& report) {
+  const std::vector<int>& object = images[0].object;
+  const int width = images[0].image.width, height = images[0].image.height;
+  const size_t numObjects = report.regions.size() - static_cast<size_t>(bands);
+  std::vector<int> bandLabel(object.size(), -1);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      if (object[i] >= 0)
+        bandLabel[i] = (y * bands / height) * static_cast<int>(numObjects) + object[i];
+    }
+  std::vector<std::vector<ContrastSums>> sums(images.size());  // per image, per region
+  for (size_t i = 0; i < images.size(); ++i) {
+    std::vector<ContrastSums> perObject(numObjects), perBand(numObjects * bands);
+    addContrastBlocks(images[i].lum, object, perObject);
+    addContrastBlocks(images[i].lum, bandLabel, perBand);
+    sums[i] = perObject;
+    sums[i].resize(report.regions.size());
+    for (size_t k = 0; k < perBand.size(); ++k)
+      sums[i][numObjects + k / numObjects].merge(perBand[k]);
+  }
+  std::vector<bool> failed(images.size(), false);
+  for (size_t k = 0; k < report.regions.size(); ++k) {
+    ConsistencyRegion& r = report.regions[k];
+    for (size_t i = 0; i < images.size(); ++i) {
+      r.contrast.push_back(sums[i][k].contrast());
+      const double ratio = contrastRatio(sums[i][k], sums[0][k]);
+      r.contrastRatio.push_back(ratio);
+      if (i == 1 && !std::isnan(ratio))
+        report.referenceContrastChange =
+            std::max(report.referenceContrastChange, std::abs(ratio - 1.0));
+      if (i < 2 || std::isnan(ratio)) continue;
+      failed[i] = failed[i] || !asDetailed(ratio);
+      if (std::isnan(report.worstContrastRatio) ||
+          std::abs(ratio - 1.0) > std::abs(report.worstContrastRatio - 1.0)) {
+        report.worstContrastRatio = ratio;
+        report.worstContrastRenderer = report.renderers[i];
+        report.worstContrastRegion = r.name;
+      }
+    }
+  }
+  for (size_t i = 2; i < images.size(); ++i)
+    if (failed[i]) report.notDetailed.push_back(report.renderers[i]);
+}
+
 }  // namespace
 
 SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsistencyOptions& o) {
@@ -134,6 +198,7 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
       if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())
         report.warnings.push_back(w);
   accumulateRegions(scene, images, std::max(1, o.bands), report);
+  measureContrast(images, std::max(1, o.bands), report);
   return report;
 }
 
@@ -150,10 +215,13 @@ std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFo
   for (const std::string& r : report.renderers) out += sep + r;
   for (size_t i = 1; i < report.renderers.size(); ++i)
     out += sep + report.renderers[i] + " vs reference";
+  out += sep + "reference contrast";
+  for (size_t i = 1; i < report.renderers.size(); ++i)
+    out += sep + report.renderers[i] + " contrast ratio";
   out += markdown ? " |\n" : "\n";
   if (markdown) {
     out += "|---|---";
-    for (size_t i = 0; i < 2 * report.renderers.size() - 1; ++i) out += "|---";
+    for (size_t i = 0; i < 3 * report.renderers.size() - 1; ++i) out += "|---";
     out += "|\n";
   }
   for (const ConsistencyRegion& r : report.regions) {
@@ -163,6 +231,10 @@ std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFo
     for (double m : r.mean) out += sep + cell(m, "%.5f");
     for (size_t i = 1; i < r.mean.size(); ++i)
       out += sep + cell(r.mean[0] > 0.0 ? 100.0 * (r.mean[i] / r.mean[0] - 1.0) : 0.0, "%+.2f%%");
+    out += sep + cell(r.contrast.empty() ? 0.0 : r.contrast[0], "%.4f");
+    for (size_t i = 1; i < r.contrastRatio.size(); ++i)
+      out += sep + (std::isnan(r.contrastRatio[i]) ? (markdown ? "-" : "")
+                                                   : cell(r.contrastRatio[i], "%.3f"));
     out += markdown ? " |\n" : "\n";
   }
   return out;

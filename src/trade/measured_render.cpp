@@ -4,6 +4,7 @@
 #include "meso/core/timer.h"
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
+#include "meso/render/local_contrast.h"
 #include "meso/render/render_context.h"
 #include "meso/trade/peak_rss.h"
 
@@ -68,12 +69,20 @@ MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
     const RenderOptions ro{c.spp, scene.render.seed, false, false, options.cancel, true};
     Image film = renderFrame(ctx, ro, counters);
     out.seconds += timer.seconds();
+    out.peakRssMib = std::max(out.peakRssMib, peakRssMib());
     noteGeometry(out, geometry);
     out.beauty.push_back(beautyOf(film));
     if (c.kind == Kind::Reference) out.depth.push_back(depthOf(film));
     if (options.keepFilms) out.films.push_back(std::move(film));
+    {
+      RenderOptions second = ro;
+      second.seed = secondSeed(ro.seed);
+      const Image secondFilm = renderFrame(ctx, second, counters);
+      out.secondBeauty.push_back(beautyOf(secondFilm));
+      if (c.kind == Kind::Reference) out.secondDepth.push_back(depthOf(secondFilm));
+    }
+    resetPeakRss();  // what the second render needed is not the configuration's
   }
-  out.peakRssMib = peakRssMib();
   out.addedMib = std::max(0.0, out.peakRssMib - before);
   for (const std::string& w : ctx.warnings)
     std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());

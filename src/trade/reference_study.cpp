@@ -2,6 +2,7 @@
 #include "meso/trade/reference_study.h"
 
 #include "meso/core/error.h"
+#include "meso/render/local_contrast.h"
 #include "meso/trade/image_errors.h"
 
 #include <algorithm>
@@ -12,38 +13,49 @@
 namespace meso::trade {
 namespace {
 
-ReferenceRender toCache(const MeasuredRender& r) {
+// The level's render with the scene's seed (second false) or with the second seed, as the cache
+// stores a render: both carry the first render's costs (the second's are not measured).
+ReferenceRender toCache(const MeasuredRender& r, bool second) {
   ReferenceRender out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
   out.addedMib = r.addedMib;
   out.micropolygons = r.micropolygons;
-  for (size_t f = 0; f < r.beauty.size(); ++f) {
-    out.width = r.beauty[f].width, out.height = r.beauty[f].height;
-    const std::vector<float>& rgb = r.beauty[f].rgb;
-    std::vector<float> rgbz(r.depth[f].size() * 4);
-    for (size_t i = 0; i < r.depth[f].size(); ++i)
-      for (int c = 0; c < 4; ++c) rgbz[4 * i + c] = c < 3 ? rgb[3 * i + c] : r.depth[f][i];
+  const std::vector<RgbImage>& beauty = second ? r.secondBeauty : r.beauty;
+  const std::vector<std::vector<float>>& depth = second ? r.secondDepth : r.depth;
+  for (size_t f = 0; f < beauty.size(); ++f) {
+    out.width = beauty[f].width, out.height = beauty[f].height;
+    const std::vector<float>& rgb = beauty[f].rgb;
+    std::vector<float> rgbz(depth[f].size() * 4);
+    for (size_t i = 0; i < depth[f].size(); ++i)
+      for (int c = 0; c < 4; ++c) rgbz[4 * i + c] = c < 3 ? rgb[3 * i + c] : depth[f][i];
     out.frames.push_back(std::move(rgbz));
   }
   return out;
 }
 
-MeasuredRender fromCache(const ReferenceRender& r) {
+// Beauty and depth of each frame of a cached render.
+void splitFrames(const ReferenceRender& r, std::vector<RgbImage>& beauty,
+                 std::vector<std::vector<float>>& depth) {
+  for (const std::vector<float>& rgbz : r.frames) {
+    const size_t n = rgbz.size() / 4;
+    RgbImage b{r.width, r.height, std::vector<float>(n * 3)};
+    std::vector<float> z(n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) b.rgb[3 * i + c] = rgbz[4 * i + c];
+      z[i] = rgbz[4 * i + 3];
+    }
+    beauty.push_back(std::move(b));
+    depth.push_back(std::move(z));
+  }
+}
+
+MeasuredRender fromCache(const ReferenceRender& r, const ReferenceRender& second) {
   MeasuredRender out;
   out.seconds = r.seconds, out.peakRssMib = r.peakRssMib, out.geometryMib = r.geometryMib;
   out.addedMib = r.addedMib;
   out.micropolygons = r.micropolygons;
-  for (const std::vector<float>& rgbz : r.frames) {
-    const size_t n = rgbz.size() / 4;
-    RgbImage beauty{r.width, r.height, std::vector<float>(n * 3)};
-    std::vector<float> depth(n);
-    for (size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < 3; ++c) beauty.rgb[3 * i + c] = rgbz[4 * i + c];
-      depth[i] = rgbz[4 * i + 3];
-    }
-    out.beauty.push_back(std::move(beauty));
-    out.depth.push_back(std::move(depth));
-  }
+  splitFrames(r, out.beauty, out.depth);
+  splitFrames(second, out.secondBeauty, out.secondDepth);
   return out;
 }
 
@@ -74,6 +86,21 @@ void measureChange(ReferenceLevel& level, const MeasuredRender& previous) {
   level.rmseChangePct = rmsePct / frames;
 }
 
+// Both renders of a level from the cache (the second under the key of the second seed), or
+// nothing: either is missing, bad (a warning) or of other frames.
+std::optional<MeasuredRender> cachedLevel(const ReferenceCache& cache, uint64_t key,
+                                          uint64_t secondKey, size_t frames) {
+  std::string warning;
+  std::optional<ReferenceRender> first = cache.load(key, &warning);
+  std::optional<ReferenceRender> second;
+  if (first) second = cache.load(secondKey, &warning);
+  if (!warning.empty()) std::fprintf(stderr, "meso: warning: %s\n", warning.c_str());
+  if (!first || !second || first->frames.size() != frames || second->frames.size() != frames ||
+      first->width != second->width || first->height != second->height)
+    return std::nullopt;
+  return fromCache(*first, *second);
+}
+
 ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
                               const std::vector<CameraSettings>& cams, const ReferenceCache& cache,
                               const MeasureOptions& measure, bool quiet) {
@@ -81,24 +108,27 @@ ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
   level.dicingRate = rate, level.spp = spp;
   level.reliefSamples = scene.render.reliefSamples;
   const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
-  const uint64_t key = referenceKey(sceneFor(scene, c), cams, rate, spp);
-  std::string warning;
-  if (std::optional<ReferenceRender> cached = cache.load(key, &warning)) {
-    if (cached->frames.size() == cams.size()) {
-      level.render = fromCache(*cached);
-      level.fromCache = true;
-      if (!quiet)
-        std::fprintf(stderr, "meso: trade: reference %g px, %d spp from cache %s\n", rate, spp,
-                     cache.fileFor(key).string().c_str());
-      return level;
-    }
+  const Scene reference = sceneFor(scene, c);
+  Scene secondReference = reference;
+  secondReference.render.seed = secondSeed(reference.render.seed);
+  const uint64_t key = referenceKey(reference, cams, rate, spp);
+  const uint64_t secondKey = referenceKey(secondReference, cams, rate, spp);
+  if (std::optional<MeasuredRender> cached = cachedLevel(cache, key, secondKey, cams.size())) {
+    level.render = std::move(*cached);
+    level.fromCache = true;
+    if (!quiet)
+      std::fprintf(stderr, "meso: trade: reference %g px, %d spp from cache %s\n", rate, spp,
+                   cache.fileFor(key).string().c_str());
+    return level;
   }
-  if (!warning.empty()) std::fprintf(stderr, "meso: warning: %s\n", warning.c_str());
   MeasureOptions noFilms = measure;
   noFilms.keepFilms = false;
   level.render = renderMeasured(scene, c, cams, noFilms);
   try {
-    if (level.render.coarsening <= 1.0f) cache.store(key, toCache(level.render));
+    if (level.render.coarsening <= 1.0f) {
+      cache.store(key, toCache(level.render, false));
+      cache.store(secondKey, toCache(level.render, true));
+    }
   } catch (const Error& e) {  // a cache that cannot be written costs time, not the result
     std::fprintf(stderr, "meso: warning: reference not cached: %s\n", e.what());
   }

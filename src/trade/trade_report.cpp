@@ -2,6 +2,7 @@
 #include "meso/trade/trade_report.h"
 
 #include "meso/core/error.h"
+#include "meso/render/local_contrast.h"
 #include "meso/trade/pareto_front.h"
 
 #include <algorithm>
@@ -36,6 +37,19 @@ std::string levelComment(const ReferenceLevel& l, size_t k) {
   return line;
 }
 
+// The worst contrast ratio, "" when no depth band shows relief.
+std::string contrastCell(double ratio) {
+  if (std::isnan(ratio)) return "";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", ratio);
+  return buf;
+}
+
+// ", worst contrast ratio 0.93", or nothing when no depth band shows relief.
+std::string contrastText(double ratio) {
+  return std::isnan(ratio) ? "" : ", worst contrast ratio " + contrastCell(ratio);
+}
+
 std::string row(const TradeResult& r) {
   const Configuration& c = r.config;
   // D is left empty where the algorithm does not use it (displacement alone).
@@ -44,10 +58,11 @@ std::string row(const TradeResult& r) {
   // relief_samples is left empty for the hybrid, which dices by pixels where it displaces.
   const std::string samples = c.kind == Kind::Hybrid ? "" : formatNumber(c.reliefSamples);
   std::snprintf(line, sizeof line,
-                "%s,%s,%s,%d,%g,%s,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f,%.4g\n", c.name.c_str(),
-                algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate, samples.c_str(), r.seconds,
-                r.peakRssMib, r.micropolygons, r.errors.meanAbsError, r.errors.rmse,
-                r.errors.intensityErrorPct, r.geometryMib, r.addedMib, r.errors.worstBandPct);
+                "%s,%s,%s,%d,%g,%s,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f,%.4g,%s\n",
+                c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate,
+                samples.c_str(), r.seconds, r.peakRssMib, r.micropolygons, r.errors.meanAbsError,
+                r.errors.rmse, r.errors.intensityErrorPct, r.geometryMib, r.addedMib,
+                r.errors.worstBandPct, contrastCell(r.errors.worstContrastRatio).c_str());
   return line;
 }
 
@@ -62,15 +77,19 @@ double ratio(double a, double b) {
 }
 
 // The fastest displacement-only configuration with an rmse of at most `rmse` and, when bandPct >=
-// 0, no depth band's mean further from the reference's than bandPct percent.
+// 0, no depth band's mean further from the reference's than bandPct percent and no contrast ratio
+// further from 1 than contrastTolerance where the reference shows relief.
 const TradeResult* cheapestAsAccurate(const std::vector<TradeResult>& results, double rmse,
-                                      double bandPct) {
+                                      double bandPct, double contrastTolerance = 0.0) {
   const TradeResult* cheapest = nullptr;
-  for (const TradeResult& r : results)
+  for (const TradeResult& r : results) {
+    const double ratio = r.errors.worstContrastRatio;
     if (r.config.kind == Kind::Displacement && r.errors.rmse <= rmse &&
-        (bandPct < 0.0 || std::abs(r.errors.worstBandPct) <= bandPct) &&
+        (bandPct < 0.0 || (std::abs(r.errors.worstBandPct) <= bandPct &&
+                           (std::isnan(ratio) || std::abs(ratio - 1.0) <= contrastTolerance))) &&
         (!cheapest || r.seconds < cheapest->seconds))
       cheapest = &r;
+  }
   return cheapest;
 }
 
@@ -108,17 +127,18 @@ std::string ratioText(double hybrid, double displacement) {
 }
 
 std::string comparison(const TradeResult& h, const TradeResult& d, const char* as, const char* at) {
-  char buf[900];
+  char buf[1000];
   std::snprintf(
       buf, sizeof buf,
       "cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
-      "%.4g, worst band %+.3g%%: %s; hybrid / displacement at %s: time %.3gx, peak "
+      "%.4g, worst band %+.3g%%%s: %s; hybrid / displacement at %s: time %.3gx, peak "
       "memory %.3gx (%s of what each added above the process's baseline), geometry memory "
       "%.3gx, micropolygons %.3gx, spp %.3gx",
       as, d.config.dicingRate, d.config.reliefSamples, d.config.spp, d.seconds, d.errors.rmse,
-      d.errors.worstBandPct, speedupText(h.seconds, d.seconds).c_str(), at,
-      ratio(h.seconds, d.seconds), ratio(h.peakRssMib, d.peakRssMib),
-      ratioText(h.addedMib, d.addedMib).c_str(), ratio(h.geometryMib, d.geometryMib),
+      d.errors.worstBandPct, contrastText(d.errors.worstContrastRatio).c_str(),
+      speedupText(h.seconds, d.seconds).c_str(), at, ratio(h.seconds, d.seconds),
+      ratio(h.peakRssMib, d.peakRssMib), ratioText(h.addedMib, d.addedMib).c_str(),
+      ratio(h.geometryMib, d.geometryMib),
       ratio(static_cast<double>(h.micropolygons), static_cast<double>(d.micropolygons)),
       ratio(h.config.spp, d.config.spp));
   return buf;
@@ -164,47 +184,58 @@ std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStu
     if (r.config.defaultHybrid) s += "# default_hybrid: " + r.config.name + "\n";
   s += "name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,mean_"
        "abs_error,rmse,"
-       "mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct\n";
+       "mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct,worst_contrast_"
+       "ratio\n";
   for (const TradeResult& r : results) s += row(r);
   return s;
 }
 
 std::string tradeSummary(const std::vector<TradeResult>& results, const ReferenceStudy& study) {
   const TradeResult& h = defaultHybrid(results);
-  char buf[256];
+  const double hRatio = h.errors.worstContrastRatio;
+  char buf[400];
   std::snprintf(buf, sizeof buf,
                 "trade: default hybrid (D %g, %g px, %d spp) %.3g s, rmse %.4g, mean error %.3g%%, "
-                "worst band %+.3g%%",
+                "worst band %+.3g%%%s%s",
                 h.config.D, h.config.dicingRate, h.config.spp, h.seconds, h.errors.rmse,
-                h.errors.intensityErrorPct, h.errors.worstBandPct);
+                h.errors.intensityErrorPct, h.errors.worstBandPct, contrastText(hRatio).c_str(),
+                asDetailed(hRatio) ? "" : " (NOT as detailed as the reference)");
   const TradeResult* cheapest = cheapestAsAccurate(results, h.errors.rmse, -1.0);
-  // Intensity consistency too: no depth band further from the reference than the hybrid's worst
-  // (at least 0.5%, the reference's own tolerance).
+  // Intensity consistency and detail too: no depth band further from the reference than the
+  // hybrid's worst (at least 0.5%, the reference's own tolerance), no contrast ratio further from 1
+  // than the hybrid's (at least kContrastTolerance).
   const double band = std::max(std::abs(h.errors.worstBandPct), 0.5);
-  const TradeResult* consistent = cheapestAsAccurate(results, h.errors.rmse, band);
-  char bandLine[200];
+  const double detail = std::isnan(hRatio) ? kContrastTolerance
+                                           : std::max(std::abs(hRatio - 1.0), kContrastTolerance);
+  const TradeResult* consistent = cheapestAsAccurate(results, h.errors.rmse, band, detail);
+  char bandLine[300];
   std::snprintf(bandLine, sizeof bandLine,
-                "trade: as consistent too (every depth band's mean within %.3g%% of the "
-                "reference's): ",
-                band);
+                "trade: as consistent and as detailed too (every depth band's mean within %.3g%% "
+                "of the reference's, its local contrast within %.3g%% where the reference shows "
+                "relief): ",
+                band, 100.0 * detail);
   return std::string(buf) +
          (cheapest ? "; " + comparison(h, *cheapest, "as accurate", "equal rmse")
                    : "; no displacement-only configuration swept is as accurate") +
          interpolatedText(h, results, cheapest) + "\n" + bandLine +
-         (consistent ? comparison(h, *consistent, "as accurate", "equal rmse and band error")
-                     : "no displacement-only configuration swept is as accurate and consistent") +
+         (consistent
+              ? comparison(h, *consistent, "as accurate", "equal rmse, band error and contrast")
+              : "no displacement-only configuration swept is as accurate, consistent and "
+                "detailed") +
          "\n" + (study.converged ? "trade: " : "trade: WARNING: ") + referenceVerdict(study);
 }
 
 std::string progressLine(const TradeResult& r, size_t index, size_t count) {
   char line[320];
-  std::snprintf(line, sizeof line,
-                "meso: trade %zu/%zu %-28s %8.3f s %8.1f MiB %10zu mp  rmse %.5g  mae %.5g  mean "
-                "error %.3g%%  "
-                "worst band %+.3g%%\n",
-                index + 1, count, r.config.name.c_str(), r.seconds, r.peakRssMib, r.micropolygons,
-                r.errors.rmse, r.errors.meanAbsError, r.errors.intensityErrorPct,
-                r.errors.worstBandPct);
+  std::snprintf(
+      line, sizeof line,
+      "meso: trade %zu/%zu %-28s %8.3f s %8.1f MiB %10zu mp  rmse %.5g  mae %.5g  mean "
+      "error %.3g%%  "
+      "worst band %+.3g%%  contrast ratio %s\n",
+      index + 1, count, r.config.name.c_str(), r.seconds, r.peakRssMib, r.micropolygons,
+      r.errors.rmse, r.errors.meanAbsError, r.errors.intensityErrorPct, r.errors.worstBandPct,
+      std::isnan(r.errors.worstContrastRatio) ? "-"
+                                              : contrastCell(r.errors.worstContrastRatio).c_str());
   return line;
 }
 

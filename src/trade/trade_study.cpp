@@ -38,10 +38,9 @@ std::vector<TradeResult> referenceRows(const ReferenceStudy& study) {
                           l.dicingRate,
                           false,
                           l.reliefSamples};
-    rows.push_back(
-        {c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons, l.render.geometryMib,
-         compareFrames(l.render.beauty, study.reference().beauty, study.reference().depth),
-         l.render.addedMib});
+    rows.push_back({c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
+                    l.render.geometryMib, compareRenders(l.render, study.reference()),
+                    l.render.addedMib});
   }
   return rows;
 }
@@ -87,7 +86,7 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
                              r.peakRssMib,
                              r.micropolygons,
                              r.geometryMib,
-                             compareFrames(r.beauty, reference.beauty, reference.depth),
+                             compareRenders(r, reference),
                              r.addedMib};
     study.results.push_back(result);
     if (!settings.quiet) std::fputs(progressLine(result, i, configs.size()).c_str(), stderr);

@@ -115,13 +115,18 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(rows[0],
             "name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,"
             "mean_abs_error,rmse,"
-            "mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct");
+            "mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct,"
+            "worst_contrast_ratio");
   ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 8u) << r.output;
   std::map<std::string, std::vector<std::string>> byName;
   for (size_t i = 1; i < rows.size(); ++i) {
     const std::vector<std::string> f = split(rows[i], ',');
-    ASSERT_EQ(f.size(), 15u) << rows[i];
+    ASSERT_EQ(f.size(), 16u) << rows[i];
     EXPECT_TRUE(std::isfinite(std::stod(f[14]))) << rows[i];
+    // The local contrast ratio, empty where no depth band of the reference shows relief.
+    if (!f[15].empty()) {
+      EXPECT_TRUE(std::isfinite(std::stod(f[15])) && std::stod(f[15]) >= 0.0) << rows[i];
+    }
     for (int c : {6, 7, 9, 10, 11, 12, 13}) {
       const double v = std::stod(f[c]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << rows[i];
@@ -137,12 +142,18 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_EQ(byName["reference"][1], "displacement");
   EXPECT_EQ(std::stod(byName["reference"][9]), 0.0);
   EXPECT_EQ(std::stod(byName["reference"][14]), 0.0);
+  if (!byName["reference"][15].empty()) {
+    EXPECT_EQ(std::stod(byName["reference"][15]), 1.0);
+  }
   // One sample per pixel of the hybrid differs from the reference in some depth band's mean.
   EXPECT_NE(std::stod(byName["hybrid_D1_r1_spp1"][14]), 0.0);
   // Same algorithm, dicing rate, spp and seed as the reference: the renderer is deterministic.
   ASSERT_TRUE(byName.count("displacement_r2_rs4_spp4"));
   EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][9]), 0.0);
   EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][10]), 0.0);
+  if (!byName["displacement_r2_rs4_spp4"][15].empty()) {
+    EXPECT_EQ(std::stod(byName["displacement_r2_rs4_spp4"][15]), 1.0);
+  }
   EXPECT_GT(std::stod(byName["reference"][12]), 0.0);  // geometry memory of displaced micropolygons
   // Rendering the reference needs memory of its own (its micropolygons, its film), above the
   // process's baseline.
@@ -171,7 +182,8 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
   EXPECT_GT(fs::file_size(dir_ / "trade/trade.png"), 1000u);
   EXPECT_NE(r.output.find("trade: default hybrid (D 2, 1 px, 4 spp)"), std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("trade: as consistent too (every depth band's mean within "),
+  EXPECT_NE(r.output.find("trade: as consistent and as detailed too (every depth band's mean "
+                          "within "),
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("speedup"), std::string::npos)
@@ -279,7 +291,8 @@ TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
   const std::vector<std::string> before = dataLines(dir_ / "trade/trade.csv");
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(cache())) files.push_back(e.path());
-  ASSERT_EQ(files.size(), 3u);  // one file per level
+  // Two files per level: its render and the same render with the second seed (sampling noise).
+  ASSERT_EQ(files.size(), 6u);
 
   const RunResult second = run(args);
   ASSERT_EQ(second.status, 0) << second.output;
@@ -288,7 +301,8 @@ TEST_F(TradeTest, ReferenceLevelsComeFromTheCacheOnASecondRun) {
   ASSERT_GE(after.size(), 4u);
   for (size_t i = 1; i <= 3; ++i) EXPECT_EQ(after[i], before[i]);  // the levels, seconds included
 
-  // Truncate one file: re-rendered (with a message), and the next run trusts the new file.
+  // Truncate one file: its level is re-rendered (with a message), and the next run trusts the new
+  // files.
   fs::resize_file(files[0], fs::file_size(files[0]) / 2);
   const RunResult third = run(args);
   ASSERT_EQ(third.status, 0) << third.output;

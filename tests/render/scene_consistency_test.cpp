@@ -1,12 +1,15 @@
 // meso consistency SCENE: each renderer against the displacement reference, per object and band.
 #include "meso/render/scene_consistency.h"
 
+#include "meso/render/local_contrast.h"
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -106,6 +109,48 @@ TEST(SceneConsistency, CoarsenedReferenceIsFlagged) {
   EXPECT_TRUE(r.referenceCoarsened);
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings[0].find("would exceed the cap of 1000"), std::string::npos) << r.warnings[0];
+}
+
+// Relief of a few pixels per wavelength seen from above under a low light: the BRDF keeps each
+// region's mean but draws no texture and fails the detail check; displacement diced by pixels
+// (1 px) keeps the reference's local contrast and passes.
+TEST(SceneConsistency, BrdfOfVisibleReliefFailsTheDetailCheck) {
+  Scene s = smallScene();
+  s.materials[0].relief = {testing::noiseLevel(0.06f, 0.5f, 2)};
+  s.lights[0].direction = glm::normalize(Vec3(0.8f, 0.3f, -0.5f));
+  s.camera.position = {0.0f, -5.0f, 6.0f};
+  s.camera.width = 96;
+  s.camera.height = 64;
+  s.camera.spp = 4;
+  s.render.dicingRate = 1.0f;
+  SceneConsistencyOptions o;
+  o.algorithms = {Algorithm::Displacement, Algorithm::Brdf};
+  o.bands = 2;
+  o.referenceDicing = 0.25f;
+  const SceneConsistencyReport r = sceneConsistency(s, o);
+  ASSERT_EQ(r.regions.size(), 3u);
+  for (const ConsistencyRegion& region : r.regions) {
+    std::printf(
+        "[ figure ] %s: reference contrast %.4f; displacement mean %+.2f%%, contrast ratio %.3f; "
+        "brdf mean %+.2f%%, contrast ratio %.3f\n",
+        region.name.c_str(), region.contrast[0], 100.0 * (region.mean[2] / region.mean[0] - 1.0),
+        region.contrastRatio[2], 100.0 * (region.mean[3] / region.mean[0] - 1.0),
+        region.contrastRatio[3]);
+    EXPECT_GT(region.contrast[0], 5.0 * kReliefContrastFloor) << region.name;
+    EXPECT_NEAR(region.mean[3] / region.mean[0], 1.0, 0.02) << region.name;  // the mean is kept
+    EXPECT_FALSE(asDetailed(region.contrastRatio[3])) << region.name;
+    EXPECT_LT(region.contrastRatio[3], 0.5) << region.name;
+    EXPECT_TRUE(asDetailed(region.contrastRatio[2])) << region.name;
+    EXPECT_TRUE(asDetailed(region.contrastRatio[1])) << region.name;  // the coarse reference
+  }
+  EXPECT_EQ(r.notDetailed, std::vector<std::string>{"brdf"});
+  EXPECT_EQ(r.worstContrastRenderer, "brdf");
+  EXPECT_LT(r.referenceContrastChange, kContrastTolerance);
+  const std::string csv = formatSceneConsistency(r, TableFormat::Csv);
+  EXPECT_NE(csv.find(",reference contrast,coarse reference contrast ratio,displacement contrast "
+                     "ratio,brdf contrast ratio\n"),
+            std::string::npos)
+      << csv;
 }
 
 }  // namespace

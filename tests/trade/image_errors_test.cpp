@@ -1,10 +1,14 @@
 // Image errors against a reference: zero for identical frames, the known figures for a constant
-// offset, averaged over frames; different sizes are refused.
+// offset, averaged over frames; the local contrast per depth band, noise-corrected with the second
+// seed's frames; different sizes are refused.
 #include "meso/trade/image_errors.h"
 
 #include "meso/core/error.h"
+#include "meso/core/rng.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace {
 
@@ -50,6 +54,63 @@ TEST(ImageErrors, WorstDepthBandIsSignedAndIgnoresMisses) {
   // Without depth, no band figure; the plain errors see the miss.
   EXPECT_EQ(meso::trade::compareFrames({img}, {ref}).worstBandPct, 0.0);
   EXPECT_GT(meso::trade::compareFrames({img}, {ref}).intensityErrorPct, 100.0);
+}
+
+// 160 x 64 pixels, depth growing to the right: five depth bands of 32 columns, 32 blocks each.
+constexpr int kW = 160, kH = 64;
+
+// A checkerboard of `amplitude` about 0.5 (grey), plus uniform noise in [-noise, noise] of stream
+// `seed`, in the columns [x0, x1) only (0.5 elsewhere).
+RgbImage checker(double amplitude, int x0 = 0, int x1 = kW, double noise = 0.0, uint64_t seed = 1) {
+  RgbImage im = constant(kW, kH, 0.5f);
+  meso::Rng rng(seed);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const double n = noise * (2.0 * rng.uniform() - 1.0);
+      const double v = 0.5 + n + (x >= x0 && x < x1 ? ((x + y) % 2 ? amplitude : -amplitude) : 0.0);
+      for (int c = 0; c < 3; ++c) im.rgb[3 * (y * kW + x) + c] = static_cast<float>(v);
+    }
+  return im;
+}
+
+std::vector<float> depthToTheRight() {
+  std::vector<float> depth(kW * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) depth[y * kW + x] = 1.0f + static_cast<float>(x);
+  return depth;
+}
+
+// The reference's texture erased in the farthest band only: the mean is the same everywhere, the
+// worst contrast ratio is that band's 0. Identical frames give 1; a flat reference shows no
+// relief (NaN) and neither does a comparison without depth.
+TEST(ImageErrors, WorstContrastRatioPerDepthBand) {
+  const RgbImage ref = checker(0.05);
+  const std::vector<std::vector<float>> depth = {depthToTheRight()};
+  const meso::trade::ImageErrors erased =
+      meso::trade::compareFrames({checker(0.05, 0, 128)}, {ref}, depth);
+  EXPECT_NEAR(erased.worstBandPct, 0.0, 1e-4);
+  EXPECT_EQ(erased.worstContrastRatio, 0.0);
+  EXPECT_NEAR(meso::trade::compareFrames({ref}, {ref}, depth).worstContrastRatio, 1.0, 1e-12);
+  EXPECT_NEAR(meso::trade::compareFrames({checker(0.04)}, {ref}, depth).worstContrastRatio, 0.8,
+              1e-5);
+  EXPECT_TRUE(std::isnan(
+      meso::trade::compareFrames({ref}, {constant(kW, kH, 0.5f)}, depth).worstContrastRatio));
+  EXPECT_TRUE(std::isnan(meso::trade::compareFrames({ref}, {ref}).worstContrastRatio));
+}
+
+// Noise of 5.8% of the mean per pixel on the reference's texture (10% contrast) reads as 15% more
+// contrast; the second seed's frames take it out again.
+TEST(ImageErrors, SecondSeedFramesTakeSamplingNoiseOut) {
+  const RgbImage ref = checker(0.05);
+  const std::vector<std::vector<float>> depth = {depthToTheRight()};
+  const RgbImage noisy = checker(0.05, 0, kW, 0.05, 1), again = checker(0.05, 0, kW, 0.05, 2);
+  const double raw = meso::trade::compareFrames({noisy}, {ref}, depth).worstContrastRatio;
+  EXPECT_GT(raw, 1.1);
+  const double corrected =
+      meso::trade::compareFrames({noisy}, {ref}, depth, {again}, {ref}).worstContrastRatio;
+  EXPECT_NEAR(corrected, 1.0, 0.04);
+  EXPECT_THROW(meso::trade::compareFrames({noisy}, {ref}, depth, {constant(4, 3, 0.5f)}, {ref}),
+               meso::Error);
 }
 
 TEST(ImageErrors, RefusesDifferentSizes) {

@@ -131,4 +131,40 @@ TEST(TradeSummary, InterpolatedEqualRmseBetweenSweptSpp) {
   EXPECT_EQ(t.find("interpolated"), std::string::npos) << t;
 }
 
+// As consistent and as detailed: the cheaper displacement configuration keeps every band's mean
+// but has half the reference's local contrast, so the comparison takes the dearer one whose
+// contrast is within 10%.
+TEST(TradeSummary, AsDetailedPassesOverDisplacementThatErasesTexture) {
+  ReferenceStudy study;
+  study.levels.resize(1);
+  study.stop = "no refinement asked for";
+  TradeResult h = result(Kind::Hybrid, 1.0, 0.010, 300.0, 50.0);
+  h.errors.worstContrastRatio = 0.97;
+  TradeResult flat = result(Kind::Displacement, 2.0, 0.009, 200.0, 20.0);
+  flat.errors.worstContrastRatio = 0.5;
+  TradeResult detailed = result(Kind::Displacement, 4.0, 0.009, 200.0, 20.0);
+  detailed.errors.worstContrastRatio = 1.04;
+  const std::string s = meso::trade::tradeSummary({h, flat, detailed}, study);
+  EXPECT_NE(s.find("worst band +0%, worst contrast ratio 0.97;"), std::string::npos) << s;
+  EXPECT_NE(s.find("4 spp) 2 s, rmse 0.009, worst band +0%, worst contrast ratio 0.5: speedup "
+                   "2.00x"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("trade: as consistent and as detailed too (every depth band's mean within 0.5% "
+                   "of the reference's, its local contrast within 10% where the reference shows "
+                   "relief): cheapest displacement-only as accurate (dicing 1 px, relief samples "
+                   "-1, 4 spp) 4 s, rmse 0.009, worst band +0%, worst contrast ratio 1.04: speedup "
+                   "4.00x"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("NOT as detailed"), std::string::npos) << s;
+  // A hybrid that erases texture itself is said to, and widens the tolerance to its own ratio.
+  h.errors.worstContrastRatio = 0.45;
+  const std::string t = meso::trade::tradeSummary({h, flat, detailed}, study);
+  EXPECT_NE(t.find("worst contrast ratio 0.45 (NOT as detailed as the reference)"),
+            std::string::npos)
+      << t;
+  EXPECT_NE(t.find("its local contrast within 55% where"), std::string::npos) << t;
+}
+
 }  // namespace

@@ -38,7 +38,11 @@ struct MeasuredRender {
   float coarsening = 1.0f;   // > 1: the micropolygon cap coarsened some frame's dicing
   std::vector<RgbImage> beauty;
   std::vector<std::vector<float>> depth;  // reference only: depth.Z per frame (0: no hit)
-  std::vector<Image> films;               // whole films, only when asked for
+  // The same frames rendered again with render/local_contrast.h's secondSeed on the same geometry,
+  // neither timed nor counted in the peaks: the sampling noise of beauty, for the local contrast.
+  std::vector<RgbImage> secondBeauty;
+  std::vector<std::vector<float>> secondDepth;  // reference only
+  std::vector<Image> films;                     // whole films, only when asked for
 };
 
 struct MeasureOptions {
@@ -49,7 +53,8 @@ struct MeasureOptions {
   bool* warnedRss = nullptr;
 };
 
-// Renders `c` of `base` through `cameras`; ctx warnings go to stderr, named by the configuration.
+// Renders `c` of `base` through `cameras`, each frame with the scene's seed and then with the
+// second seed; ctx warnings go to stderr, named by the configuration.
 MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
                               const std::vector<CameraSettings>& cameras,
                               const MeasureOptions& options);

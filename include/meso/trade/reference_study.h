@@ -5,7 +5,8 @@
 // percent of the mean (converged; the rmse includes both levels' sampling noise, hence its own
 // tolerance), or when the next level would exceed maxRefinements or maxMicropolygons (not
 // converged: the verdict gives the last change and an extrapolation of what remains). Each level
-// is cached on disk (reference_cache.h).
+// is cached on disk (reference_cache.h), with its second seed's render (the sampling noise of the
+// local contrast, render/local_contrast.h) under that seed's key.
 #pragma once
 
 #include "meso/scene/scene.h"

@@ -14,15 +14,18 @@ namespace meso::trade {
 
 // trade.csv. Comment lines first: the reference's convergence, one line per level, and the Pareto
 // front ("# pareto_front: NAME;NAME;..." by time) and "# default_hybrid: NAME"; then the header
-// name,algorithm,D,spp,dicing_rate,seconds,peak_rss_mib,micropolygons,mean_abs_error,rmse,
-// mean_intensity_error_pct,geometry_mib,peak_added_mib and one row per result (D empty for
-// displacement alone).
+// name,algorithm,D,spp,dicing_rate,relief_samples,seconds,peak_rss_mib,micropolygons,
+// mean_abs_error,rmse,mean_intensity_error_pct,geometry_mib,peak_added_mib,worst_band_error_pct,
+// worst_contrast_ratio and one row per result (D empty for displacement alone, the contrast ratio
+// empty where no depth band shows relief).
 std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStudy& study);
 
 // The default hybrid against the cheapest displacement-only configuration at least as accurate
 // (equal rmse or better): ratios hybrid / displacement, so < 1 is the hybrid's saving, and the
 // speedup against interpolatedAsAccurate where that is cheaper than every swept configuration; on
-// a second line the same against the cheapest one as consistent too; then the reference's verdict.
+// a second line the same against the cheapest one as consistent and as detailed too (no depth
+// band's mean further from the reference's than the hybrid's worst or 0.5%, no contrast ratio
+// further from 1 than the hybrid's or kContrastTolerance); then the reference's verdict.
 // Three lines starting "trade: ". Throws meso::Error without a default hybrid.
 std::string tradeSummary(const std::vector<TradeResult>& results, const ReferenceStudy& study);
 
