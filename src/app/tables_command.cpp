@@ -28,16 +28,23 @@ void runTables(const TablesCommandOptions& o) {
   const RenderContext ctx = prepareRenderContext(scene, times, false, !o.noPlots);
   for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::printf(
-      "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,cache,seconds,bytes\n");
+      "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,bands,cache,seconds,"
+      "bytes\n");
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& material = scene.materials[m];
     const MaterialRelief& relief = ctx.reliefs[m];
     for (size_t k = 0; k < relief.metrics.size(); ++k)
       for (size_t i = 0; i < relief.levels.size(); ++i) {
         const LevelTables& t = relief.tables(i, static_cast<int>(k));
-        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
-                    relief.metrics[k].lengthPerU, choiceName(material.relief[i].source),
-                    relief.levels[i].amplitude, relief.levels[i].scale, relief.levels[i].freqPerU,
+        const ReliefLevelDecl& d = material.relief[i];
+        // An image's bands as first-last/count (1-based), e.g. 1-4/7; "all" for a whole relief.
+        const std::string bands = d.bandCount > 1 ? std::to_string(d.bandFirst + 1) + "-" +
+                                                        std::to_string(d.bandLast + 1) + "/" +
+                                                        std::to_string(d.bandCount)
+                                                  : "all";
+        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
+                    relief.metrics[k].lengthPerU, choiceName(d.source), relief.levels[i].amplitude,
+                    relief.levels[i].scale, relief.levels[i].freqPerU, bands.c_str(),
                     t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
         if (o.noPlots) continue;
         std::string stem = material.name + "_level" + std::to_string(i + 1);

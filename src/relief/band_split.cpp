@@ -139,6 +139,38 @@ double slopeEnergy(const HeightTable& t) {
   return sum / (static_cast<double>(t.width()) * t.heightTexels());
 }
 
+// |grad h|^2 per texel of the sum of bands first..last.
+std::vector<double> slopeSquares(const std::vector<HeightBand>& bands, int first, int last) {
+  const HeightTable& t = bands.front().table;
+  const int w = t.width(), h = t.heightTexels();
+  std::vector<float> sum(t.texels().size(), 0.0f);
+  for (int b = first; b <= last; ++b)
+    for (size_t k = 0; k < sum.size(); ++k) sum[k] += bands[b].table.texels()[k];
+  const HeightTable s(w, h, std::move(sum), t.options());
+  std::vector<double> out(static_cast<size_t>(w) * h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const double gx = 0.5 * (s.texel(i + 1, j) - s.texel(i - 1, j));
+      const double gy = 0.5 * (s.texel(i, j + 1) - s.texel(i, j - 1));
+      out[static_cast<size_t>(j) * w + i] = gx * gx + gy * gy;
+    }
+  return out;
+}
+
+// Pearson's correlation of two equally long series (0 when either is constant).
+double correlation(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0.0, my = 0.0;
+  for (size_t k = 0; k < x.size(); ++k) mx += x[k], my += y[k];
+  mx /= n, my /= n;
+  double sxy = 0.0, sxx = 0.0, syy = 0.0;
+  for (size_t k = 0; k < x.size(); ++k) {
+    const double a = x[k] - mx, b = y[k] - my;
+    sxy += a * b, sxx += a * a, syy += b * b;
+  }
+  return sxx > 0.0 && syy > 0.0 ? sxy / std::sqrt(sxx * syy) : 0.0;
+}
+
 }  // namespace
 
 BandPlan planBands(const HeightTable& table, int requested, int maxLevels, double minSlopeShare) {
@@ -186,14 +218,37 @@ BandPlan planBands(const HeightTable& table, int requested, int maxLevels, doubl
     return HeightTable(table.width(), table.heightTexels(), std::move(texels), o)
         .highestFrequency();
   };
+  const auto mergeInto = [&](size_t k) {  // level k joins level k - 1
+    plan.levels[k - 1].last = plan.levels[k].last;
+    plan.levels[k - 1].slopeShare += plan.levels[k].slopeShare;
+    plan.levels[k - 1].coupled = plan.levels[k - 1].coupled || plan.levels[k].coupled;
+    plan.levels.erase(plan.levels.begin() + static_cast<std::ptrdiff_t>(k));
+  };
   for (size_t k = 1; k < plan.levels.size();) {
-    if (freqOf(plan.levels[k]) < kMinLevelFrequencyRatio * freqOf(plan.levels[k - 1])) {
-      plan.levels[k - 1].last = plan.levels[k].last;
-      plan.levels[k - 1].slopeShare += plan.levels[k].slopeShare;
-      plan.levels.erase(plan.levels.begin() + static_cast<std::ptrdiff_t>(k));
-    } else {
+    if (freqOf(plan.levels[k]) < kMinLevelFrequencyRatio * freqOf(plan.levels[k - 1]))
+      mergeInto(k);
+    else
       ++k;
+  }
+  // Finer bands whose slopes sit where the coarser ones' do (the edges of bricks or tiles, whose
+  // octaves are phase-aligned) are not independent of them, as drawing them from tables on a
+  // raised coarser level assumes (eq. 1): such a split is not made. Split after the finest level
+  // first, so that a correlated tail joins as a whole.
+  for (size_t k = plan.levels.size(); k-- > 1;) {
+    const double r = correlation(slopeSquares(bands, 0, plan.levels[k - 1].last),
+                                 slopeSquares(bands, plan.levels[k].first, plan.bands - 1));
+    if (r > kMaxBandSlopeCorrelation) {
+      plan.levels[k].coupled = true;
+      mergeInto(k);
     }
+  }
+  // A level of coupled bands is displaced and redistributed as a whole where its coarsest band
+  // with a share of the slope spans enough pixels: that band's frequency is its T's.
+  for (BandLevel& l : plan.levels) {
+    if (!l.coupled) continue;
+    int b = l.first;
+    while (b < l.last && slopeEnergy(bands[b].table) < minSlopeShare * total) ++b;
+    l.transitionFrequency = bands[b].freq;
   }
   return plan;
 }

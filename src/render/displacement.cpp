@@ -110,6 +110,9 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
   for (size_t k = 0; k < kept; ++k) L[k] = sampleLight(lights[k], sp.P).L;
   bool flat =
       false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
+  // A band of an image not raised whole draws its image's finer bands as one level with it
+  // (ReliefLevel::partialSum): they are not raised either.
+  int flatUntil = 0;
   for (int i = 0; i < n; ++i) {
     const ReliefLevel& level = relief.levels[i];
     const SurfaceFrame& f = out.frames[i];
@@ -127,7 +130,11 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
                            : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
                                                             pixelsPerRadian, settings));
     out.weights[i] = transitionWeights(out.T[i], settings);
-    out.disp[i] = mode == DisplacementMode::Full ? 1.0f : (flat ? 0.0f : out.weights[i].disp);
+    out.disp[i] = mode == DisplacementMode::Full ? 1.0f
+                  : flat || i < flatUntil        ? 0.0f
+                                                 : out.weights[i].disp;
+    if (level.partialSum && out.disp[i] < 1.0f)
+      flatUntil = std::max(flatUntil, static_cast<int>(level.partialSumEnd));
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
       out.H[i] = level.heightAndDerivatives(sp.uv, out.B[i]);
@@ -207,11 +214,19 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
   CrestSum crest;
   for (int i = 0; i < t.count; ++i) {
     if (!(t.disp[i] < 1.0f)) continue;
+    // An image band drawn with its finer bands as one level: their sum's visible height.
+    const ReliefLevel& level = relief_.levels[i];
+    const int next = level.partialSum ? static_cast<int>(level.partialSumEnd) : i + 1;
+    const auto advance = [&] { i = std::max(i, next - 1); };
     const float cosTheta = glm::dot(t.frames[i].N, V);
-    if (!visible_[i].grazing(cosTheta, lengthPerU)) continue;
+    if (!visible_[i].grazing(cosTheta, lengthPerU)) {
+      advance();
+      continue;
+    }
     const float curvature = crestCurvature(t, i, sp, V, face, crest);
     offset +=
         ((1.0f - t.disp[i]) * visible_[i].at(cosTheta, lengthPerU, curvature)) * t.frames[i].N;
+    advance();
   }
   return offset;
 }

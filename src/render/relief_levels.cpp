@@ -5,6 +5,7 @@
 #include "meso/core/math.h"
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
+#include "meso/relief/band_split.h"
 #include "meso/relief/height_table.h"
 
 #include <algorithm>
@@ -27,7 +28,11 @@ std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
     return std::make_unique<FractalNoise>(o);
   }
   try {
-    return std::make_unique<HeightTable>(HeightTable::load(d.height, d.periodic));
+    HeightTable table = HeightTable::load(d.height, d.periodic);
+    if (d.bandCount > 1)  // one band-limited level of the image (scene/relief_bands.h)
+      return std::make_unique<HeightTable>(
+          bandLevelTable(table, d.bandCount, d.bandFirst, d.bandLast));
+    return std::make_unique<HeightTable>(std::move(table));
   } catch (const Error& e) {
     if (d.loc.line > 0) throw Error(d.loc, "relief", e.what());
     throw;
@@ -161,6 +166,23 @@ MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
   return p;
 }
 
+void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels) {
+  for (size_t i = 0; i < levels.size() && i < decls.size(); ++i) {
+    const ReliefLevelDecl& d = decls[i];
+    if (d.source != ReliefSource::Image || d.bandCount <= 1 || d.bandLast >= d.bandCount - 1)
+      continue;
+    size_t end = i + 1;  // past the image's finest band
+    while (end < decls.size() && decls[end].source == ReliefSource::Image &&
+           decls[end].height == d.height && decls[end].bandCount == d.bandCount &&
+           decls[end].bandFirst == decls[end - 1].bandLast + 1)
+      ++end;
+    ReliefLevelDecl sum = d;
+    sum.bandLast = d.bandCount - 1;
+    levels[i].partialSum = std::make_shared<const ReliefLevel>(makeReliefLevel(sum));
+    levels[i].partialSumEnd = end;
+  }
+}
+
 namespace {
 
 // metricClassesFor at one step.
@@ -260,11 +282,16 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   }
   const size_t n = shapeless.build ? r.levels.size() : 0;
   std::vector<LevelTables> reversed;
+  reversed.reserve(n);
   for (size_t k = 0; k < n; ++k) {
-    const TileRelief tile(r.levels[n - 1 - k], lengthPerU);
-    reversed.push_back(buildLevelTables(tile, material.phong, settings,
-                                        k == 0 ? nullptr : &reversed.back(), cache, warnings,
-                                        k == 0 ? lobe : nullptr));
+    // A band that finer bands of its image continue is tabulated as their sum, over the level
+    // after the image (eq. 1) or as the finest level.
+    const ReliefLevel& level = r.levels[n - 1 - k];
+    const size_t finerLevel = level.partialSum ? level.partialSumEnd : n - k;
+    const LevelTables* finer = finerLevel < n ? &reversed[n - 1 - finerLevel] : nullptr;
+    const TileRelief tile(level.partialSum ? *level.partialSum : level, lengthPerU);
+    reversed.push_back(buildLevelTables(tile, material.phong, settings, finer, cache, warnings,
+                                        finer ? nullptr : lobe));
     const LevelTables& t = reversed.back();
     (t.fromCache ? *loaded : *built) += 1;
     *seconds += t.seconds;
@@ -320,8 +347,16 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                                    const TableSettings& settings,
                                    std::vector<MetricClass> classes) {
   MaterialRelief r;
-  for (const ReliefLevelDecl& d : material.relief) r.levels.push_back(makeReliefLevel(d));
+  for (const ReliefLevelDecl& d : material.relief) {
+    r.levels.push_back(makeReliefLevel(d));
+    const auto* table = dynamic_cast<const HeightTable*>(r.levels.back().source.get());
+    if (warnings && table && table->ignoredAlpha() && d.bandFirst == 0)
+      warnings->push_back(d.height.string() +
+                          ": its alpha channel is ignored (heights are the luminance of its "
+                          "colour channels)");
+  }
   const size_t n = r.levels.size();
+  linkImageBands(material.relief, r.levels);
   if (material.ndf.present) {
     const ReliefLevel* finest = n > 0 ? &r.levels.back() : nullptr;
     float angle = 0.0f;

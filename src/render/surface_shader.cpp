@@ -52,11 +52,19 @@ TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
                       c.relief.metrics[c.metric.k1].lengthPerU));
 }
 
-// The self-shadowing tables of levels first .. last - 1 at the surface's metric.
+// The level after level i in a walk over tables: a band whose table is the sum of its image's
+// finer bands stands for them (ReliefLevel::partialSum).
+size_t nextTabulated(const LevelContext& c, size_t i) {
+  const ReliefLevel& level = c.relief.levels[i];
+  return level.partialSum ? std::max(level.partialSumEnd, i + 1) : i + 1;
+}
+
+// The self-shadowing tables of levels first .. last - 1 at the surface's metric (the finer bands of
+// an image whose partial sum is tabulated have no table of their own to add).
 ShadowingLevels shadowingLevels(const LevelContext& c, size_t first, size_t last) {
   ShadowingLevels s;
   s.w = c.metric.w;
-  for (size_t k = first; k < last; ++k)
+  for (size_t k = first; k < last; k = nextTabulated(c, k))
     s.add(c.relief.tables(k, c.metric.k0).shadowing, c.relief.tables(k, c.metric.k1).shadowing);
   return s;
 }
@@ -154,13 +162,17 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
 // frame from there instead of evaluating its Blinn normal again.
 ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const LightShadows* shadows,
                       bool raisedFrame) {
-  if (i == c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
+  if (i >= c.relief.levels.size()) return shadeBottom(c, f, algorithm_colour::kSmooth, shadows);
   ShadeResult r;
   const ReliefLevel& level = c.relief.levels[i];
   const float T = c.transitions->T[i];
   const TransitionWeights& w = c.transitions->weights[i];
-  const bool finest = i + 1 == c.relief.levels.size();
   const float disp = c.raised ? c.transitions->disp[i] : 0.0f;
+  // A band of an image not raised whole is drawn with its image's finer bands as one level (its
+  // tables are of their sum); raised whole, the next band shades its surface.
+  const bool sum = level.partialSum && disp < 1.0f;
+  const size_t after = sum ? level.partialSumEnd : i + 1;
+  const bool finest = after >= c.relief.levels.size();
   r.disp[i] = disp;
   // This level's self-shadowing, when both the BRDF and the finer levels need it.
   LightShadows own;
@@ -180,7 +192,8 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
       next = {g.Pu, g.Pv, g.N};
     } else {
       // Raised levels' derivatives were evaluated with T (levelTransitions), at the same uv.
-      const Vec3 nBump = static_cast<int>(i) < c.transitions->raised
+      const Vec3 nBump = sum ? bumpNormal(*level.partialSum, c.sp.uv, next)
+                         : static_cast<int>(i) < c.transitions->raised
                              ? bumpNormal(c.transitions->B[i], next)
                              : bumpNormal(level, c.sp.uv, next);
       next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
@@ -194,7 +207,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
         s = {s.diffuse + disp * (1.0f - s.diffuse), s.specular + disp * (1.0f - s.specular)};
       below *= *shadows;
     }
-    const ShadeResult finer = shadeAuto(c, i + 1, next, shadows ? &below : nullptr, raisedFrame);
+    const ShadeResult finer = shadeAuto(c, after, next, shadows ? &below : nullptr, raisedFrame);
     r.colour += (1.0f - w.brdf) * finer.colour;
     const Vec3 own =
         glm::mix(algorithm_colour::kRedistribution, algorithm_colour::kDisplacement, disp);
@@ -203,7 +216,7 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
         (finest ? glm::mix(own, algorithm_colour::kSynthesis, finer.synthesis) : finer.algorithm);
     r.synthesis = (1.0f - w.brdf) * finer.synthesis;
     r.normal = finer.normal;
-    for (size_t k = i + 1; k < c.relief.levels.size() && k < kMaxReliefLevels; ++k)
+    for (size_t k = after; k < c.relief.levels.size() && k < kMaxReliefLevels; ++k)
       r.disp[k] = finer.disp[k];
     if (!finest && w.brdf == 0.0f) r.T = finer.T;
   }
@@ -270,9 +283,13 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
   // Redistribution carries each level's self-shadowing factor; displacement traced real shadow
   // rays; bump (the inconsistent baseline) has macro shadows only.
   LightShadows shadows = c.shadows ? *c.shadows : LightShadows{};
-  for (size_t i = 0; i < c.relief.levels.size(); ++i) {
+  const bool redistribution = algorithm == Algorithm::Redistribution;
+  for (size_t i = 0; i < c.relief.levels.size(); i = redistribution ? nextTabulated(c, i) : i + 1) {
     const LevelFrame before = f;
-    const Vec3 nBump = bumpNormal(c.relief.levels[i], c.sp.uv, f);
+    // Redistribution draws an image's bands from a partial sum on as one level (its tables).
+    const ReliefLevel& level = c.relief.levels[i];
+    const Vec3 nBump =
+        bumpNormal(redistribution && level.partialSum ? *level.partialSum : level, c.sp.uv, f);
     if (algorithm == Algorithm::Redistribution && c.shadows)
       shadows *= levelShadowing(c, i, before, &shadows);
     f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump)

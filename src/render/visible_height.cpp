@@ -17,7 +17,9 @@ void buildVisibleHeights(MaterialRelief& relief, bool curvedSurface) {
   // Levels ride on crests: the first on the limit surface's own (none on a plane), the others
   // also on the raised coarser levels' (ReliefDisplacement::crestCurvature).
   for (size_t i = 0; i < relief.levels.size(); ++i)
-    relief.visibleHeights.emplace_back(relief.levels[i], i > 0 || curvedSurface);
+    relief.visibleHeights.emplace_back(
+        relief.levels[i].partialSum ? *relief.levels[i].partialSum : relief.levels[i],
+        i > 0 || curvedSurface);
 }
 
 float VisibleHeight::smithLambda(float a) {

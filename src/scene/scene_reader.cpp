@@ -4,6 +4,7 @@
 
 #include "meso/core/input_file.h"
 #include "meso/scene/camera_path.h"
+#include "meso/scene/relief_bands.h"
 
 #include "table_reader.h"
 
@@ -91,9 +92,10 @@ Light readLight(TableReader& r) {
 }
 
 // One [[materials.relief]] table: one level, or with split_octaves = true one level per octave of
-// its noise (heights that add up to the whole fBm exactly; each level gets its own T).
+// its noise (heights that add up to the whole fBm exactly; each level gets its own T), or for a
+// height image one level per group of its octave bands (relief_bands.h; `bands`).
 std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
-                                        const std::filesystem::path& base) {
+                                        const std::filesystem::path& base, int maxLevels) {
   ReliefLevelDecl d;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
@@ -115,19 +117,28 @@ std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
     d.periodic = n.boolean("periodic", d.periodic);
     n.finish();
   }
+  if (hasHeight) d.bands = static_cast<int>(r.integer("bands", 0, 0, 16));
   d.amplitude = static_cast<float>(r.number("amplitude", d.amplitude, 0.0, 1e6));
   d.scale = static_cast<float>(r.number("scale", d.scale, 0.0, 1e6, true));
   d.freq = static_cast<float>(r.number("freq", d.freq, 0.0, 1e6));
   if (r.get("midlevel")) d.midlevel = static_cast<float>(r.number("midlevel", 0.0, -1e6, 1e6));
   const bool split = r.boolean("split_octaves", false);
+  if (hasHeight && d.freq > 0.0f) {  // a hand-set frequency is the whole image's: one level
+    if (d.bands > 1)
+      throw Error(r.loc(*r.get("freq")), r.prefix() + "freq",
+                  "freq is the frequency of one level; with bands each band's is measured: drop "
+                  "freq, or set bands = 1");
+    d.bands = 1;
+  }
   r.finish();
-  if (!split) return {d};
+  if (!split) return expandImageBands(d, maxLevels);
   const auto refuse = [&](const char* key, const char* why) {
     throw Error(d.loc, r.prefix() + key, why);
   };
   if (d.source != ReliefSource::Noise)
     refuse("split_octaves",
-           "split_octaves splits a noise relief; split a height image with `meso bands`");
+           "split_octaves splits a noise relief; a height image is split into octave bands by "
+           "`bands`");
   if (d.midlevel)
     refuse("midlevel", "split_octaves gives each octave its own mean as midlevel: drop midlevel");
   if (d.freq > 0.0f) refuse("freq", "split_octaves knows each octave's frequency: drop freq");
@@ -189,9 +200,13 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
     throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
                 "at most " + std::to_string(kMaxMaterialReliefLevels) +
                     " relief levels per material (got " + std::to_string(levels.size()) + ")");
-  for (const toml::table* t : levels) {
-    TableReader rr(*t, r.prefix() + "relief.", r.file());
-    for (ReliefLevelDecl& d : readRelief(rr, *t, base)) m.relief.push_back(std::move(d));
+  for (size_t k = 0; k < levels.size(); ++k) {
+    TableReader rr(*levels[k], r.prefix() + "relief.", r.file());
+    // A height image's bands share what the later tables leave (one level each at least).
+    const int budget = kMaxMaterialReliefLevels - static_cast<int>(m.relief.size()) -
+                       static_cast<int>(levels.size() - 1 - k);
+    for (ReliefLevelDecl& d : readRelief(rr, *levels[k], base, budget))
+      m.relief.push_back(std::move(d));
   }
   if (m.relief.size() > static_cast<size_t>(kMaxMaterialReliefLevels))
     throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",

@@ -17,7 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when the renderer changes what a reference looks like, or the file layout changes.
-constexpr uint32_t kFormatVersion = 5;  // 3: addedMib, 4: reliefSamples, 5: texel cap 8
+constexpr uint32_t kFormatVersion =
+    6;  // 3: addedMib, 4: reliefSamples, 5: texel cap 8, 6: image bands
 constexpr char kMagic[8] = {'M', 'E', 'S', 'O', 'R', 'E', 'F', '1'};
 
 struct Header {

@@ -61,6 +61,14 @@ TEST(HeightTable, HighestFrequency) {
   nyquist.frequency = FrequencyEstimate::Nyquist;
   EXPECT_EQ(HeightTable(w, h, t, nyquist).highestFrequency(), 32.0f);
   EXPECT_EQ(HeightTable(4, 4, std::vector<float>(16, 2.0f)).highestFrequency(), 1.0f);  // flat
+  // A wave along x only, with float rounding along y (a table computed by a band split): the
+  // rounding is no detail along y.
+  std::vector<float> alongX(w * h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      alongX[j * w + i] =
+          0.3f * std::sin(2 * kPi * 3 * (i + 0.5f) / w) + 1e-8f * ((i * 7 + j * 13) % 5);
+  EXPECT_EQ(HeightTable(w, h, alongX).highestFrequency(), 3.0f);
 }
 
 TEST_F(HeightTableFiles, LoadsExrAndPng) {

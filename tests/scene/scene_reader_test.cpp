@@ -1,12 +1,15 @@
 // The scene reader: a complete scene, defaults, the transform order, and one test per class of bad
 // input, each checking FILE:LINE:COL: key: in the message.
 #include "meso/core/error.h"
+#include "meso/core/image_io.h"
+#include "meso/core/math.h"
 #include "meso/scene/scene_parser.h"
 
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -20,7 +23,13 @@ class SceneReaderTest : public testing::TempDirTest {
   void SetUp() override {
     TempDirTest::SetUp();
     write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
-    write("bumps.png", "not really a png, but the reader only checks it is readable");
+    // One wave: its octave bands are one level (the reader reads height images to split them).
+    Image bumps(32, 32, {"R", "G", "B"});
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int c = 0; c < 3; ++c)
+          bumps.at(x, y, c) = 0.5f + 0.3f * std::sin(2.0f * kPi * 4.0f * (x + 0.5f) / 32.0f);
+    writeExr(dir_ / "bumps.exr", bumps);
   }
 
   Scene parse(const std::string& text) { return parseScene(text, dir_ / "scene.toml"); }
@@ -68,7 +77,7 @@ kd = [0.2, 0.3, 0.4]
 ks = 0.5
 phong = 64
   [[materials.relief]]
-  height = "bumps.png"
+  height = "bumps.exr"
   amplitude = 0.02
   scale = 4
   [[materials.relief]]
@@ -116,7 +125,7 @@ normals = "facet"
   EXPECT_FLOAT_EQ(s.materials[0].phong, 64.0f);
   ASSERT_EQ(s.materials[0].relief.size(), 2u);
   EXPECT_EQ(s.materials[0].relief[0].source, ReliefSource::Image);
-  EXPECT_EQ(s.materials[0].relief[0].height, dir_ / "bumps.png");
+  EXPECT_EQ(s.materials[0].relief[0].height, dir_ / "bumps.exr");
   EXPECT_FLOAT_EQ(s.materials[0].relief[0].scale, 4.0f);
   EXPECT_EQ(s.materials[0].relief[1].source, ReliefSource::Noise);
   EXPECT_EQ(s.materials[0].relief[1].octaves, 3);

@@ -26,6 +26,13 @@ struct ReliefLevel {
   // Schilling's slope and roughness pyramids, built only for the bump renderer
   // (buildSlopePyramids).
   std::shared_ptr<const SlopePyramid> pyramid;
+  // A band of a height image that finer levels continue (scene/relief_bands.h): this band and
+  // every finer band of the image summed, the relief its tables describe, and one past the last
+  // level that sum covers. Where this level is not raised whole, the renderers draw that sum as
+  // one level (its bands are phase-aligned, so the finer bands' statistics are not independent of
+  // this one's, as eq. (1) would assume). Null for every other level.
+  std::shared_ptr<const ReliefLevel> partialSum;
+  size_t partialSumEnd = 0;
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
   float wavelength() const { return 1.0f / freqPerU; }
@@ -54,6 +61,9 @@ double levelSlopeMeanSquarePerU(const ReliefLevel& level);
 // Throws meso::Error naming the level's file and line for unreadable height images.
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
 ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
+// Sets partialSum and partialSumEnd of every band of a height image that finer bands of the same
+// image continue (levels[i] made from decls[i]).
+void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels);
 
 // One period of a level as the table builders see it (histogram_builder.h), on a surface whose
 // unit of u and of v is `lengthPerU` world units long (an isotropic metric, docs/metric.md): the

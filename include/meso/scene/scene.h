@@ -56,6 +56,13 @@ struct ReliefLevelDecl {
   // Octaves firstOctave .. octaves - 1 only: one level of a relief whose `split_octaves` made a
   // level of each octave (the scene reader expands it; docs/scene-format.md).
   int firstOctave = 0;
+  // Height images: the octave bands it is split into (key `bands`; 0: as many as the image holds,
+  // weak ones merged; 1: the image is one level), and which of them this level sums: bands
+  // bandFirst..bandLast of bandCount (the scene reader expands an image into one level per group).
+  int bands = 0;
+  int bandCount = 1;
+  int bandFirst = 0;
+  int bandLast = 0;
 };
 
 // [materials.ndf]: the finest level, fractal NDF synthesis (Kautz et al. 2001; docs/synthesis.md).

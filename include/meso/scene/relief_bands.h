@@ -1,0 +1,19 @@
+// Becker & Max 1993, section 4.3: a height image as several band-limited levels, each with its own
+// T (DESIGN.md section 1).
+#pragma once
+
+#include "meso/scene/scene.h"
+
+#include <vector>
+
+namespace meso {
+
+// The levels one `[[materials.relief]]` height image stands for: its octave bands
+// (relief/band_split.h planBands: d.bands of them, 0 = as many as the image holds), bands with less
+// than 5% of the image's slope energy merged into a neighbour, at most maxLevels. Each level is a
+// copy of d with bandCount, bandFirst and bandLast set, and the user's midlevel on the coarsest
+// level only (the finer bands have mean 0). A noise relief, or an image with bands = 1, is
+// returned as it is. Throws meso::Error located at d.loc for an image that cannot be read.
+std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels);
+
+}  // namespace meso

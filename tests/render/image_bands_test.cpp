@@ -1,0 +1,105 @@
+// A height image split into band-limited levels (scene/relief_bands.h): each level's tables are
+// of its band and every finer band summed (ReliefLevel::partialSum), so where no band is raised
+// the image is drawn exactly as one level.
+#include "meso/core/image_io.h"
+#include "meso/render/relief_levels.h"
+#include "meso/render/scene_consistency.h"
+#include "meso/scene/relief_bands.h"
+#include "support/plane_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+namespace meso {
+namespace {
+
+// A 64 x 64 height EXR of two independent scales: a wave along x at 3 cycles and one along y at
+// 11 cycles of about equal slope, each inside one octave band (crossovers at 2, 4, 8 and 16
+// cycles); their slope magnitudes do not correlate, so the split is made.
+std::filesystem::path twoScaleImage() {
+  const std::filesystem::path file =
+      testing::ProcessTemporaries::add(std::filesystem::temp_directory_path() /
+                                       ("meso_image_bands_" + std::to_string(::getpid()) + ".exr"));
+  Image img(64, 64, {"Y"});
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      img.at(x, y, 0) = 0.5f + 0.3f * std::sin(2 * kPi * 3 * (x + 0.5f) / 64) +
+                        0.08f * std::sin(2 * kPi * 11 * (y + 0.5f) / 64);
+  writeExr(file, img);
+  return file;
+}
+
+ReliefLevelDecl imageLevel(const std::filesystem::path& file, int bands) {
+  ReliefLevelDecl d;
+  d.source = ReliefSource::Image;
+  d.height = file;
+  d.amplitude = 0.05f;
+  d.scale = 2.0f;
+  d.bands = bands;
+  return d;
+}
+
+Scene planeWith(std::vector<ReliefLevelDecl> relief, const std::string& tag) {
+  Material m;
+  m.kd = Vec3(0.7f);
+  m.relief = std::move(relief);
+  Scene s = testing::planeScene(testing::writePlaneObj(tag, 10.0f, 0.0f, 20.0f), "auto", m,
+                                Vec3(0.3f, 0.5f, -0.8f), tag);
+  s.camera.position = {0.0f, -9.0f, 3.0f};
+  s.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  s.camera.width = 48;
+  s.camera.height = 27;
+  s.camera.fovY = 40.0f;
+  s.camera.spp = 1;
+  s.render.tables.raysPerView = 256;
+  s.render.tables.phiVBins = 4;
+  s.render.shadows = false;
+  return s;
+}
+
+// Two levels; the coarse one's partial sum is the whole image and covers both levels; the finest
+// has none.
+TEST(ImageBands, CoarseLevelsTabulateTheSumOfTheirImagesFinerBands) {
+  const std::vector<ReliefLevelDecl> decls = expandImageBands(imageLevel(twoScaleImage(), 0), 8);
+  ASSERT_EQ(decls.size(), 2u);
+  std::vector<ReliefLevel> levels;
+  for (const ReliefLevelDecl& d : decls) levels.push_back(makeReliefLevel(d));
+  linkImageBands(decls, levels);
+  ASSERT_TRUE(levels[0].partialSum);
+  EXPECT_EQ(levels[0].partialSumEnd, 2u);
+  EXPECT_FALSE(levels[1].partialSum);
+  EXPECT_GT(levels[1].freqPerU, 1.5f * levels[0].freqPerU);
+  // The sum's heights are the two levels' (each about its own mean), and the image's.
+  const ReliefLevel whole = makeReliefLevel(imageLevel(twoScaleImage(), 1));
+  for (const Vec2 uv : {Vec2(0.1f, 0.2f), Vec2(0.37f, 0.81f), Vec2(0.77f, 0.05f)}) {
+    EXPECT_NEAR(levels[0].partialSum->height(uv), levels[0].height(uv) + levels[1].height(uv),
+                1e-5f);
+    EXPECT_NEAR(levels[0].partialSum->height(uv), whole.height(uv), 1e-5f);
+  }
+}
+
+// The BRDF and redistribution renderers draw the banded image as the one-level image (its first
+// level's tables are of the whole image); bump, which sums the bands' Blinn normals, too.
+TEST(ImageBands, FarRenderersDrawTheBandedImageAsOneLevel) {
+  const std::filesystem::path file = twoScaleImage();
+  const std::vector<ReliefLevelDecl> banded = expandImageBands(imageLevel(file, 0), 8);
+  ASSERT_EQ(banded.size(), 2u);
+  SceneConsistencyOptions o;
+  o.algorithms = {Algorithm::Brdf, Algorithm::Redistribution, Algorithm::Bump};
+  o.bands = 1;
+  o.referenceDicing = 1.0f;
+  const SceneConsistencyReport a = sceneConsistency(planeWith(banded, "bands2"), o);
+  const SceneConsistencyReport b = sceneConsistency(planeWith({imageLevel(file, 1)}, "bands1"), o);
+  ASSERT_EQ(a.regions.size(), b.regions.size());
+  for (size_t k = 2; k <= 4; ++k) {  // the reference and the coarse reference come first
+    EXPECT_NEAR(a.regions[0].mean[k], b.regions[0].mean[k], 1e-3 * b.regions[0].mean[k])
+        << a.renderers[k];
+    EXPECT_TRUE(std::isfinite(a.regions[0].mean[k]));
+  }
+}
+
+}  // namespace
+}  // namespace meso
