@@ -1,7 +1,8 @@
-// Benchmarks of the appearance tables: build time of one level at the default resolution (issue 4
-// asks for at most 2 s on 2 cores), and the per-sample lookups of the BRDF and redistribution.
-// Run: ./build/tools/bench_appearance
+// Benchmarks of the appearance tables: build time of the table set a render builds per level
+// (BM_BuildRendererTableSet; docs/tables.md), of a simpler set (one view azimuth, no shadowing),
+// and the per-sample lookups of the BRDF and redistribution. Run: ./build/tools/bench_appearance
 #include "meso/appearance/level_tables.h"
+#include "meso/render/relief_levels.h"
 #include "meso/core/rng.h"
 
 #include <benchmark/benchmark.h>
@@ -41,6 +42,32 @@ void BM_BuildLevelTablesDefault(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_BuildLevelTablesDefault)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The table set a render builds for one relief level at the default scene settings
+// (tableSettings of the default render.tables: 16 view azimuths, the self-shadowing table): the
+// finest level of a 3-octave fBm (local model) and a coarser level over it (eq. 1), each with its
+// shadowing table, on a unit-speed surface. Arg: 0 the finest level, 1 the coarser one.
+void BM_BuildRendererTableSet(benchmark::State& state) {
+  TableSettings settings = tableSettings(TableResolution{});
+  settings.shadows = true;
+  ReliefLevelDecl coarse;
+  coarse.source = ReliefSource::Noise;
+  coarse.octaves = 1, coarse.amplitude = 0.012f, coarse.scale = 50.0f, coarse.seed = 11;
+  ReliefLevelDecl fine = coarse;
+  fine.firstOctave = 1, fine.octaves = 3;
+  const ReliefLevel coarseLevel = makeReliefLevel(coarse), fineLevel = makeReliefLevel(fine);
+  const TableCache none{std::filesystem::path()};
+  const LevelTables finest =
+      buildLevelTables(TileRelief(fineLevel, 16.0f), 20.0f, settings, nullptr, none, nullptr);
+  for (auto _ : state) {
+    LevelTables t = state.range(0) == 0 ? buildLevelTables(TileRelief(fineLevel, 16.0f), 20.0f,
+                                                           settings, nullptr, none, nullptr)
+                                        : buildLevelTables(TileRelief(coarseLevel, 16.0f), 20.0f,
+                                                           settings, &finest, none, nullptr);
+    benchmark::DoNotOptimize(t.brdf.data().data());
+  }
+}
+BENCHMARK(BM_BuildRendererTableSet)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 void BM_BuildLevelTablesFromCache(benchmark::State& state) {
   const auto dir = std::filesystem::temp_directory_path() / "meso_bench_cache";
