@@ -182,3 +182,30 @@ TEST(BandPlan, LevelCountLimits) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// One stray texel does not flip the level that holds the image's waves to the Nyquist limit: its
+// energy is white, so most of it lands in the finest bands (a level of its own, or merged into
+// the finest), while the coarser level keeps a band-limited frequency. (As one level, the stray
+// texel sets the image's frequency: the test checks that too, so that it can fail.)
+TEST(BandPlan, AStrayTexelDoesNotFlipTheCoarseLevelToNyquist) {
+  const HeightTable clean = waves({{6.0f, 0.2f}, {20.0f, 0.06f}});
+  std::vector<float> texels = clean.texels();
+  texels[37 * 128 + 91] += 2.0f;
+  const HeightTable stray(128, 128, std::move(texels), HeightTableOptions{true});
+  EXPECT_GT(stray.highestFrequency(), 2.0f * clean.highestFrequency());
+  const BandPlan a = planBands(clean, 0, 8), b = planBands(stray, 0, 8);
+  ASSERT_GE(a.levels.size(), 1u);
+  ASSERT_GE(b.levels.size(), 1u);
+  const HeightTable la = bandLevelTable(clean, a.bands, a.levels[0].first, a.levels[0].last);
+  const HeightTable lb = bandLevelTable(stray, b.bands, b.levels[0].first, b.levels[0].last);
+  // The stray texel's white spectrum reaches the coarse band too, up to its edge (6 -> 9 cycles
+  // measured), but no further: far from the Nyquist limit the whole image jumps to.
+  EXPECT_LE(lb.highestFrequency(), 1.6f * la.highestFrequency());
+  EXPECT_LT(lb.highestFrequency(), 0.25f * stray.highestFrequency());
+}
+
+}  // namespace
+}  // namespace meso
