@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <span>
 
 #include <tbb/parallel_for.h>
@@ -16,11 +15,13 @@
 namespace meso {
 namespace {
 
+// Independent partial sums of sumLocalModel's reductions (QuadratureNormals are padded to a
+// multiple of them).
+constexpr size_t kLanes = 8;
+
 // The visible normals of one view slice as quadrature points: each a group of neighbouring
 // histogram bins with their total mass and mass-weighted mean normal (unnormalized, so that the
 // diffuse term, linear in N, stays exact), structure of arrays for loops the compiler vectorizes.
-constexpr size_t kLanes = 8;
-
 struct QuadratureNormals {
   std::vector<float> mass, x, y, z, invLength;
   size_t size() const { return mass.size(); }
@@ -65,8 +66,8 @@ Vec3 lightOfNode(const BrdfResolution& res, int phiV, int i, int j) {
   return polarDirection(tl, -pvl);
 }
 
-// Fills every (theta_V, phi_V) slice of a table with perSlice(k, V, q, out), which writes the
-// slice's nL * nPhi diffuse values to out and the specular ones after them. Slices are
+// Fills every (theta_V, phi_V) slice of a table with perSlice(k, V, sums), which writes the
+// slice's nL * nPhi diffuse values to sums and the specular ones after them. Slices are
 // independent: parallel, and the same bits for any thread count.
 template <typename PerSlice>
 BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, PerSlice perSlice) {
@@ -127,13 +128,12 @@ void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int ph
     }
 }
 
-}  // namespace
-
-namespace {
+// Whole bins within a group's width (at least one).
 int binsWithin(float groupWidth, float binWidth) {
   const float n = groupWidth / binWidth;
   return std::isfinite(n) && n >= 1.0f ? static_cast<int>(std::floor(n + 1e-3f)) : 1;
 }
+
 }  // namespace
 
 int NormalGrouping::thetaNBins(float width) const { return binsWithin(thetaN, width); }
