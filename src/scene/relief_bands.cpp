@@ -10,7 +10,7 @@
 namespace meso {
 
 std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels) {
-  if (d.source != ReliefSource::Image || d.bands == 1) return {d};
+  if (d.source != ReliefSource::Image || d.bands == 1 || d.bandCount > 1) return {d};
   BandPlan plan;
   try {
     plan = planBands(HeightTable::load(d.height, d.periodic), d.bands, std::max(maxLevels, 1));
@@ -31,6 +31,20 @@ std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxL
   }
   if (out.size() == 1) out.front().bandCount = 1;  // one level: the image itself
   return out;
+}
+
+void expandImageBands(Scene& scene) {
+  for (Material& m : scene.materials) {
+    std::vector<ReliefLevelDecl> levels;
+    for (size_t k = 0; k < m.relief.size(); ++k) {
+      // One level at least for each later relief table.
+      const int budget = kMaxMaterialReliefLevels - static_cast<int>(levels.size()) -
+                         static_cast<int>(m.relief.size() - 1 - k);
+      for (ReliefLevelDecl& d : expandImageBands(m.relief[k], budget))
+        levels.push_back(std::move(d));
+    }
+    m.relief = std::move(levels);
+  }
 }
 
 }  // namespace meso

@@ -92,10 +92,11 @@ Light readLight(TableReader& r) {
 }
 
 // One [[materials.relief]] table: one level, or with split_octaves = true one level per octave of
-// its noise (heights that add up to the whole fBm exactly; each level gets its own T), or for a
-// height image one level per group of its octave bands (relief_bands.h; `bands`).
+// its noise (heights that add up to the whole fBm exactly; each level gets its own T). A height
+// image's bands are planned when the scene is loaded (relief_bands.h), not parsed: parsing reads
+// no image.
 std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
-                                        const std::filesystem::path& base, int maxLevels) {
+                                        const std::filesystem::path& base) {
   ReliefLevelDecl d;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
@@ -131,7 +132,7 @@ std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
     d.bands = 1;
   }
   r.finish();
-  if (!split) return expandImageBands(d, maxLevels);
+  if (!split) return {d};
   const auto refuse = [&](const char* key, const char* why) {
     throw Error(d.loc, r.prefix() + key, why);
   };
@@ -200,13 +201,9 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
     throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
                 "at most " + std::to_string(kMaxMaterialReliefLevels) +
                     " relief levels per material (got " + std::to_string(levels.size()) + ")");
-  for (size_t k = 0; k < levels.size(); ++k) {
-    TableReader rr(*levels[k], r.prefix() + "relief.", r.file());
-    // A height image's bands share what the later tables leave (one level each at least).
-    const int budget = kMaxMaterialReliefLevels - static_cast<int>(m.relief.size()) -
-                       static_cast<int>(levels.size() - 1 - k);
-    for (ReliefLevelDecl& d : readRelief(rr, *levels[k], base, budget))
-      m.relief.push_back(std::move(d));
+  for (const toml::table* t : levels) {
+    TableReader rr(*t, r.prefix() + "relief.", r.file());
+    for (ReliefLevelDecl& d : readRelief(rr, *t, base)) m.relief.push_back(std::move(d));
   }
   if (m.relief.size() > static_cast<size_t>(kMaxMaterialReliefLevels))
     throw Error(r.loc(*r.get("relief")), r.prefix() + "relief",
@@ -442,7 +439,9 @@ Scene parseScene(std::string_view text, const std::filesystem::path& file) {
 }
 
 Scene loadScene(const std::filesystem::path& file) {
-  return parseScene(readInputFile(file, "scene", kMaxSceneBytes), file);
+  Scene scene = parseScene(readInputFile(file, "scene", kMaxSceneBytes), file);
+  expandImageBands(scene);
+  return scene;
 }
 
 }  // namespace meso

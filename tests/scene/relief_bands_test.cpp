@@ -2,6 +2,7 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 #include "meso/core/math.h"
+#include "meso/scene/relief_bands.h"
 #include "meso/scene/scene_parser.h"
 
 #include "support/temp_dir.h"
@@ -31,12 +32,13 @@ class ReliefBandsTest : public testing::TempDirTest {
       }
     writeExr(dir_ / "waves.exr", img);
   }
+  // The scene as `meso` loads it (loadScene plans the bands; parseScene reads no image).
   Scene parse(const std::string& relief) {
-    return parseScene(
-        "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"waves.exr\"\n"
-        "amplitude = 0.1\n" +
-            relief + "[[objects]]\nmesh = \"quad.obj\"\nmaterial = \"m\"\n",
-        dir_ / "scene.toml");
+    write("scene.toml",
+          "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"waves.exr\"\n"
+          "amplitude = 0.1\n" +
+              relief + "[[objects]]\nmesh = \"quad.obj\"\nmaterial = \"m\"\n");
+    return loadScene(dir_ / "scene.toml");
   }
 };
 
@@ -76,6 +78,26 @@ TEST_F(ReliefBandsTest, BandsShareTheMaterialsLevelBudget) {
   std::string others;
   for (int k = 0; k < 7; ++k) others += "[[materials.relief]]\nnoise = {}\namplitude = 0.01\n";
   EXPECT_EQ(parse(others).materials[0].relief.size(), 8u);
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// Parsing reads no image: the parser (fuzzed with any text) stays a parser, and a scene parsed
+// from text keeps one level per image until expandImageBands.
+TEST_F(ReliefBandsTest, ParsingAloneReadsNoImage) {
+  const std::string text =
+      "[[materials]]\nname = \"m\"\n[[materials.relief]]\nheight = \"waves.exr\"\n"
+      "amplitude = 0.1\n[[objects]]\nmesh = \"quad.obj\"\nmaterial = \"m\"\n";
+  Scene s = parseScene(text, dir_ / "scene.toml");
+  ASSERT_EQ(s.materials[0].relief.size(), 1u);
+  expandImageBands(s);
+  EXPECT_EQ(s.materials[0].relief.size(), 2u);
+  expandImageBands(s);  // once planned, the levels stay as they are
+  EXPECT_EQ(s.materials[0].relief.size(), 2u);
 }
 
 }  // namespace

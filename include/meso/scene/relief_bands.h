@@ -16,4 +16,9 @@ namespace meso {
 // returned as it is. Throws meso::Error located at d.loc for an image that cannot be read.
 std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels);
 
+// Every material's height images as their levels, each image within what the material's other
+// relief tables leave of kMaxMaterialReliefLevels. loadScene does this; a scene parsed from text
+// keeps one level per image until it is called.
+void expandImageBands(Scene& scene);
+
 }  // namespace meso
