@@ -312,8 +312,10 @@ TEST(TableCacheLimit, DefaultLimitComesFromTheEnvironment) {
   {
     const ScopedLimitVariable bad("lots");
     EXPECT_THROW(TableCache::defaultLimit(), Error);
-    EXPECT_THROW(TableCache("/tmp/anywhere"), Error);
-    EXPECT_NO_THROW(TableCache(fs::path()));  // a disabled cache has no use for a limit
+    EXPECT_THROW(TableCache{"/tmp/anywhere"}, Error);
+    // A disabled cache has no use for a limit. (Braces: `TableCache(fs::path())` alone is a
+    // declaration to clang.)
+    EXPECT_NO_THROW(TableCache{fs::path()});
   }
 }
 
