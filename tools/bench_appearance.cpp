@@ -2,7 +2,7 @@
 // (BM_BuildRendererTableSet; docs/tables.md), of a simpler set (one view azimuth, no shadowing),
 // and the per-sample lookups of the BRDF and redistribution. Run: ./build/tools/bench_appearance
 #include "meso/appearance/level_tables.h"
-#include "meso/render/relief_levels.h"
+#include "meso/appearance/material_tables.h"
 #include "meso/core/rng.h"
 
 #include <benchmark/benchmark.h>

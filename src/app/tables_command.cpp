@@ -3,10 +3,10 @@
 #include "meso/appearance/table_plots.h"
 #include "memory_estimates.h"
 
+#include "meso/appearance/material_tables.h"
 #include "meso/core/atomic_file.h"
 #include "meso/core/image_io.h"
 #include "meso/core/timer.h"
-#include "meso/render/relief_levels.h"
 #include "meso/render/render_context.h"
 #include "meso/scene/scene_parser.h"
 

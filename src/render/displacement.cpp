@@ -3,7 +3,6 @@
 
 #include "meso/relief/height_table.h"
 #include "meso/relief/level_frames.h"
-#include "meso/render/shading.h"
 #include "meso/render/transition.h"
 
 #include <tbb/parallel_for.h>
@@ -13,15 +12,6 @@
 #include <limits>
 
 namespace meso {
-
-static_assert(kMaxMaterialReliefLevels == kMaxReliefLevels,
-              "the scene reader's level limit is the frames' capacity");
-
-float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
-                      float pixelsPerRadian, const TransitionSettings& settings) {
-  return transitionParameter(level.wavelength() * lengthPerU, pixelsPerRadian, distance,
-                             std::abs(cosThetaV), settings);
-}
 
 float displacementBound(const MaterialRelief& relief) {
   double sum = 0.0;
@@ -88,67 +78,6 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
   }
   for (const ReliefLevel& level : relief.levels) ownVisible_.emplace_back(level);
   visible_ = ownVisible_;
-}
-
-LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
-                                  const Vec3& eye, float pixelsPerRadian,
-                                  const TransitionSettings& settings, DisplacementMode mode,
-                                  std::span<const Light> lights, TransitionsFor use) {
-  LevelTransitions out;
-  const int n =
-      static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
-  out.count = n;
-  const Vec3 toEye = eye - sp.P;
-  const float distance = glm::length(toEye);
-  const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
-  const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
-  out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
-  // The directions to the lights, once for every level (a few; more are sampled per level).
-  constexpr size_t kKeptLights = 8;
-  std::array<Vec3, kKeptLights> L;
-  const size_t kept = std::min(lights.size(), kKeptLights);
-  for (size_t k = 0; k < kept; ++k) L[k] = sampleLight(lights[k], sp.P).L;
-  bool flat =
-      false;  // a level left flat leaves every finer one flat (shorter wavelength, same frame)
-  // A band of an image not raised whole draws its image's finer bands as one level with it
-  // (ReliefLevel::partialSum): they are not raised either.
-  int flatUntil = 0;
-  for (int i = 0; i < n; ++i) {
-    const ReliefLevel& level = relief.levels[i];
-    const SurfaceFrame& f = out.frames[i];
-    // T is the largest over the view and the lights (the terminator, like the silhouette, section
-    // 4.2). (nu - D) / (|cos| + eps) is monotone in |cos| (falling when nu > D, rising when
-    // nu < D), so the largest T is T at the smallest or the largest |cos|: one evaluation.
-    float lo = std::abs(glm::dot(f.N, V)), hi = lo;
-    for (size_t k = 0; k < lights.size(); ++k) {
-      const float c = std::abs(glm::dot(f.N, k < kept ? L[k] : sampleLight(lights[k], sp.P).L));
-      lo = std::min(lo, c);
-      hi = std::max(hi, c);
-    }
-    const float atLo = levelTransition(level, lengthPerU, lo, distance, pixelsPerRadian, settings);
-    out.T[i] = atLo > 0.0f ? atLo
-                           : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
-                                                            pixelsPerRadian, settings));
-    out.weights[i] = transitionWeights(out.T[i], settings);
-    out.disp[i] = mode == DisplacementMode::Full ? 1.0f
-                  : flat || i < flatUntil        ? 0.0f
-                                                 : out.weights[i].disp;
-    if (level.partialSum && out.disp[i] < 1.0f)
-      flatUntil = std::max(flatUntil, static_cast<int>(level.partialSumEnd));
-    if (out.disp[i] > 0.0f) {
-      out.raised = i + 1;
-      out.H[i] = level.heightAndDerivatives(sp.uv, out.B[i]);
-      out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
-    } else {
-      flat = true;
-      out.frames[i + 1] = f;
-    }
-    if (use == TransitionsFor::Shading && out.weights[i].brdf >= 1.0f) {
-      out.count = i + 1;
-      break;
-    }
-  }
-  return out;
 }
 
 LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {

@@ -4,6 +4,7 @@
 #include "meso/render/level_shading.h"
 #include "meso/render/relief_shadowing.h"
 #include "meso/render/shading.h"
+#include "meso/render/synthesis_shader.h"
 #include "meso/render/transition.h"
 #include "meso/relief/level_frames.h"
 #include "meso/relief/schilling_phong.h"

@@ -1,8 +1,8 @@
 // A height image split into band-limited levels (scene/relief_bands.h): each level's tables are
 // of its band and every finer band summed (ReliefLevel::partialSum), so where no band is raised
 // the image is drawn exactly as one level.
+#include "meso/appearance/material_tables.h"
 #include "meso/core/image_io.h"
-#include "meso/render/relief_levels.h"
 #include "meso/render/scene_consistency.h"
 #include "meso/scene/relief_bands.h"
 #include "support/plane_scene.h"

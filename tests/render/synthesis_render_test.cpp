@@ -1,9 +1,10 @@
 // Fractal NDF synthesis in the renderer (Kautz et al. 2001 as meso's finest level): zooming in
 // adds synthesized detail without changing the mean intensity, the false-colour layer shows it,
 // and a Blinn-Phong NDF far away is the local model it generalizes.
+#include "meso/appearance/material_tables.h"
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
-#include "meso/render/relief_levels.h"
+#include "meso/render/synthesis_shader.h"
 
 #include "meso/core/rng.h"
 

@@ -1,8 +1,11 @@
 #include "meso/core/error.h"
 #include "meso/render/transition.h"
 
+#include "support/plane_scene.h"
+
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 namespace meso {
@@ -89,6 +92,78 @@ TEST(Transition, ThresholdsInTheWrongOrderAreAnError) {
   s.eps = NAN;
   EXPECT_THROW(validateTransitionSettings(s, "x"), Error);
   EXPECT_NO_THROW(validateTransitionSettings(TransitionSettings{}, "x"));
+}
+
+// The shader's evaluation stops at the first level whose T selects the BRDF alone (the table stands
+// for every finer level) and agrees with the tessellator's on every level it evaluates.
+TEST(Displacement, ShadingTransitionsStopAtTheFirstTableLevel) {
+  // Three levels, each four times finer: T falls from level to level.
+  MaterialRelief relief;
+  for (const ReliefLevelDecl& d :
+       {testing::noiseLevel(0.01f, 1.0f, 1), testing::noiseLevel(0.004f, 4.0f, 1),
+        testing::noiseLevel(0.001f, 16.0f, 1)})
+    relief.levels.push_back(makeReliefLevel(d));
+  const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  const TransitionSettings ts;
+  std::array<int, 4> stops{};  // how often the shader evaluated 1, 2, 3 levels
+  for (float distance = 0.25f; distance < 2000.0f; distance *= 1.5f) {
+    const Vec3 eye(0.0f, 0.6f * distance, 0.8f * distance);
+    const LevelTransitions all =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition);
+    const LevelTransitions shading = levelTransitions(
+        relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, {}, TransitionsFor::Shading);
+    ASSERT_EQ(all.count, 3);
+    int expected = 3;
+    for (int i = 0; i < 3; ++i)
+      if (all.weights[i].brdf >= 1.0f) {
+        expected = i + 1;
+        break;
+      }
+    ASSERT_EQ(shading.count, expected) << distance;
+    ++stops[shading.count];
+    EXPECT_EQ(shading.raised, all.raised) << distance;
+    for (int i = 0; i < shading.count; ++i) {
+      EXPECT_EQ(shading.T[i], all.T[i]) << distance << " level " << i;
+      EXPECT_EQ(shading.disp[i], all.disp[i]);
+      EXPECT_EQ(shading.weights[i].brdf, all.weights[i].brdf);
+      EXPECT_EQ(shading.frames[i + 1].N, all.frames[i + 1].N);
+    }
+  }
+  // Near, every level is evaluated; far, only the coarsest (its BRDF stands for all).
+  EXPECT_GT(stops[3], 0);
+  EXPECT_GT(stops[1], 0);
+}
+
+// Becker & Max section 4.2: the shadow terminator is treated like the silhouette. Near relief (nu >
+// D) at a light's terminator gets the silhouette's T; an overhead light changes nothing, and far
+// relief (nu < D) keeps the view's own T whatever the lights.
+TEST(Displacement, TheShadowTerminatorRaisesTLikeTheSilhouette) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.01f, 4.0f, 2)));
+  const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  Light grazing, overhead;
+  grazing.direction = glm::normalize(Vec3(-1.0f, 0.0f, -0.01f));
+  overhead.direction = Vec3(0.0f, 0.0f, -1.0f);
+  const TransitionSettings ts;
+  for (float distance : {0.5f, 200.0f}) {
+    const Vec3 eye(0.0f, 0.0f, distance);
+    const float T =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition).T[0];
+    const Light lit[] = {overhead}, terminator[] = {overhead, grazing};
+    EXPECT_EQ(
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, lit).T[0], T);
+    const float Tt =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition, terminator)
+            .T[0];
+    const float cosL = 0.01f / std::sqrt(1.0001f);
+    const float silhouette = levelTransition(relief.levels[0], 1.0f, cosL, distance, 500.0f, ts);
+    if (T > 0.0f) {
+      EXPECT_GT(Tt, 5.0f * T) << distance;
+      EXPECT_FLOAT_EQ(Tt, silhouette);
+    } else {
+      EXPECT_EQ(Tt, T) << distance;
+    }
+  }
 }
 
 }  // namespace

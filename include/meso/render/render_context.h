@@ -2,11 +2,11 @@
 // tessellation and Embree scene of the current camera, rebuilt per frame where they depend on it.
 #pragma once
 
+#include "meso/appearance/material_tables.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
 #include "meso/render/displacement.h"
-#include "meso/render/relief_levels.h"
 #include "meso/scene/camera.h"
 #include "meso/scene/scene.h"
 

@@ -1,10 +1,15 @@
-// Becker & Max 1993, eq. (10) and section 4: the transition parameter T(d, theta_V) and the weights
-// of the renderers it selects (DESIGN.md section 3).
+// Becker & Max 1993, eq. (10) and section 4: the transition parameter T(d, theta_V), the weights
+// of the renderers it selects (DESIGN.md section 3) and what T asks of every level at a point.
 #pragma once
 
+#include "meso/appearance/material_tables.h"
+#include "meso/geometry/limit_surface.h"
+#include "meso/relief/level_frames.h"
 #include "meso/scene/scene.h"
 
 #include <algorithm>
+#include <array>
+#include <span>
 
 namespace meso {
 
@@ -51,5 +56,52 @@ inline TransitionWeights transitionWeights(float T, const TransitionSettings& s)
   w.disp = ramp(T, s.e3, s.e4);
   return w;
 }
+
+// Full: every level is raised completely (the reference renderer, --algorithm displacement).
+// ByTransition: level i is raised by disp_i = ramp(T_i; e3, e4) (auto mode); 0 below e3.
+enum class DisplacementMode { Full, ByTransition };
+
+// The transition parameter of a level at a point: T = (nu - D) / (|cos theta_V| + eps) with
+// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3). lengthPerU is
+// the world length of one unit of u at the point: min(|P_u|, |P_v|) of the limit surface.
+float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
+                      float pixelsPerRadian, const TransitionSettings& settings);
+
+// What T asks of every level at one limit-surface point seen from the eye (Becker & Max 1993,
+// eq. 10 and section 2.3): the one evaluation that both the tessellator (how far to raise the
+// geometry) and the shader (which renderer, which disp for theta_W) use, so geometry and shading
+// never disagree. frames[i] is the geometric frame level i perturbs: frames[i + 1] =
+// nextFrame(frames[i], disp_i B_i), the surface as raised; V and the distance are taken from the
+// limit point, never from the hit.
+struct LevelTransitions {
+  int count = 0;  // levels evaluated: all, or for the shader up to the first BRDF-alone level
+  std::array<float, kMaxReliefLevels> T{};
+  std::array<TransitionWeights, kMaxReliefLevels> weights{};
+  std::array<float, kMaxReliefLevels> disp{};  // 1 in Full mode
+  // frames[0 .. count]; B and H of levels 0 .. raised - 1: the rest is left unset by
+  // levelTransitions (not zeroed: the struct is made for every shaded sample and vertex, and
+  // zeroing its 700 bytes was 15% of levelTransitions' own time).
+  std::array<SurfaceFrame, kMaxReliefLevels + 1> frames;
+  int raised = 0;  // leading levels with disp > 0
+  // (B_u, B_v) of levels 0 .. raised - 1 at sp.uv, as the raised frames used them: the shader
+  // reuses them for its Blinn normals instead of evaluating the relief again; and their heights
+  // (ReliefLevel::height), which the tessellator's offsets reuse.
+  std::array<Vec2, kMaxReliefLevels> B;
+  std::array<float, kMaxReliefLevels> H;
+};
+
+// With lights (render.shadows), the shadow terminator is treated like the silhouette (Becker & Max
+// section 4.2): T_i = max over V and each light's L of (nu_i - D) / (|cos theta| + eps), so relief
+// near a light's terminator is displaced (its shadows then come from real shadow rays) as soon as
+// it spans enough pixels, while far relief (nu < D) keeps the view's own T.
+// Shading: the evaluation stops after the first level whose T selects the BRDF table alone
+// (weights.brdf == 1, so count is that level + 1): the table stands for every finer level, and the
+// shader reads nothing of them. Geometry: every level (the tessellator's offsets need all frames).
+enum class TransitionsFor { Geometry, Shading };
+LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
+                                  const Vec3& eye, float pixelsPerRadian,
+                                  const TransitionSettings& settings, DisplacementMode mode,
+                                  std::span<const Light> lights = {},
+                                  TransitionsFor use = TransitionsFor::Geometry);
 
 }  // namespace meso

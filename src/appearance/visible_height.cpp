@@ -1,8 +1,8 @@
 // The mean height of first hits on a relief level (visible_height.h).
-#include "meso/render/visible_height.h"
+#include "meso/appearance/visible_height.h"
 
+#include "meso/appearance/material_tables.h"
 #include "meso/core/rng.h"
-#include "meso/render/relief_levels.h"
 
 #include <tbb/parallel_for.h>
 
