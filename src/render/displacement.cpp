@@ -23,7 +23,8 @@ float displacementBound(const MaterialRelief& relief) {
 
 float samplesPerU(const ReliefLevel& level, float reliefSamples) {
   if (const auto* table = dynamic_cast<const HeightTable*>(level.source.get()))
-    return static_cast<float>(std::max(table->width(), table->heightTexels())) * level.scale;
+    return static_cast<float>(std::max(table->width(), table->heightTexels())) * level.scale *
+           std::max(1.0f, reliefSamples / kReliefSamplesPerTexel);
   return std::max(8.0f, 2.0f * reliefSamples) * level.freqPerU;
 }
 

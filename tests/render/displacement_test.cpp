@@ -5,6 +5,8 @@
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/level_shading.h"
+#include "meso/relief/fractal_noise.h"
+#include "meso/relief/height_table.h"
 #include "meso/scene/mesh_io.h"
 
 #include "meso/core/rng.h"
@@ -298,6 +300,30 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
     EXPECT_LT(mean, 0.7 * previous);
     previous = mean;
   }
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// The texel cap of a height image: one edge per texel up to relief_samples 4, then refined with
+// them (a reference that doubles them dices each texel in two), while noise keeps its samples per
+// wavelength.
+TEST(Displacement, HeightImageTexelCapIsRefinedWithReliefSamples) {
+  ReliefLevel image;
+  image.source = std::make_unique<HeightTable>(32, 16, std::vector<float>(32 * 16, 0.5f));
+  image.scale = 3.0f;
+  EXPECT_FLOAT_EQ(samplesPerU(image, 0.0f), 96.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, 4.0f), 96.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, 8.0f), 192.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, 16.0f), 384.0f);
+  ReliefLevel noise;
+  noise.source = std::make_unique<FractalNoise>(FractalNoiseOptions{});
+  noise.freqPerU = 10.0f;
+  EXPECT_FLOAT_EQ(samplesPerU(noise, 4.0f), 80.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(noise, 8.0f), 160.0f);
 }
 
 }  // namespace

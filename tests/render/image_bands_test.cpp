@@ -50,8 +50,8 @@ Scene planeWith(std::vector<ReliefLevelDecl> relief, const std::string& tag) {
                                 Vec3(0.3f, 0.5f, -0.8f), tag);
   s.camera.position = {0.0f, -9.0f, 3.0f};
   s.camera.lookAt = {0.0f, 0.0f, 0.0f};
-  s.camera.width = 48;
-  s.camera.height = 27;
+  s.camera.width = 32;
+  s.camera.height = 18;
   s.camera.fovY = 40.0f;
   s.camera.spp = 1;
   s.render.tables.raysPerView = 256;

@@ -82,8 +82,14 @@ class ReliefDisplacement : public VertexDisplacement {
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
 float displacementBound(const MaterialRelief& relief);
 
+// The relief samples (render.relief_samples, default 4) at which a height image is diced to its
+// texels and no finer; more divide each texel (a reference that doubles them dices below the
+// texel, where the bilinear surface between texels still curves and casts shadows).
+inline constexpr float kReliefSamplesPerTexel = 4.0f;
+
 // Samples of a level per unit of u: the texel spacing below which dicing stops. A height table has
-// max(W, H) * S texels per unit of u; procedural noise is sampled max(8, 2 reliefSamples) times
+// max(W, H) * S texels per unit of u, times reliefSamples / kReliefSamplesPerTexel when that is
+// above 1; procedural noise is sampled max(8, 2 reliefSamples) times
 // per shortest wavelength: 8 resolve its silhouettes and self-occlusion (the shading normal is its
 // Blinn normal; on the terrain 8 instead of 16 changed no depth band by more than 0.05%), and
 // twice the relief samples keeps the cap above the floor, so a reference that doubles them is
