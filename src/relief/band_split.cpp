@@ -127,34 +127,34 @@ std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels) {
 namespace meso {
 namespace {
 
-// Mean of |grad h|^2 in texel units, by central differences (wrapped or clamped as the table).
-double slopeEnergy(const HeightTable& t) {
-  double sum = 0.0;
-  for (int j = 0; j < t.heightTexels(); ++j)
-    for (int i = 0; i < t.width(); ++i) {
-      const double gx = 0.5 * (t.texel(i + 1, j) - t.texel(i - 1, j));
-      const double gy = 0.5 * (t.texel(i, j + 1) - t.texel(i, j - 1));
-      sum += gx * gx + gy * gy;
-    }
-  return sum / (static_cast<double>(t.width()) * t.heightTexels());
-}
-
-// |grad h|^2 per texel of the sum of bands first..last.
-std::vector<double> slopeSquares(const std::vector<HeightBand>& bands, int first, int last) {
-  const HeightTable& t = bands.front().table;
+// |grad h|^2 per texel in texel units, by central differences (wrapped or clamped as the table).
+std::vector<double> slopeSquares(const HeightTable& t) {
   const int w = t.width(), h = t.heightTexels();
-  std::vector<float> sum(t.texels().size(), 0.0f);
-  for (int b = first; b <= last; ++b)
-    for (size_t k = 0; k < sum.size(); ++k) sum[k] += bands[b].table.texels()[k];
-  const HeightTable s(w, h, std::move(sum), t.options());
   std::vector<double> out(static_cast<size_t>(w) * h);
   for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
-      const double gx = 0.5 * (s.texel(i + 1, j) - s.texel(i - 1, j));
-      const double gy = 0.5 * (s.texel(i, j + 1) - s.texel(i, j - 1));
+      const double gx = 0.5 * (t.texel(i + 1, j) - t.texel(i - 1, j));
+      const double gy = 0.5 * (t.texel(i, j + 1) - t.texel(i, j - 1));
       out[static_cast<size_t>(j) * w + i] = gx * gx + gy * gy;
     }
   return out;
+}
+
+// The slope energy of a table: the mean of |grad h|^2.
+double slopeEnergy(const HeightTable& t) {
+  const std::vector<double> s = slopeSquares(t);
+  double sum = 0.0;
+  for (double v : s) sum += v;
+  return sum / static_cast<double>(s.size());
+}
+
+// slopeSquares of the sum of bands first..last.
+std::vector<double> slopeSquares(const std::vector<HeightBand>& bands, int first, int last) {
+  const HeightTable& t = bands.front().table;
+  std::vector<float> sum(t.texels().size(), 0.0f);
+  for (int b = first; b <= last; ++b)
+    for (size_t k = 0; k < sum.size(); ++k) sum[k] += bands[b].table.texels()[k];
+  return slopeSquares(HeightTable(t.width(), t.heightTexels(), std::move(sum), t.options()));
 }
 
 // Pearson's correlation of two equally long series (0 when either is constant).
