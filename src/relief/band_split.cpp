@@ -72,6 +72,11 @@ HeightBand makeBand(const std::vector<double>& values, const HeightTable& t, flo
   return HeightBand{std::move(band), freq, lowCut, highCut};
 }
 
+// The crossover of low-pass k of n (splitBands' edge[k]): nyquist^((n - k) / n) cycles per tile.
+float crossover(double nyquist, int k, int n) {
+  return static_cast<float>(std::pow(std::max(nyquist, 1.0), static_cast<double>(n - k) / n));
+}
+
 }  // namespace
 
 int maxBandLevels(const HeightTable& table) {
@@ -109,7 +114,7 @@ std::vector<HeightBand> splitBands(const HeightTable& table, int numLevels) {
   G[0].assign(table.texels().begin(), table.texels().end());
   edge[0] = static_cast<float>(nyquist);
   for (int k = 1; k < n; ++k) {
-    edge[k] = static_cast<float>(std::pow(std::max(nyquist, 1.0), static_cast<double>(n - k) / n));
+    edge[k] = crossover(nyquist, k, n);
     G[k] = lowPass(spectrum, ew, eh, table, edge[k]);
   }
   std::vector<HeightBand> bands;
@@ -254,17 +259,27 @@ BandPlan planBands(const HeightTable& table, int requested, int maxLevels, doubl
 }
 
 HeightTable bandLevelTable(const HeightTable& table, int bands, int first, int last) {
-  if (bands <= 1 || (first <= 0 && last >= bands - 1)) {
-    HeightTableOptions o = table.options();
-    o.frequency = FrequencyEstimate::Spectral;
-    return HeightTable(table.width(), table.heightTexels(), table.texels(), o);
-  }
-  const std::vector<HeightBand> split = splitBands(table, bands);
-  std::vector<float> texels(table.texels().size(), 0.0f);
-  for (int b = std::max(first, 0); b <= std::min(last, bands - 1); ++b)
-    for (size_t t = 0; t < texels.size(); ++t) texels[t] += split[b].table.texels()[t];
   HeightTableOptions o = table.options();
   o.frequency = FrequencyEstimate::Spectral;
+  first = std::max(first, 0), last = std::min(last, bands - 1);
+  if (bands <= 1 || (first == 0 && last == bands - 1))
+    return HeightTable(table.width(), table.heightTexels(), table.texels(), o);
+  checkBandLevels(table, bands);
+  // Bands first..last of splitBands telescope to G[n - 1 - last] - G[n - first] (G[0] the table,
+  // G[n] zero): two low-passes instead of the whole split.
+  const int n = bands;
+  const double nyquist = 0.5 * std::min(table.width(), table.heightTexels());
+  size_t ew, eh;
+  std::vector<Complex> spectrum = extended(table, ew, eh);
+  dft2d(spectrum, ew, eh, false);
+  const auto G = [&](int k) {
+    if (k == 0) return std::vector<double>(table.texels().begin(), table.texels().end());
+    if (k == n) return std::vector<double>(table.texels().size(), 0.0);
+    return lowPass(spectrum, ew, eh, table, crossover(nyquist, k, n));
+  };
+  const std::vector<double> upper = G(n - 1 - last), lower = G(n - first);
+  std::vector<float> texels(upper.size());
+  for (size_t t = 0; t < texels.size(); ++t) texels[t] = static_cast<float>(upper[t] - lower[t]);
   return HeightTable(table.width(), table.heightTexels(), std::move(texels), o);
 }
 
