@@ -17,7 +17,20 @@
 
 namespace meso {
 
+namespace {
+SolidNoiseOptions solidOptions(const ReliefLevelDecl& d) {
+  SolidNoiseOptions o;
+  o.octaves = std::max(d.octaves, 1);
+  o.lacunarity = d.lacunarity;
+  o.gain = d.gain;
+  o.seed = d.seed;
+  o.firstOctave = d.firstOctave;
+  return o;
+}
+}  // namespace
+
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
+  if (d.source == ReliefSource::Solid) return std::make_unique<SolidSlice>(solidOptions(d));
   if (d.source == ReliefSource::Noise) {
     FractalNoiseOptions o;
     o.octaves = std::max(d.octaves, 1);
@@ -44,7 +57,14 @@ ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
   level.source = makeHeightSource(d);
   level.amplitude = d.amplitude;
   level.scale = d.scale;
-  level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * d.scale;
+  if (d.source == ReliefSource::Solid) {
+    // The tables trace the periodic slice, one tile every kSolidPeriod cells; the renderers
+    // evaluate the (non-repeating) noise itself at d.scale cells per unit of length.
+    level.solid = std::make_shared<SolidNoise>(solidOptions(d));
+    level.solidCells = d.scale;
+    level.scale = d.scale / static_cast<float>(kSolidPeriod);
+  }
+  level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * level.scale;
   level.midlevel = d.midlevel ? *d.midlevel : level.source->meanHeight();
   return level;
 }
@@ -73,7 +93,8 @@ class OwningTileRelief : public PeriodicRelief {
 
 void buildSlopePyramids(MaterialRelief& relief) {
   for (ReliefLevel& level : relief.levels) {
-    if (level.pyramid) continue;
+    // Solid relief has no (u, v) to filter over: bump draws its exact Blinn normals.
+    if (level.pyramid || level.solid) continue;
     if (const auto* table = dynamic_cast<const HeightTable*>(level.source.get())) {
       level.pyramid = std::make_shared<SlopePyramid>(*table);
       continue;

@@ -59,14 +59,15 @@ Mat3 shapeOperator(const LimitSurface& surface, int face) {
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                                        const TransitionSettings& transition, Vec3 eye,
                                        float pixelsPerRadian, std::span<const Light> lights,
-                                       const LimitSurface* surface)
+                                       const LimitSurface* surface, SolidSpace solid)
     : relief_(relief),
       mode_(mode),
       transition_(transition),
       eye_(eye),
       pixelsPerRadian_(pixelsPerRadian),
       bound_(displacementBound(relief)),
-      lights_(lights.begin(), lights.end()) {
+      lights_(lights.begin(), lights.end()),
+      solid_(solid) {
   if (mode != DisplacementMode::ByTransition) return;
   if (surface) {
     shape_.resize(static_cast<size_t>(surface->numFaces()));
@@ -81,9 +82,11 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
   visible_ = ownVisible_;
 }
 
-LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
+LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& limit) const {
+  ReliefCoord coord;
+  const SurfacePoint sp = reliefChart(limit, solid_, coord);
   const LevelTransitions t =
-      levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
+      levelTransitions(relief_, sp, coord, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   LevelDisplacement out;
   out.disp = t.disp;
   out.raised = t.raised;
@@ -96,8 +99,8 @@ LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& sp) const {
 // unbounded plane Smith's model assumes. `sum` carries the levels already
 // summed at this point to the next flat level (the same sum in the same order, so the same bits).
 float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
-                                         const SurfacePoint& sp, Vec3 V, int face,
-                                         CrestSum& sum) const {
+                                         const SurfacePoint& sp, const ReliefCoord& coord, Vec3 V,
+                                         int face, CrestSum& sum) const {
   const int below = std::min(level, t.raised);
   const bool macro = face >= 0 && static_cast<size_t>(face) < shape_.size();
   if (below == 0 && !macro) return 0.0f;
@@ -127,7 +130,8 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
   for (; sum.done < below; ++sum.done) {
     const ReliefLevel& coarse = relief_.levels[sum.done];
     const float step = coarse.wavelength() / (16.0f * std::max(glm::length(w), 1e-12f));
-    const Vec2 slope = coarse.derivatives(sp.uv + step * w) - coarse.derivatives(sp.uv - step * w);
+    const Vec2 slope =
+        coarse.derivatives(coord.offset(step * w)) - coarse.derivatives(coord.offset(-step * w));
     sum.second += t.disp[sum.done] * glm::dot(slope, w) / (2.0f * step);
   }
   return std::isfinite(sum.second) ? std::max(-sum.second, 0.0f) : 0.0f;
@@ -135,7 +139,7 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
 
 // (1 - disp_i) E_i[h_hit] N_i over the levels drawn flat (visible_height.h).
 Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp,
-                                          int face) const {
+                                          const ReliefCoord& coord, int face) const {
   const Vec3 toEye = eye_ - sp.P;
   const float distance = glm::length(toEye);
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
@@ -153,7 +157,7 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
       advance();
       continue;
     }
-    const float curvature = crestCurvature(t, i, sp, V, face, crest);
+    const float curvature = crestCurvature(t, i, sp, coord, V, face, crest);
     offset +=
         ((1.0f - t.disp[i]) * visible_[i].at(cosTheta, lengthPerU, curvature)) * t.frames[i].N;
     advance();
@@ -161,12 +165,14 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
   return offset;
 }
 
-Vec3 ReliefDisplacement::offset(int face, Vec2, const SurfacePoint& sp) const {
+Vec3 ReliefDisplacement::offset(int face, Vec2, const SurfacePoint& limit) const {
+  ReliefCoord coord;
+  const SurfacePoint sp = reliefChart(limit, solid_, coord);
   const LevelTransitions t =
-      levelTransitions(relief_, sp, eye_, pixelsPerRadian_, transition_, mode_, lights_);
+      levelTransitions(relief_, sp, coord, eye_, pixelsPerRadian_, transition_, mode_, lights_);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * t.H[i]) * t.frames[i].N;
-  if (!visible_.empty()) offset += flatLevelsOffset(t, sp, face);
+  if (!visible_.empty()) offset += flatLevelsOffset(t, sp, coord, face);
   // A non-finite height or frame must not put a vertex at infinity: leave it on the limit surface.
   return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z) ? offset
                                                                                        : Vec3(0.0f);
@@ -200,10 +206,12 @@ struct FaceSample {
   float leastCot = std::numeric_limits<float>::infinity();      // most grazing view: cot(theta_V)
 };
 
-bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, FaceSample& s) {
+bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, const SolidSpace& solid,
+                FaceSample& s) {
   if (!surface.faceBox(face, s.lo, s.hi)) return false;
   const auto seen = [&](const SurfacePoint& sp) {
-    const float shortest = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+    const float shortest = solid.active ? solid.lengthPerUnit
+                                        : std::min(glm::length(sp.Pu), glm::length(sp.Pv));
     s.shortestPerU = std::min(s.shortestPerU, shortest);
     s.lengthPerU = std::max(s.lengthPerU, shortest);
     const Vec3 toEye = eye - sp.P;
@@ -218,7 +226,10 @@ bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, FaceSample& s) 
     const Vec2 st = surface.cornerSt(face, k);
     const SurfacePoint sp = surface.evaluate(face, st);
     centre += st / static_cast<float>(corners);
-    s.uvEdge = std::max(s.uvEdge, glm::length(sp.uv - previous.uv));
+    // Solid relief: the edge's world length in units of solid space.
+    s.uvEdge = std::max(s.uvEdge, solid.active
+                                      ? glm::length(sp.P - previous.P) / solid.lengthPerUnit
+                                      : glm::length(sp.uv - previous.uv));
     seen(sp);
     previous = sp;
   }
@@ -237,7 +248,7 @@ int edgeRateFor(float uvEdge, float perU, float limit) {
 
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian, float reliefSamples) {
+                      float pixelsPerRadian, float reliefSamples, const SolidSpace& solid) {
   const int n = surface.numFaces();
   FaceDicing out;
   out.needsDicing.assign(static_cast<size_t>(n), 0);
@@ -253,7 +264,7 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
       mode == DisplacementMode::Full && reliefSamples > 0.0f ? reliefSlopeRmsPerU(relief) : 0.0f;
   tbb::parallel_for(0, n, [&](int face) {
     FaceSample s;
-    if (!sampleFace(surface, face, eye, s)) return;
+    if (!sampleFace(surface, face, eye, solid, s)) return;
     if (mode == DisplacementMode::Full) {
       const ReliefLevel& finest = relief.levels.back();
       const float capPerU = samplesPerU(finest, reliefSamples);

@@ -95,7 +95,11 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
       ctx.warnings.push_back(*w);
     times.load += load.seconds();
     Timer tess;
-    if (!mesh.hasUvs() && hasRelief(scene.materials[object.material]))
+    const Material& material = scene.materials[object.material];
+    std::string scaleWarning;
+    const SolidSpace solid = solidSpace(material, object.transform, &scaleWarning);
+    if (!scaleWarning.empty()) ctx.warnings.push_back(object.mesh.string() + ": " + scaleWarning);
+    if (!mesh.hasUvs() && hasRelief(material) && !solid.active)
       ctx.warnings.push_back(object.mesh.string() +
                              ": the mesh has no texture coordinates (vt): its relief follows each "
                              "face's own (s, t) chart and does not continue across faces");
@@ -107,7 +111,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
       }
     }();
     times.tessellate += tess.seconds();
-    ctx.objects.push_back(PreparedObject{std::move(surface), {}, {}, object.material, false});
+    ctx.objects.push_back(
+        PreparedObject{std::move(surface), {}, {}, object.material, solid, false});
   }
   Timer tables;
   const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder()
@@ -124,7 +129,11 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     bool used = false, curved = false;
     for (const PreparedObject& o : ctx.objects)
       if (o.material == static_cast<int>(m)) {
-        curved = sampleMetrics(o.surface, samples) || curved;
+        // Solid relief sees every surface through a unit-speed isotropic chart (reliefChart):
+        // one class per length of a unit of solid space, whatever the parameterization.
+        std::vector<MetricClass> uvMetrics;
+        curved = sampleMetrics(o.surface, o.solid.active ? uvMetrics : samples) || curved;
+        if (o.solid.active) samples.push_back({o.solid.lengthPerUnit, MetricShape{}});
         used = true;
       }
     if (!used || !hasRelief(scene.materials[m])) continue;
@@ -196,12 +205,12 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
   const ReliefDisplacement displacement(
       relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
       ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
-      &object.surface);
+      &object.surface, object.solid);
   d.dicing.maxMicropolygons = std::max<size_t>(d.budget, 1);
   AdaptiveTessellation t =
       tessellateAdaptive(object.surface, d.screen, d.dicing,
                          faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
-                                    ctx.camera.pixelsPerRadian(), rs.reliefSamples),
+                                    ctx.camera.pixelsPerRadian(), rs.reliefSamples, object.solid),
                          &displacement);
   if (!t.warning.empty())
     ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);

@@ -25,7 +25,8 @@ struct LevelContext {
   const RenderContext& ctx;
   const Material& material;
   const MaterialRelief& relief;
-  const SurfacePoint& sp;
+  const SurfacePoint& sp;  // as reliefChart gives it, at the hit
+  ReliefCoord coord;       // where the levels are evaluated (at the limit point)
   Vec3 V;
   float distance;
   bool raised;  // the object's geometry carries the displacement of levels whose T exceeds e3
@@ -120,8 +121,8 @@ Vec3 bumpNormal(Vec2 B, LevelFrame& f) {
   return n;
 }
 
-Vec3 bumpNormal(const ReliefLevel& level, Vec2 uv, LevelFrame& f) {
-  return bumpNormal(level.derivatives(uv), f);
+Vec3 bumpNormal(const ReliefLevel& level, const ReliefCoord& at, LevelFrame& f) {
+  return bumpNormal(level.derivatives(at), f);
 }
 
 // Below the finest relief level: fractal NDF synthesis when the material declares an NDF, else the
@@ -193,10 +194,10 @@ ShadeResult shadeAuto(const LevelContext& c, size_t i, LevelFrame f, const Light
       next = {g.Pu, g.Pv, g.N};
     } else {
       // Raised levels' derivatives were evaluated with T (levelTransitions), at the same uv.
-      const Vec3 nBump = sum ? bumpNormal(*level.partialSum, c.sp.uv, next)
+      const Vec3 nBump = sum ? bumpNormal(*level.partialSum, c.coord, next)
                          : static_cast<int>(i) < c.transitions->raised
                              ? bumpNormal(c.transitions->B[i], next)
-                             : bumpNormal(level, c.sp.uv, next);
+                             : bumpNormal(level, c.coord, next);
       next.N = disp >= 1.0f ? nBump : levelRedistribution(c, i, f, disp, nBump);
     }
     LightShadows below;
@@ -234,7 +235,7 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
   for (size_t i = 0; i < n; ++i) {
     const ReliefLevel& level = c.relief.levels[i];
     frames[i] = f;
-    Vec2 B = level.derivatives(c.sp.uv);
+    Vec2 B = level.derivatives(c.coord);
     if (level.pyramid) {
       const Vec2 size(static_cast<float>(level.pyramid->width()),
                       static_cast<float>(level.pyramid->height()));
@@ -290,7 +291,7 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
     // Redistribution draws an image's bands from a partial sum on as one level (its tables).
     const ReliefLevel& level = c.relief.levels[i];
     const Vec3 nBump =
-        bumpNormal(redistribution && level.partialSum ? *level.partialSum : level, c.sp.uv, f);
+        bumpNormal(redistribution && level.partialSum ? *level.partialSum : level, c.coord, f);
     if (algorithm == Algorithm::Redistribution && c.shadows)
       shadows *= levelShadowing(c, i, before, &shadows);
     f.N = algorithm == Algorithm::Redistribution ? levelRedistribution(c, i, before, 0.0f, nBump)
@@ -302,33 +303,6 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
                                                             : algorithm_colour::kBump,
                      c.shadows ? &shadows : nullptr);
 }
-
-}  // namespace
-
-Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, float scale) {
-  Footprint fp;
-  const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);
-  const float det = a * c - b * b;
-  if (!(det > 1e-20f * a * c) || !std::isfinite(det)) return fp;
-  Vec2 d[2];
-  const Ray* rays[2] = {&rx, &ry};
-  for (int k = 0; k < 2; ++k) {
-    const float denom = glm::dot(rays[k]->direction, sp.N);
-    if (std::abs(denom) < 1e-8f) return fp;
-    const float t = glm::dot(sp.P - rays[k]->origin, sp.N) / denom;
-    if (!(t > 0.0f) || !std::isfinite(t)) return fp;
-    const Vec3 dP = (rays[k]->origin + t * rays[k]->direction - sp.P) * scale;
-    const float pu = glm::dot(sp.Pu, dP), pv = glm::dot(sp.Pv, dP);
-    d[k] = Vec2(c * pu - b * pv, a * pv - b * pu) / det;
-  }
-  fp.dUVdx = d[0];
-  fp.dUVdy = d[1];
-  fp.valid = std::isfinite(d[0].x) && std::isfinite(d[0].y) && std::isfinite(d[1].x) &&
-             std::isfinite(d[1].y);
-  return fp;
-}
-
-namespace {
 
 // The local model at normal N: no relief, or --normals facet.
 ShadeResult shadeLocalAt(const RenderContext& ctx, const Material& material, const Vec3& P,
@@ -342,13 +316,14 @@ ShadeResult shadeLocalAt(const RenderContext& ctx, const Material& material, con
 }
 
 LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object,
-                          const SurfacePoint& sp, const Vec3& V, const Footprint* footprint,
-                          const LevelTransitions* transitions, MetricPosition metric,
-                          const LightShadows* shadows) {
+                          const SurfacePoint& sp, const ReliefCoord& coord, const Vec3& V,
+                          const Footprint* footprint, const LevelTransitions* transitions,
+                          MetricPosition metric, const LightShadows* shadows) {
   return {ctx,
           ctx.scene->materials[object.material],
           ctx.reliefs[object.material],
           sp,
+          coord,
           V,
           glm::length(sp.P - ctx.camera.position()),
           object.displaced,
@@ -361,9 +336,17 @@ LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object
 }  // namespace
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
-                         const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal,
+                         const SurfacePoint& hit, const Vec3& V, const Vec3* facetNormal,
                          const Footprint* footprint, const Vec3* limitP,
                          const LightShadows* shadows) {
+  // T, weights, disp and the levels' heights come from the limit point (hit.P is the limit surface
+  // at the hit's patch coordinates, moved to the raised hit when displaced), exactly as the
+  // tessellator raised the geometry; shading happens at the hit.
+  ReliefCoord coord;
+  SurfacePoint limit =
+      reliefChart({limitP ? *limitP : hit.P, hit.Pu, hit.Pv, hit.N, hit.uv}, object.solid, coord);
+  SurfacePoint sp = limit;
+  sp.P = hit.P;
   const Material& material = ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either
@@ -378,20 +361,17 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                         glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal, V, shadows,
                         algorithm_colour::kDisplacement);
   if (relief.levels.empty())  // an NDF alone
-    return shadeBottom(levelContext(ctx, object, sp, V, footprint, nullptr, {}, shadows), frame,
-                       algorithm_colour::kSmooth, shadows);
-  // T, weights and disp come from the limit point (sp.P is the limit surface at the hit's patch
-  // coordinates), exactly as the tessellator raised the geometry.
-  const SurfacePoint limit{limitP ? *limitP : sp.P, sp.Pu, sp.Pv, sp.N, sp.uv};
+    return shadeBottom(levelContext(ctx, object, sp, coord, V, footprint, nullptr, {}, shadows),
+                       frame, algorithm_colour::kSmooth, shadows);
   const LevelTransitions transitions =
       ctx.algorithm == Algorithm::Auto
           ? levelTransitions(
-                relief, limit, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
+                relief, limit, coord, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
                 ctx.scene->render.transition, DisplacementMode::ByTransition,
                 ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
                 TransitionsFor::Shading)
           : LevelTransitions{};
-  const LevelContext c = levelContext(ctx, object, sp, V, footprint, &transitions,
+  const LevelContext c = levelContext(ctx, object, sp, coord, V, footprint, &transitions,
                                       relief.metricAt(sp.Pu, sp.Pv), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace meso {
 
@@ -32,7 +33,7 @@ float levelTransition(const ReliefLevel& level, float lengthPerU, float cosTheta
 }
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
-                                  const Vec3& eye, float pixelsPerRadian,
+                                  const ReliefCoord& coord, const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
                                   std::span<const Light> lights, TransitionsFor use) {
   LevelTransitions out;
@@ -78,7 +79,7 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       flatUntil = std::max(flatUntil, static_cast<int>(level.partialSumEnd));
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
-      out.H[i] = level.heightAndDerivatives(sp.uv, out.B[i]);
+      out.H[i] = level.heightAndDerivatives(coord, out.B[i]);
       out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
     } else {
       flat = true;
@@ -89,6 +90,54 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       break;
     }
   }
+  return out;
+}
+
+SolidSpace solidSpace(const Material& material, const Mat4& transform, std::string* warning) {
+  SolidSpace s;
+  if (material.relief.empty() || material.relief.front().source != ReliefSource::Solid) return s;
+  s.active = true;
+  if (material.relief.front().worldSpace) return s;
+  const Mat3 m(transform);
+  const float det = glm::determinant(m);
+  if (!(std::abs(det) > 0.0f) || !std::isfinite(det)) return s;  // the scene reader refuses these
+  s.linear = glm::inverse(m);
+  s.offset = -(s.linear * Vec3(transform[3]));
+  s.lengthPerUnit = std::cbrt(std::abs(det));
+  // Uneven scale: the columns' lengths (the scale along each object axis) differ.
+  const float a = glm::length(m[0]), b = glm::length(m[1]), c = glm::length(m[2]);
+  const float spread = std::max({a, b, c}) / std::min({a, b, c});
+  if (warning && spread > 1.01f)
+    *warning = "the object's transform scales unevenly (" + std::to_string(spread) +
+               "x between axes): its solid relief is stretched, while its tables are built for "
+               "an isotropic relief; use space = \"world\" or an even scale";
+  return s;
+}
+
+SurfacePoint reliefChart(const SurfacePoint& sp, const SolidSpace& space, ReliefCoord& coord) {
+  if (!space.active) {
+    coord = ReliefCoord{sp.uv};
+    return sp;
+  }
+  const Vec3 N = sp.N;
+  // A tangent's part in the tangent plane, unless it is lost in rounding (a tangent along N).
+  const auto tangent = [&](const Vec3& P) {
+    const Vec3 t = P - glm::dot(P, N) * N;
+    const float length = glm::length(t);
+    return length > 1e-3f * glm::length(P) && length > 1e-30f && std::isfinite(length)
+               ? std::optional<Vec3>(t)
+               : std::nullopt;
+  };
+  const Vec3 t = tangent(sp.Pu).value_or(tangent(sp.Pv).value_or(
+      glm::cross(N, std::abs(N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0))));
+  const Vec3 e = glm::normalize(t);
+  SurfacePoint out = sp;
+  out.Pu = space.lengthPerUnit * e;
+  out.Pv = space.lengthPerUnit * glm::cross(N, e);
+  coord.uv = sp.uv;
+  coord.p = space.linear * sp.P + space.offset;
+  coord.pu = space.linear * out.Pu;
+  coord.pv = space.linear * out.Pv;
   return out;
 }
 

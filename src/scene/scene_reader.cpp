@@ -100,22 +100,28 @@ std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
   ReliefLevelDecl d;
   d.loc = {r.file(), static_cast<int>(t.source().begin.line),
            static_cast<int>(t.source().begin.column)};
-  const bool hasHeight = t.contains("height"), hasNoise = t.contains("noise");
-  if (hasHeight == hasNoise)
+  const bool hasHeight = t.contains("height"), hasNoise = t.contains("noise"),
+             hasSolid = t.contains("solid");
+  if (int(hasHeight) + int(hasNoise) + int(hasSolid) != 1)
     throw Error(d.loc, r.prefix() + "height",
-                "expected exactly one of `height` (an image file) or `noise` (a table)");
+                "expected exactly one of `height` (an image file), `noise` (a table) or `solid` "
+                "(a table: noise in 3-D space)");
   if (hasHeight) {
     d.source = ReliefSource::Image;
     d.height = readablePath(r, "height", base);
     d.periodic = r.choice("wrap", "periodic", {"periodic", "clamp"}) == "periodic";
   } else {
-    d.source = ReliefSource::Noise;
-    TableReader n(*r.subtable("noise"), r.prefix() + "noise.", r.file());
+    d.source = hasSolid ? ReliefSource::Solid : ReliefSource::Noise;
+    const char* key = hasSolid ? "solid" : "noise";
+    TableReader n(*r.subtable(key), r.prefix() + key + ".", r.file());
     d.octaves = static_cast<int>(n.integer("octaves", d.octaves, 1, 16));
     d.lacunarity = static_cast<float>(n.number("lacunarity", d.lacunarity, 1.0, 16.0));
     d.gain = static_cast<float>(n.number("gain", d.gain, 0.0, 1.0));
     d.seed = static_cast<uint64_t>(n.integer("seed", 0, 0, INT64_MAX));
-    d.periodic = n.boolean("periodic", d.periodic);
+    if (hasSolid)
+      d.worldSpace = n.choice("space", "object", {"object", "world"}) == "world";
+    else
+      d.periodic = n.boolean("periodic", d.periodic);
     n.finish();
   }
   if (hasHeight) d.bands = static_cast<int>(r.integer("bands", 0, 0, 16));
@@ -136,7 +142,7 @@ std::vector<ReliefLevelDecl> readRelief(TableReader& r, const toml::table& t,
   const auto refuse = [&](const char* key, const char* why) {
     throw Error(d.loc, r.prefix() + key, why);
   };
-  if (d.source != ReliefSource::Noise)
+  if (d.source == ReliefSource::Image)
     refuse("split_octaves",
            "split_octaves splits a noise relief; a height image is split into octave bands by "
            "`bands`");
@@ -210,7 +216,20 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
                 "at most " + std::to_string(kMaxMaterialReliefLevels) +
                     " relief levels per material, counting each octave of split_octaves (got " +
                     std::to_string(m.relief.size()) + ")");
+  // Solid relief replaces the parameterization at every point by a local unit-speed chart
+  // (docs/solid-relief.md): the levels of a material are all solid, in one space, or none.
+  for (const ReliefLevelDecl& d : m.relief)
+    if ((d.source == ReliefSource::Solid) != (m.relief.front().source == ReliefSource::Solid) ||
+        d.worldSpace != m.relief.front().worldSpace)
+      throw Error(d.loc, r.prefix() + "relief",
+                  "a material's relief levels are all `solid` (in one `space`) or none: solid "
+                  "relief has no (u, v) for the other levels to follow");
+  const bool solid = !m.relief.empty() && m.relief.front().source == ReliefSource::Solid;
   if (const toml::table* t = r.subtable("ndf")) {
+    if (solid)
+      throw Error(r.loc(*r.get("ndf")), r.prefix() + "ndf",
+                  "[materials.ndf] synthesizes detail over (u, v), which solid relief does not "
+                  "use: drop it, or use `noise` relief");
     TableReader nr(*t, r.prefix() + "ndf.", r.file());
     m.ndf = readNdf(nr, *t, base);
     if (m.ndf.type == NdfType::Relief && m.relief.empty())

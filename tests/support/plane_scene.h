@@ -58,6 +58,18 @@ inline ReliefLevelDecl noiseLevel(float amplitude, float scale, int octaves = 2)
   return d;
 }
 
+// A solid relief level (3-D noise, docs/solid-relief.md) of `cells` lattice cells per unit.
+inline ReliefLevelDecl solidLevel(float amplitude, float cells, int octaves = 3,
+                                  uint64_t seed = 0) {
+  ReliefLevelDecl d;
+  d.source = ReliefSource::Solid;
+  d.octaves = octaves;
+  d.amplitude = amplitude;
+  d.scale = cells;
+  d.seed = seed;
+  return d;
+}
+
 // The plane `obj` with `material`, lit from `lightDirection` (the direction light travels);
 // the camera still needs its position, look-at, size, field of view and samples.
 inline Scene planeScene(const std::filesystem::path& obj, const std::string& algorithm,

@@ -4,13 +4,24 @@
 
 #include "meso/relief/height_source.h"
 #include "meso/relief/slope_pyramid.h"
+#include "meso/relief/solid_noise.h"
 
 #include <memory>
 #include <vector>
 
 namespace meso {
 
-// Level i of a material: height amplitude * h(S u, S v) in world units over the surface's (u, v).
+// Where a level is evaluated: the surface's (u, v) for relief over a parameterization; for solid
+// relief also the point in solid space and that space's tangents per unit of u and of v, so that a
+// step d in (u, v) is the step p + d.x pu + d.y pv in solid space (a local chart of the surface).
+struct ReliefCoord {
+  Vec2 uv{0.0f};
+  Vec3 p{0.0f}, pu{0.0f}, pv{0.0f};
+  ReliefCoord offset(Vec2 d) const { return {uv + d, p + d.x * pu + d.y * pv, pu, pv}; }
+};
+
+// Level i of a material: height amplitude * h(S u, S v) in world units over the surface's (u, v),
+// or for a solid level amplitude * n(cells * p) at the surface's point p in solid space.
 struct ReliefLevel {
   std::unique_ptr<HeightSource> source;
   float amplitude = 0.0f;
@@ -27,6 +38,12 @@ struct ReliefLevel {
   // this one's, as eq. (1) would assume). Null for every other level.
   std::shared_ptr<const ReliefLevel> partialSum;
   size_t partialSumEnd = 0;
+  // A solid level (docs/solid-relief.md): the noise the renderers evaluate in solid space, with
+  // solidCells lattice cells per unit of length there. `source` is then the periodic slice its
+  // tables trace (SolidSlice), with scale = solidCells / kSolidPeriod, so every statistic made from
+  // (u, v) (tables, visible heights, slopes) is the slice's on a unit-speed chart.
+  std::shared_ptr<const SolidNoise> solid;
+  float solidCells = 1.0f;
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
   float wavelength() const { return 1.0f / freqPerU; }
@@ -41,6 +58,21 @@ struct ReliefLevel {
     const float h = source->heightAndGradient(scale * uv, g);
     B = (amplitude * scale) * g;
     return amplitude * (h - midlevel);
+  }
+  // The same at a surface point: solid levels evaluate their noise at c.p, with B the derivatives
+  // along c.pu and c.pv (the 3-D gradient projected on the chart's tangents); the others at c.uv.
+  float heightAndDerivatives(const ReliefCoord& c, Vec2& B) const {
+    if (!solid) return heightAndDerivatives(c.uv, B);
+    Vec3 g;
+    const float h = solid->heightAndGradient(solidCells * c.p, g);
+    B = (amplitude * solidCells) * Vec2(glm::dot(g, c.pu), glm::dot(g, c.pv));
+    return amplitude * (h - midlevel);
+  }
+  Vec2 derivatives(const ReliefCoord& c) const {
+    if (!solid) return derivatives(c.uv);
+    Vec2 B;
+    heightAndDerivatives(c, B);
+    return B;
   }
 };
 

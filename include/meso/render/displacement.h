@@ -37,7 +37,8 @@ class ReliefDisplacement : public VertexDisplacement {
   // then bounds the visible height of flat levels at its silhouettes (see crestCurvature).
   ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian,
-                     std::span<const Light> lights = {}, const LimitSurface* surface = nullptr);
+                     std::span<const Light> lights = {}, const LimitSurface* surface = nullptr,
+                     SolidSpace solid = {});
   // Not copied: visible_ may point into ownVisible_.
   ReliefDisplacement(const ReliefDisplacement&) = delete;
   ReliefDisplacement& operator=(const ReliefDisplacement&) = delete;
@@ -56,6 +57,7 @@ class ReliefDisplacement : public VertexDisplacement {
   float pixelsPerRadian_;
   float bound_ = 0.0f;
   std::vector<Light> lights_;
+  SolidSpace solid_;  // the object's, for solid relief (reliefChart)
   // Per level in ByTransition mode: the relief's own (MaterialRelief::visibleHeights) or built
   // here. The crest curvature is that of the raised coarser levels plus, given the surface, the
   // limit surface's own; without it a smooth object's silhouette takes the plane's (larger) value.
@@ -66,7 +68,9 @@ class ReliefDisplacement : public VertexDisplacement {
   // curvature along a tangent direction d is d . W d (positive where the surface is convex).
   std::vector<Mat3> shape_;
 
-  Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp, int face) const;
+  // sp and coord: the point as reliefChart gives it.
+  Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp, const ReliefCoord& coord,
+                        int face) const;
   // The sum of the raised levels' second derivatives at one point, kept between the flat levels
   // of that point: level i needs levels 0 .. min(i, raised) - 1, level i + 1 those and more.
   struct CrestSum {
@@ -75,8 +79,8 @@ class ReliefDisplacement : public VertexDisplacement {
     float second = 0.0f;
     int done = 0;  // levels summed
   };
-  float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp, Vec3 V,
-                       int face, CrestSum& sum) const;
+  float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp,
+                       const ReliefCoord& coord, Vec3 V, int face, CrestSum& sum) const;
 };
 
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
@@ -115,8 +119,11 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // In ByTransition mode also the raise distance: the distance from the eye beyond which that nu
 // (with the face's largest length per u) falls to D + e3 * eps, so that the parts of a face
 // beyond it are diced coarsely (FaceDicing::raiseDistance).
+// For solid relief (`solid` active) lengths along the surface are measured in units of solid space
+// (world edge lengths over SolidSpace::lengthPerUnit) instead of in (u, v).
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian, float reliefSamples = 0.0f);
+                      float pixelsPerRadian, float reliefSamples = 0.0f,
+                      const SolidSpace& solid = {});
 
 }  // namespace meso

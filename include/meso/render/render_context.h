@@ -24,6 +24,8 @@ struct PreparedObject {
   // (DicingSettings::gridsOnly, TessellatedMesh::gridOnlyTriangles).
   std::vector<TriangleGrid> grids;
   int material = 0;
+  // Where its points lie in its material's solid relief (inactive for relief over (u, v)).
+  SolidSpace solid;
   // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the uniform
   // tessellation of the limit surface (built once).
   bool displaced = false;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <span>
+#include <string>
 
 namespace meso {
 
@@ -98,10 +99,42 @@ struct LevelTransitions {
 // (weights.brdf == 1, so count is that level + 1): the table stands for every finer level, and the
 // shader reads nothing of them. Geometry: every level (the tessellator's offsets need all frames).
 enum class TransitionsFor { Geometry, Shading };
+// `coord` is where the levels are evaluated (reliefChart); the form without it evaluates relief
+// over (u, v) at sp.uv.
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
-                                  const Vec3& eye, float pixelsPerRadian,
+                                  const ReliefCoord& coord, const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
                                   std::span<const Light> lights = {},
                                   TransitionsFor use = TransitionsFor::Geometry);
+inline LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
+                                         const Vec3& eye, float pixelsPerRadian,
+                                         const TransitionSettings& settings, DisplacementMode mode,
+                                         std::span<const Light> lights = {},
+                                         TransitionsFor use = TransitionsFor::Geometry) {
+  return levelTransitions(relief, sp, ReliefCoord{sp.uv}, eye, pixelsPerRadian, settings, mode,
+                          lights, use);
+}
+
+// Where an object's points lie in the space of its material's solid relief (docs/solid-relief.md):
+// P_solid = linear * P_world + offset. Inactive for relief over (u, v).
+struct SolidSpace {
+  bool active = false;
+  Mat3 linear{1.0f};
+  Vec3 offset{0.0f};
+  float lengthPerUnit = 1.0f;  // world length of one unit of solid space
+};
+
+// The solid space of an object with this transform (object space, or world space when the
+// material's relief says so); a warning in `warning` when the transform scales unevenly (the
+// relief is then stretched in world space, while its tables assume it isotropic).
+SolidSpace solidSpace(const Material& material, const Mat4& transform, std::string* warning);
+
+// The limit-surface point as the relief sees it, and where its levels are evaluated. For relief
+// over (u, v): sp itself and coord {sp.uv}. For solid relief, a local chart that does not depend
+// on the mesh's parameterization: P_u and P_v become an orthonormal pair in the tangent plane
+// (along P_u's tangent part, or any where P_u degenerates) scaled to the world length of one unit
+// of solid space, so T, the tables' metric and the frames of every level see a unit-speed
+// isotropic surface; coord holds the point and those tangents in solid space.
+SurfacePoint reliefChart(const SurfacePoint& sp, const SolidSpace& space, ReliefCoord& coord);
 
 }  // namespace meso

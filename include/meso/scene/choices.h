@@ -34,7 +34,7 @@ enum class RedistributionVariant {
 };
 
 // Where a relief level's heights come from: `height` (an image file) or `noise` (a table).
-enum class ReliefSource { Image, Noise };
+enum class ReliefSource { Image, Noise, Solid };
 
 // materials.ndf.type: the finest level's NDF (docs/synthesis.md).
 enum class NdfType { Beckmann, BlinnPhong, Tabulated, Relief };
@@ -81,8 +81,8 @@ struct Choices<RedistributionVariant> {
 };
 template <>
 struct Choices<ReliefSource> {
-  static constexpr std::array<ChoiceName<ReliefSource>, 2> names{
-      {{ReliefSource::Image, "image"}, {ReliefSource::Noise, "noise"}}};
+  static constexpr std::array<ChoiceName<ReliefSource>, 3> names{
+      {{ReliefSource::Image, "image"}, {ReliefSource::Noise, "noise"}, {ReliefSource::Solid, "solid"}}};
 };
 template <>
 struct Choices<NdfType> {

@@ -42,7 +42,8 @@ struct ReliefLevelDecl {
   std::filesystem::path height;  // image file, empty for procedural noise
   ReliefSource source = ReliefSource::Image;
   float amplitude = 0.0f;  // world units
-  float scale = 1.0f;      // tiling scale S: the height table repeats every 1/S in u and v
+  float scale = 1.0f;      // tiling scale S: the height table repeats every 1/S in u and v;
+                           // solid relief: lattice cells per unit of length at octave 0
   float freq = 0.0f;       // highest frequency, cycles per unit of u (0: measured or known)
   // The height value that stays on the surface: displacement is amplitude * (h - midlevel). Empty:
   // the height source's mean, so smooth-surface renderers draw the relief's mean plane.
@@ -53,6 +54,9 @@ struct ReliefLevelDecl {
   float gain = 0.5f;
   uint64_t seed = 0;
   bool periodic = true;
+  // Solid relief: its noise lives in world space rather than in the object's own (before the
+  // object's transform).
+  bool worldSpace = false;
   // Octaves firstOctave .. octaves - 1 only: one level of a relief whose `split_octaves` made a
   // level of each octave (the scene reader expands it; docs/scene-format.md).
   int firstOctave = 0;
