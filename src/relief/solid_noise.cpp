@@ -73,11 +73,11 @@ SolidNoise::SolidNoise(const SolidNoiseOptions& options) : options_(options) {
   if (options.octaves < 1 || options.octaves > 24 || options.firstOctave < 0 ||
       options.firstOctave >= options.octaves || !(options.lacunarity >= 1.0f) ||
       !std::isfinite(options.lacunarity) || !std::isfinite(options.gain))
-    throw Error("solid noise: need 1..24 octaves, a first octave below them and a finite "
-                "lacunarity >= 1 (got " +
-                std::to_string(options.octaves) + " octaves from " +
-                std::to_string(options.firstOctave) + ", lacunarity " +
-                std::to_string(options.lacunarity) + ")");
+    throw Error(
+        "solid noise: need 1..24 octaves, a first octave below them and a finite "
+        "lacunarity >= 1 (got " +
+        std::to_string(options.octaves) + " octaves from " + std::to_string(options.firstOctave) +
+        ", lacunarity " + std::to_string(options.lacunarity) + ")");
   double f = 1.0, a = 1.0;
   for (int o = 0; o < options.octaves; ++o) {
     Octave oct;
@@ -115,9 +115,9 @@ float SolidNoise::octave(const Octave& o, Vec3 q, Vec3* grad) const {
     int64_t c[3] = {cell[0] + (k & 1), cell[1] + ((k >> 1) & 1), cell[2] + (k >> 2)};
     if (options_.periodic) reduce(c, o.frequency);
     g[k] = latticeGradient(c[0], c[1], c[2], o.salt);
-    n[k] = glm::dot(g[k], Vec3(t[0] - static_cast<float>(k & 1),
-                               t[1] - static_cast<float>((k >> 1) & 1),
-                               t[2] - static_cast<float>(k >> 2)));
+    n[k] = glm::dot(g[k],
+                    Vec3(t[0] - static_cast<float>(k & 1), t[1] - static_cast<float>((k >> 1) & 1),
+                         t[2] - static_cast<float>(k >> 2)));
   }
   const float s[3] = {fade(t[0]), fade(t[1]), fade(t[2])};
   // Trilinear blend of the corner ramps: along x, then y, then z.
@@ -162,9 +162,7 @@ Vec3 SolidNoise::gradient(Vec3 q) const {
   return g;
 }
 
-float SolidNoise::highestFrequency() const {
-  return static_cast<float>(octaves_.back().frequency);
-}
+float SolidNoise::highestFrequency() const { return static_cast<float>(octaves_.back().frequency); }
 
 float SolidNoise::maxAbsHeight() const {
   double sum = 0.0;

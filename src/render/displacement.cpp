@@ -210,8 +210,8 @@ bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, const SolidSpac
                 FaceSample& s) {
   if (!surface.faceBox(face, s.lo, s.hi)) return false;
   const auto seen = [&](const SurfacePoint& sp) {
-    const float shortest = solid.active ? solid.lengthPerUnit
-                                        : std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+    const float shortest =
+        solid.active ? solid.lengthPerUnit : std::min(glm::length(sp.Pu), glm::length(sp.Pv));
     s.shortestPerU = std::min(s.shortestPerU, shortest);
     s.lengthPerU = std::max(s.lengthPerU, shortest);
     const Vec3 toEye = eye - sp.P;
@@ -227,9 +227,9 @@ bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, const SolidSpac
     const SurfacePoint sp = surface.evaluate(face, st);
     centre += st / static_cast<float>(corners);
     // Solid relief: the edge's world length in units of solid space.
-    s.uvEdge = std::max(s.uvEdge, solid.active
-                                      ? glm::length(sp.P - previous.P) / solid.lengthPerUnit
-                                      : glm::length(sp.uv - previous.uv));
+    s.uvEdge =
+        std::max(s.uvEdge, solid.active ? glm::length(sp.P - previous.P) / solid.lengthPerUnit
+                                        : glm::length(sp.uv - previous.uv));
     seen(sp);
     previous = sp;
   }

@@ -128,8 +128,8 @@ SurfacePoint reliefChart(const SurfacePoint& sp, const SolidSpace& space, Relief
                ? std::optional<Vec3>(t)
                : std::nullopt;
   };
-  const Vec3 t = tangent(sp.Pu).value_or(tangent(sp.Pv).value_or(
-      glm::cross(N, std::abs(N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0))));
+  const Vec3 t = tangent(sp.Pu).value_or(
+      tangent(sp.Pv).value_or(glm::cross(N, std::abs(N.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0))));
   const Vec3 e = glm::normalize(t);
   SurfacePoint out = sp;
   out.Pu = space.lengthPerUnit * e;

@@ -81,8 +81,9 @@ struct Choices<RedistributionVariant> {
 };
 template <>
 struct Choices<ReliefSource> {
-  static constexpr std::array<ChoiceName<ReliefSource>, 3> names{
-      {{ReliefSource::Image, "image"}, {ReliefSource::Noise, "noise"}, {ReliefSource::Solid, "solid"}}};
+  static constexpr std::array<ChoiceName<ReliefSource>, 3> names{{{ReliefSource::Image, "image"},
+                                                                  {ReliefSource::Noise, "noise"},
+                                                                  {ReliefSource::Solid, "solid"}}};
 };
 template <>
 struct Choices<NdfType> {
