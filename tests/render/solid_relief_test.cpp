@@ -2,6 +2,8 @@
 // the first-order normal of the displaced surface, T in world units and the object's solid space.
 #include "meso/render/transition.h"
 
+#include "geometry/test_meshes.h"
+#include "meso/geometry/limit_surface.h"
 #include "support/plane_scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -167,6 +169,53 @@ TEST(SolidRelief, ObjectSpaceUndoesTheTransform) {
   Material uv;
   uv.relief.push_back(testing::noiseLevel(0.01f, 4.0f));
   EXPECT_FALSE(solidSpace(uv, t, nullptr).active);
+}
+
+// No seams on a mesh without texture coordinates: along every edge of a Catmull-Clark cube (each
+// face its own (s, t) chart), both faces give solid relief the same height and the same first-order
+// normal; relief over (u, v) follows each face's chart and breaks there (the control).
+TEST(SolidRelief, NoSeamsAcrossTheFacesOfAMeshWithoutUv) {
+  const ControlMesh mesh = test::cube();
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const MaterialRelief solid = solidRelief(0.03f, 3.0f);
+  MaterialRelief uv;
+  uv.levels.push_back(makeReliefLevel(testing::noiseLevel(0.03f, 3.0f, 3)));
+  const TransitionSettings ts;
+  const Vec3 eye(0.0f, 0.0f, 30.0f);
+  const auto corner = [&](int f, int k) { return mesh.faceVertices[4 * f + (k % 4)]; };
+  double solidWorst = 0.0, uvWorst = 0.0, normalWorst = 0.0;
+  int edges = 0;
+  for (int f = 0; f < 6; ++f)
+    for (int k = 0; k < 4; ++k)
+      for (int g = 0; g < 6; ++g)
+        for (int j = 0; j < 4; ++j) {
+          // The same edge seen from face g, in the opposite direction.
+          if (g == f || corner(g, j) != corner(f, k + 1) || corner(g, j + 1) != corner(f, k))
+            continue;
+          ++edges;
+          for (float t : {0.2f, 0.5f, 0.8f}) {
+            const Vec2 a = glm::mix(surface.cornerSt(f, k), surface.cornerSt(f, (k + 1) % 4), t);
+            const Vec2 b = glm::mix(surface.cornerSt(g, (j + 1) % 4), surface.cornerSt(g, j), t);
+            const SurfacePoint pa = surface.evaluate(f, a), pb = surface.evaluate(g, b);
+            ASSERT_LT(glm::length(pa.P - pb.P), 1e-4f);
+            ReliefCoord ca, cb;
+            const SurfacePoint sa = reliefChart(pa, worldSpace(), ca);
+            const SurfacePoint sb = reliefChart(pb, worldSpace(), cb);
+            const LevelTransitions ta =
+                levelTransitions(solid, sa, ca, eye, 500.0f, ts, DisplacementMode::Full);
+            const LevelTransitions tb =
+                levelTransitions(solid, sb, cb, eye, 500.0f, ts, DisplacementMode::Full);
+            solidWorst = std::max(solidWorst, static_cast<double>(std::abs(ta.H[0] - tb.H[0])));
+            normalWorst = std::max(
+                normalWorst, static_cast<double>(glm::length(ta.frames[1].N - tb.frames[1].N)));
+            const float ha = uv.levels[0].height(pa.uv), hb = uv.levels[0].height(pb.uv);
+            uvWorst = std::max(uvWorst, static_cast<double>(std::abs(ha - hb)));
+          }
+        }
+  EXPECT_EQ(edges, 24);
+  EXPECT_LT(solidWorst, 1e-5);
+  EXPECT_LT(normalWorst, 2e-3);
+  EXPECT_GT(uvWorst, 5e-3);  // 0.03 amplitude: per-face charts break the uv relief at the edges
 }
 
 }  // namespace
