@@ -218,5 +218,28 @@ TEST(SolidRelief, NoSeamsAcrossTheFacesOfAMeshWithoutUv) {
   EXPECT_GT(uvWorst, 5e-3);  // 0.03 amplitude: per-face charts break the uv relief at the edges
 }
 
+// Extremes: zero relief, points far from the origin, a huge lattice frequency: finite heights and
+// normals, zero relief exactly flat.
+TEST(SolidRelief, FiniteAtTheExtremes) {
+  const TransitionSettings ts;
+  for (float amplitude : {0.0f, 0.05f})
+    for (float cells : {1e-6f, 4.0f, 1e6f})
+      for (float far : {0.0f, 1e4f, 1e9f}) {
+        const MaterialRelief relief = solidRelief(amplitude, cells);
+        const SurfacePoint sp{Vec3(far, 0.3f, -far), Vec3(1, 0, 0), Vec3(0, 0, -1), Vec3(0, 1, 0),
+                              Vec2(0.0f)};
+        ReliefCoord coord;
+        const SurfacePoint chart = reliefChart(sp, worldSpace(), coord);
+        const LevelTransitions t = levelTransitions(relief, chart, coord, sp.P + Vec3(0, 2, 2),
+                                                    500.0f, ts, DisplacementMode::Full);
+        ASSERT_TRUE(std::isfinite(t.H[0])) << amplitude << " " << cells << " " << far;
+        ASSERT_TRUE(isFinite(t.frames[1].N)) << amplitude << " " << cells << " " << far;
+        if (amplitude == 0.0f) {
+          EXPECT_EQ(t.H[0], 0.0f);
+          EXPECT_LT(glm::length(t.frames[1].N - sp.N), 1e-6f);
+        }
+      }
+}
+
 }  // namespace
 }  // namespace meso

@@ -264,6 +264,32 @@ TEST_F(SceneReaderTest, SplitOctavesMakesOneLevelPerOctave) {
             std::string::npos);
 }
 
+// Solid relief: its keys, split_octaves, and the combinations refused at their key.
+TEST_F(SceneReaderTest, SolidReliefAndItsLimits) {
+  const std::string head = "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n";
+  const Scene s = parse(head +
+                        "  solid = { octaves = 2, seed = 4, space = \"world\" }\n"
+                        "  amplitude = 0.02\n  scale = 6\n  split_octaves = true\n" +
+                        kObject);
+  ASSERT_EQ(s.materials[0].relief.size(), 2u);
+  EXPECT_EQ(s.materials[0].relief[1].source, ReliefSource::Solid);
+  EXPECT_TRUE(s.materials[0].relief[1].worldSpace);
+  EXPECT_EQ(s.materials[0].relief[1].firstOctave, 1);
+  EXPECT_FALSE(parse(head + "  solid = {}\n" + kObject).materials[0].relief[0].worldSpace);
+  EXPECT_NE(errorOf(head + "  solid = { space = \"tangent\" }\n" + kObject)
+                .find("materials.relief.solid.space"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "  solid = {}\n  noise = {}\n" + kObject)
+                .find("expected exactly one of `height` (an image file), `noise`"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "  solid = {}\n  [[materials.relief]]\n  noise = {}\n" + kObject)
+                .find("all `solid` (in one `space`) or none"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "  solid = {}\n  [materials.ndf]\n  type = \"beckmann\"\n" + kObject)
+                .find("materials.ndf: [materials.ndf] synthesizes detail over (u, v)"),
+            std::string::npos);
+}
+
 TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
   const Scene s =
       parse(std::string(kObject) +
