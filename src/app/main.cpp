@@ -1,5 +1,6 @@
 // The meso command line: parses options and calls the library. Exit status 2 on bad input.
 #include "bands_command.h"
+#include "cli_choices.h"
 #include "cache_command.h"
 #include "cli_values.h"
 #include "consistency_command.h"
@@ -19,120 +20,11 @@
 
 namespace {
 
-// Options that name one of Choices<E> (meso/scene/choices.h): checked against its table and
-// converted as they are parsed (CLI11 runs the check before the function).
-template <class E>
-CLI::Option* addChoice(CLI::App* app, const std::string& name, std::optional<E>& value,
-                       const std::string& help) {
-  return app
-      ->add_option_function<std::string>(
-          name, [&value](const std::string& s) { value = meso::parseChoice<E>(s); }, help)
-      ->check(CLI::IsMember(meso::choiceNames<E>()));
-}
-template <class E>
-CLI::Option* addChoice(CLI::App* app, const std::string& name, E& value, const std::string& help) {
-  return app
-      ->add_option_function<std::string>(
-          name, [&value](const std::string& s) { value = *meso::parseChoice<E>(s); }, help)
-      ->check(CLI::IsMember(meso::choiceNames<E>()))
-      ->default_str(meso::choiceName(value));
-}
-template <class E>
-CLI::Option* addChoices(CLI::App* app, const std::string& name, std::vector<E>& values,
-                        const std::string& help) {
-  std::string defaults;
-  for (E v : values) defaults += (defaults.empty() ? "" : ",") + std::string(meso::choiceName(v));
-  return app
-      ->add_option_function<std::vector<std::string>>(
-          name,
-          [&values](const std::vector<std::string>& names) {
-            values.clear();
-            for (const std::string& s : names) values.push_back(*meso::parseChoice<E>(s));
-          },
-          help)
-      ->delimiter(',')
-      ->check(CLI::IsMember(meso::choiceNames<E>()))
-      ->default_str(defaults);
-}
+using meso::app::addChoice;
+using meso::app::addChoices;
 
 void addRenderCommand(CLI::App& cli, meso::app::RenderCommandOptions& o) {
-  CLI::App* render =
-      cli.add_subcommand("render", "Render a scene to OpenEXR (with layers) and a PNG preview");
-  render->add_option("scene", o.scene, "Scene file (TOML, see docs/scene-format.md)")->required();
-  render->add_option(
-      "-o,--output", o.output,
-      "Output .exr (default out/<scene name>.exr); the PNG preview is written beside it");
-  render->add_option("--stats", o.statsFile,
-                     "Write timings, memory, counters and settings as JSON to this file");
-  render->add_option("--spp", o.spp, "Samples per pixel (overrides camera.spp)")
-      ->check(CLI::Range(1, 65536));
-  render
-      ->add_option("--threads", o.threads,
-                   "Worker threads, 0 = all cores (overrides render.threads)")
-      ->check(CLI::Range(0, 1024));
-  render->add_option("--seed", o.seed, "Random seed (overrides render.seed)");
-  addChoice(render, "--algorithm", o.algorithm,
-            meso::choiceList<meso::Algorithm>("|") + " (overrides render.algorithm)");
-  render
-      ->add_option("--tessellation-rate", o.tessellationRate,
-                   "Uniform Bfr tessellation rate per base-face edge")
-      ->check(CLI::Range(1, 64));
-  render->add_option("--width", o.width, "Image width in pixels (overrides camera.resolution)")
-      ->check(CLI::Range(1, 16384));
-  render->add_option("--height", o.height, "Image height in pixels (overrides camera.resolution)")
-      ->check(CLI::Range(1, 16384));
-  render
-      ->add_option("--dicing-rate", o.dicingRate,
-                   "Longest displaced micropolygon edge in pixels (overrides render.dicing_rate)")
-      ->check(CLI::Range(0.01f, 1000.0f));
-  addChoice(render, "--dicing-metric", o.dicingMetric,
-            "isotropic (world length over the pixel footprint at its depth) or projected "
-            "(foreshortened screen length; cheaper, under-resolved at grazing angles) (overrides "
-            "render.dicing_metric)");
-  render
-      ->add_option("--relief-samples", o.reliefSamples,
-                   "Full displacement: least micropolygon edges per shortest relief wavelength, "
-                   "also below a pixel; 0 = pixel dicing only (overrides render.relief_samples)")
-      ->check(CLI::Range(0.0f, 16.0f));
-  render
-      ->add_option("--max-micropolygons", o.maxMicropolygons,
-                   "Cap per frame; a frame over it is diced coarser, with a warning (overrides "
-                   "render.max_micropolygons)")
-      ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40));
-  addChoice(render, "--normals", o.normals,
-            "Shading normal of --algorithm displacement: bump (the paper's) or facet");
-  render
-      ->add_option("--D", o.transitionD,
-                   "Transition D: pixels per shortest wavelength below which a level is not "
-                   "displaced (render.transition.D)")
-      ->check(CLI::Range(0.0f, 1e6f));
-  render
-      ->add_option("--eps", o.transitionEps,
-                   "Transition eps of T = (nu - D) / (cos theta_V + eps) (render.transition.eps)")
-      ->check(CLI::Range(0.0f, 1e6f));
-  render
-      ->add_option("--thresholds", o.thresholds,
-                   "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
-      ->delimiter(',')
-      ->expected(4);
-  render->add_flag("--false-colour,--false-color", o.falseColour,
-                   "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, "
-                   "displacement red, synthesis magenta)");
-  render->add_flag("--no-bump-filter", o.noBumpFilter,
-                   "--algorithm bump: point-sample the slopes instead of filtering them over the "
-                   "pixel footprint (Schilling)");
-  render->add_flag("--no-shadows", o.noShadows,
-                   "No shadow rays and no relief self-shadowing (overrides render.shadows)");
-  render->add_option("--frames", o.frames,
-                     "Frames A:B (inclusive) of the scene's [path]; default all");
-  render->add_option("--shard", o.shard,
-                     "i/n: render only the frames f with f % n == i (for farms)");
-  render->add_flag("--overwrite", o.overwrite,
-                   "Re-render frames of a [path] whose EXR and PNG already exist (a still is "
-                   "always written)");
-  render->add_option("--video", o.video,
-                     "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)");
-  render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
+  CLI::App* render = meso::app::addRenderOptions(cli, o);
   render->callback([&o] {
     meso::setProgressAllowed(!o.quiet);
     meso::app::runRender(o);
@@ -393,7 +285,8 @@ void addMemoryLimit(CLI::App& app) {
            "MiB a job may use: jobs estimated above it are refused before allocating (default "
            "half of physical memory, here " +
                std::to_string(meso::defaultMemoryLimitBytes() >> 20) + ")")
-        ->check(CLI::Range(uint64_t{16}, uint64_t{1} << 30));
+        ->check(CLI::Range(uint64_t{16}, uint64_t{1} << 30))
+        ->default_str(std::to_string(meso::defaultMemoryLimitBytes() >> 20));
 }
 
 }  // namespace

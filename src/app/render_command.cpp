@@ -27,28 +27,6 @@
 namespace meso::app {
 namespace {
 
-void applyOverrides(const RenderCommandOptions& o, Scene& scene) {
-  if (o.spp) scene.camera.spp = *o.spp;
-  if (o.threads) scene.render.threads = *o.threads;
-  if (o.seed) scene.render.seed = *o.seed;
-  if (o.algorithm) scene.render.algorithm = *o.algorithm;
-  if (o.tessellationRate) scene.render.tessellationRate = *o.tessellationRate;
-  if (o.width) scene.camera.width = *o.width;
-  if (o.height) scene.camera.height = *o.height;
-  if (o.dicingRate) scene.render.dicingRate = *o.dicingRate;
-  if (o.dicingMetric) scene.render.dicingMetric = *o.dicingMetric;
-  if (o.reliefSamples) scene.render.reliefSamples = *o.reliefSamples;
-  if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
-  if (o.normals) scene.render.normals = *o.normals;
-  if (o.noShadows) scene.render.shadows = false;
-  TransitionSettings& t = scene.render.transition;
-  if (o.transitionD) t.D = *o.transitionD;
-  if (o.transitionEps) t.eps = *o.transitionEps;
-  if (o.thresholds.size() == 4)
-    t.e1 = o.thresholds[0], t.e2 = o.thresholds[1], t.e3 = o.thresholds[2], t.e4 = o.thresholds[3];
-  validateTransitionSettings(t, "--D/--eps/--thresholds");
-}
-
 std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
   return std::filesystem::path("out") / (scene.stem().string() + ".exr");
 }
@@ -108,7 +86,13 @@ class RenderRun {
   // cannot finish.
   void plan() {
     scene_ = loadScene(o_.scene);
-    applyOverrides(o_, scene_);
+    applyRenderOptions(o_, scene_);
+    window_ = cropWindow(o_, scene_.camera);
+    if (scene_.lights.empty())
+      std::fprintf(stderr,
+                   "meso: warning: %s has no lights: the image is black except for the "
+                   "materials' ambient term ka\n",
+                   o_.scene.string().c_str());
     std::vector<std::string> memoryWarnings;
     checkRenderMemory(scene_, memoryWarnings);
     for (const std::string& w : memoryWarnings)
@@ -169,8 +153,13 @@ class RenderRun {
     }
     Timer phase;
     const int64_t raysBefore = counters_.rays.load();
-    const RenderOptions ro{scene_.camera.spp, scene_.render.seed,    !o_.quiet,
-                           o_.falseColour,    &interruptRequested(), !o_.noBumpFilter};
+    const RenderOptions ro{.spp = scene_.camera.spp,
+                           .seed = scene_.render.seed,
+                           .progress = !o_.quiet,
+                           .falseColour = o_.falseColour,
+                           .cancel = &interruptRequested(),
+                           .filterBump = !o_.noBumpFilter,
+                           .window = window_};
     Image film;
     try {
       film = renderFrame(*ctx_, ro, counters_);
@@ -230,6 +219,7 @@ class RenderRun {
   bool animated_ = false;
   std::vector<int> frames_;
   std::optional<CameraPath> path_;
+  std::optional<PixelWindow> window_;  // --crop
   PrepareTimes prep_;
   std::optional<RenderContext> ctx_;  // after plan()
   FrameGeometryStats geometry_;

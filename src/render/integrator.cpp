@@ -1,5 +1,6 @@
 #include "meso/render/integrator.h"
 
+#include "meso/core/error.h"
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
 #include "meso/render/film_layout.h"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace meso {
@@ -267,6 +269,8 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
                   std::span<const Pixel> pixels, Image& film, Chunk& chunk, int64_t& rays,
                   int64_t& nonFinite, ShareCounts& shares) {
   const int spp = options.spp;
+  // Image pixel of the film's (0, 0).
+  const Pixel origin = options.window ? Pixel(options.window->x0, options.window->y0) : Pixel(0, 0);
   const size_t perChunk = static_cast<size_t>(std::max(1, kChunkSamples / spp));
   // A pixel averages its samples, so each sample filters over 1/sqrt(spp) of the pixel.
   const float footprintScale =
@@ -275,7 +279,7 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
   for (size_t first = 0; first < pixels.size(); first += perChunk) {
     const std::span<const Pixel> part =
         pixels.subspan(first, std::min(perChunk, pixels.size() - first));
-    generateChunk(ctx, options, film.width, part, chunk);
+    generateChunk(ctx, options, ctx.camera.settings().width, part, chunk);
     traceChunk(ctx, options, chunk);
     const bool shadowed = ctx.shadows && !ctx.scene->lights.empty() && !options.traceOnly;
     for (size_t p = 0; p < part.size(); ++p) {
@@ -291,7 +295,8 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
                     shadowed ? chunk.shadows[s] : lit, sum, shares);
       }
       rays += spp;
-      writePixel(sum, spp, options.falseColour, part[p].x, part[p].y, film, nonFinite);
+      writePixel(sum, spp, options.falseColour, part[p].x - origin.x, part[p].y - origin.y, film,
+                 nonFinite);
     }
   }
 }
@@ -301,33 +306,42 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
 Image renderFrame(const RenderContext& ctx, const RenderOptions& options,
                   RenderCounters& counters) {
   const CameraSettings& cam = ctx.camera.settings();
-  Image film = FilmLayout::make(cam.width, cam.height);
-  const int tilesX = (cam.width + kTileSize - 1) / kTileSize;
-  const int tilesY = (cam.height + kTileSize - 1) / kTileSize;
+  const PixelWindow w = options.window.value_or(PixelWindow{0, 0, cam.width, cam.height});
+  if (w.x0 < 0 || w.y0 < 0 || w.x1 > cam.width || w.y1 > cam.height || w.width() <= 0 ||
+      w.height() <= 0)
+    throw Error("render window [" + std::to_string(w.x0) + ", " + std::to_string(w.x1) + ") x [" +
+                std::to_string(w.y0) + ", " + std::to_string(w.y1) + ") is not inside the " +
+                std::to_string(cam.width) + "x" + std::to_string(cam.height) + " image");
+  Image film = FilmLayout::make(w.width(), w.height());
+  const int tilesX = (w.width() + kTileSize - 1) / kTileSize;
+  const int tilesY = (w.height() + kTileSize - 1) / kTileSize;
   ProgressBar progress("render", static_cast<int64_t>(tilesX) * tilesY, options.progress);
-  tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1),
-      [&](const tbb::blocked_range2d<int>& r) {
-        Chunk chunk;
-        std::vector<Pixel> pixels;
-        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
-          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
-            if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
-            int64_t rays = 0, nonFinite = 0;
-            ShareCounts shares{};
-            pixels.clear();
-            for (int y = ty * kTileSize; y < std::min((ty + 1) * kTileSize, cam.height); ++y)
-              for (int x = tx * kTileSize; x < std::min((tx + 1) * kTileSize, cam.width); ++x)
-                pixels.emplace_back(x, y);
-            renderPixels(ctx, options, pixels, film, chunk, rays, nonFinite, shares);
-            counters.rays.fetch_add(rays, std::memory_order_relaxed);
-            for (int k = 0; k < kSampleRenderers; ++k)
-              counters.shares[k].fetch_add(shares[k], std::memory_order_relaxed);
-            if (nonFinite) counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
-            progress.advance();
-          }
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1),
+                    [&](const tbb::blocked_range2d<int>& r) {
+                      Chunk chunk;
+                      std::vector<Pixel> pixels;
+                      for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
+                        for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+                          if (options.cancel && options.cancel->load(std::memory_order_relaxed))
+                            return;
+                          int64_t rays = 0, nonFinite = 0;
+                          ShareCounts shares{};
+                          pixels.clear();
+                          for (int y = w.y0 + ty * kTileSize;
+                               y < std::min(w.y0 + (ty + 1) * kTileSize, w.y1); ++y)
+                            for (int x = w.x0 + tx * kTileSize;
+                                 x < std::min(w.x0 + (tx + 1) * kTileSize, w.x1); ++x)
+                              pixels.emplace_back(x, y);
+                          renderPixels(ctx, options, pixels, film, chunk, rays, nonFinite, shares);
+                          counters.rays.fetch_add(rays, std::memory_order_relaxed);
+                          for (int k = 0; k < kSampleRenderers; ++k)
+                            counters.shares[k].fetch_add(shares[k], std::memory_order_relaxed);
+                          if (nonFinite)
+                            counters.nonFinite.fetch_add(nonFinite, std::memory_order_relaxed);
+                          progress.advance();
+                        }
+                      }
+                    });
   progress.finish();
   if (options.cancel && options.cancel->load()) throw Interrupted();
   return film;

@@ -1,4 +1,5 @@
 // Renders analytic scenes with known intensity, and checks determinism across thread counts.
+#include "meso/core/error.h"
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/shading.h"
@@ -209,6 +210,35 @@ TEST(Integrator, TraceOnlyFindsTheSameHitsAndShadesNothing) {
   // The full render lights most of those hits, so the black beauty above is trace-only's doing.
   EXPECT_GT(shaded, hits / 2);
   EXPECT_EQ(counters.rays.load(), 2 * int64_t{5} * a.width * a.height) << "both frames counted";
+}
+
+// RenderOptions::window (meso render --crop): the film is the window, and each of its pixels is
+// the whole image's pixel bit for bit, in every channel; a window reaching outside the image is an
+// error.
+TEST(Integrator, WindowIsTheSameBitsAsTheWholeImage) {
+  const Scene scene = torusScene();
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(scene, times);
+  RenderCounters counters;
+  const Image whole = renderFrame(ctx, {.spp = 5, .seed = 3, .progress = false}, counters);
+  // Not aligned with the 16-pixel tiles, and wider than one.
+  const PixelWindow w{.x0 = 5, .y0 = 3, .x1 = 30, .y1 = whole.height - 2};
+  const Image part =
+      renderFrame(ctx, {.spp = 5, .seed = 3, .progress = false, .window = w}, counters);
+  ASSERT_EQ(part.width, w.width());
+  ASSERT_EQ(part.height, w.height());
+  int hits = 0;
+  for (int y = 0; y < part.height; ++y)
+    for (int x = 0; x < part.width; ++x) {
+      for (int c = 0; c < FilmLayout::kChannels; ++c)
+        ASSERT_EQ(part.at(x, y, c), whole.at(w.x0 + x, w.y0 + y, c))
+            << FilmLayout::kNames[c] << " " << x << "," << y;
+      hits += part.at(x, y, FilmLayout::DepthZ) > 0.0f;
+    }
+  EXPECT_GT(hits, 20) << "the torus is in the window";
+  for (const PixelWindow bad : {PixelWindow{-1, 0, 4, 4}, PixelWindow{0, 0, whole.width + 1, 4},
+                                PixelWindow{4, 4, 4, 8}, PixelWindow{0, 5, 4, 2}})
+    EXPECT_THROW(renderFrame(ctx, {.spp = 1, .progress = false, .window = bad}, counters), Error);
 }
 
 }  // namespace

@@ -9,8 +9,16 @@
 #include <atomic>
 #include <cstdint>
 #include <exception>
+#include <optional>
 
 namespace meso {
+
+// A rectangle of the camera's image in pixels: columns [x0, x1), rows [y0, y1).
+struct PixelWindow {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+};
 
 struct RenderOptions {
   int spp = 4;
@@ -30,6 +38,9 @@ struct RenderOptions {
   // from the hit moved off its triangle along Embree's geometric normal: every ray the shaded
   // frame traces, without its shading (tools/bench_frame's trace_all).
   bool traceShadowRays = false;
+  // Only this window of the image (within it); the film is the window's size and its pixel (x, y)
+  // is the whole image's (x0 + x, y0 + y), the same bits (samples depend on the image pixel).
+  std::optional<PixelWindow> window = std::nullopt;
 };
 
 // Thrown by renderFrame when RenderOptions::cancel was set: the frame is incomplete.

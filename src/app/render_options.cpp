@@ -1,0 +1,161 @@
+// `meso render`'s options (render_options.h).
+#include "render_options.h"
+
+#include "cli_choices.h"
+#include "cli_values.h"
+
+#include "meso/core/error.h"
+#include "meso/render/transition.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace meso::app {
+
+CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
+  CLI::App* render =
+      cli.add_subcommand("render", "Render a scene to OpenEXR (with layers) and a PNG preview");
+  render->footer(
+      "=VALUE after an option is its default; a scene key (camera.spp) there means the scene's "
+      "value, whose own default docs/scene-format.md gives. Flags are off unless given.");
+  render->add_option("scene", o.scene, "Scene file (TOML, see docs/scene-format.md)")->required();
+  render
+      ->add_option("-o,--output", o.output,
+                   "Output .exr; the PNG preview is written beside it with the same name")
+      ->default_str("out/<scene name>.exr");
+  render
+      ->add_option("--stats", o.statsFile,
+                   "Write timings, memory, counters and settings as JSON to this file")
+      ->default_str("none");
+  render->add_option("--spp", o.spp, "Samples per pixel (jittered strata)")
+      ->check(CLI::Range(1, 65536))
+      ->default_str("camera.spp");
+  render->add_option("--threads", o.threads, "Worker threads, 0 = all cores")
+      ->check(CLI::Range(0, 1024))
+      ->default_str("render.threads");
+  render->add_option("--seed", o.seed, "Random seed")->default_str("render.seed");
+  addChoice(render, "--algorithm", o.algorithm, choiceList<Algorithm>("|"))
+      ->default_str("render.algorithm");
+  render
+      ->add_option("--tessellation-rate", o.tessellationRate,
+                   "Uniform Bfr tessellation rate per base-face edge")
+      ->check(CLI::Range(1, 64))
+      ->default_str("render.tessellation_rate");
+  render->add_option("--width", o.width, "Image width in pixels")
+      ->check(CLI::Range(1, 16384))
+      ->default_str("camera.resolution");
+  render->add_option("--height", o.height, "Image height in pixels")
+      ->check(CLI::Range(1, 16384))
+      ->default_str("camera.resolution");
+  render
+      ->add_option("--crop", o.crop,
+                   "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 of the image "
+                   "(0,0 its top-left corner); the output is that window, the same bits as in the "
+                   "whole image")
+      ->default_str("none");
+  render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels")
+      ->check(CLI::Range(0.01f, 1000.0f))
+      ->default_str("render.dicing_rate");
+  addChoice(render, "--dicing-metric", o.dicingMetric,
+            "isotropic (world length over the pixel footprint at its depth) or projected "
+            "(foreshortened screen length; cheaper, under-resolved at grazing angles)")
+      ->default_str("render.dicing_metric");
+  render
+      ->add_option("--relief-samples", o.reliefSamples,
+                   "Full displacement: least micropolygon edges per shortest relief wavelength, "
+                   "also below a pixel; 0 = pixel dicing only")
+      ->check(CLI::Range(0.0f, 16.0f))
+      ->default_str("render.relief_samples");
+  render
+      ->add_option("--max-micropolygons", o.maxMicropolygons,
+                   "Cap per frame; a frame over it is diced coarser, with a warning")
+      ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40))
+      ->default_str("render.max_micropolygons");
+  addChoice(render, "--normals", o.normals,
+            "Shading normal of --algorithm displacement: bump (the paper's) or facet")
+      ->default_str("render.normals");
+  render
+      ->add_option("--D", o.transitionD,
+                   "Transition D: pixels per shortest wavelength below which a level is not "
+                   "displaced")
+      ->check(CLI::Range(0.0f, 1e6f))
+      ->default_str("render.D");
+  render
+      ->add_option("--eps", o.transitionEps, "Transition eps of T = (nu - D) / (cos theta_V + eps)")
+      ->check(CLI::Range(0.0f, 1e6f))
+      ->default_str("render.eps");
+  render
+      ->add_option("--thresholds", o.thresholds,
+                   "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
+      ->delimiter(',')
+      ->expected(4)
+      ->default_str("render.thresholds");
+  render->add_flag("--false-colour,--false-color", o.falseColour,
+                   "Beauty in the algorithm colours (brdf yellow, bump green, redistribution blue, "
+                   "displacement red, synthesis magenta)");
+  render->add_flag("--no-bump-filter", o.noBumpFilter,
+                   "--algorithm bump: point-sample the slopes instead of filtering them over the "
+                   "pixel footprint (Schilling)");
+  render->add_flag("--no-shadows", o.noShadows,
+                   "No shadow rays and no relief self-shadowing (render.shadows = false)");
+  render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]")
+      ->default_str("all");
+  render
+      ->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)")
+      ->default_str("0/1");
+  render->add_flag("--overwrite", o.overwrite,
+                   "Re-render frames of a [path] whose EXR and PNG already exist (a still is "
+                   "always written)");
+  render
+      ->add_option("--video", o.video,
+                   "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)")
+      ->default_str("none");
+  render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
+  return render;
+}
+
+void applyRenderOptions(const RenderCommandOptions& o, Scene& scene) {
+  if (o.spp) scene.camera.spp = *o.spp;
+  if (o.threads) scene.render.threads = *o.threads;
+  if (o.seed) scene.render.seed = *o.seed;
+  if (o.algorithm) scene.render.algorithm = *o.algorithm;
+  if (o.tessellationRate) scene.render.tessellationRate = *o.tessellationRate;
+  if (o.width) scene.camera.width = *o.width;
+  if (o.height) scene.camera.height = *o.height;
+  if (o.dicingRate) scene.render.dicingRate = *o.dicingRate;
+  if (o.dicingMetric) scene.render.dicingMetric = *o.dicingMetric;
+  if (o.reliefSamples) scene.render.reliefSamples = *o.reliefSamples;
+  if (o.maxMicropolygons) scene.render.maxMicropolygons = *o.maxMicropolygons;
+  if (o.normals) scene.render.normals = *o.normals;
+  if (o.noShadows) scene.render.shadows = false;
+  TransitionSettings& t = scene.render.transition;
+  if (o.transitionD) t.D = *o.transitionD;
+  if (o.transitionEps) t.eps = *o.transitionEps;
+  if (o.thresholds.size() == 4)
+    t.e1 = o.thresholds[0], t.e2 = o.thresholds[1], t.e3 = o.thresholds[2], t.e4 = o.thresholds[3];
+  validateTransitionSettings(t, "--D/--eps/--thresholds");
+}
+
+std::optional<PixelWindow> cropWindow(const RenderCommandOptions& o, const CameraSettings& camera) {
+  if (o.crop.empty()) return std::nullopt;
+  const std::string expected =
+      "--crop: expected X0,Y0,X1,Y1 with 0 <= X0 < X1 <= " + std::to_string(camera.width) +
+      " and 0 <= Y0 < Y1 <= " + std::to_string(camera.height) + " (the image is " +
+      std::to_string(camera.width) + "x" + std::to_string(camera.height) + "), got " + o.crop;
+  std::vector<int> v;
+  for (size_t start = 0; start <= o.crop.size() && v.size() < 5;) {
+    const size_t comma = std::min(o.crop.find(',', start), o.crop.size());
+    v.push_back(static_cast<int>(
+        parseInteger(o.crop.substr(start, comma - start), "--crop", -(1 << 30), 1 << 30)));
+    start = comma + 1;
+  }
+  if (v.size() != 4) throw Error(expected);
+  const PixelWindow w{.x0 = v[0], .y0 = v[1], .x1 = v[2], .y1 = v[3]};
+  if (!(0 <= w.x0 && w.x0 < w.x1 && w.x1 <= camera.width && 0 <= w.y0 && w.y0 < w.y1 &&
+        w.y1 <= camera.height))
+    throw Error(expected);
+  return w;
+}
+
+}  // namespace meso::app
