@@ -58,11 +58,11 @@ ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
   level.amplitude = d.amplitude;
   level.scale = d.scale;
   if (d.source == ReliefSource::Solid) {
-    // The tables trace the periodic slice, one tile every kSolidPeriod cells; the renderers
+    // The tables trace the periodic slice, one tile every period of its lattice; the renderers
     // evaluate the (non-repeating) noise itself at d.scale cells per unit of length.
     level.solid = std::make_shared<SolidNoise>(solidOptions(d));
     level.solidCells = d.scale;
-    level.scale = d.scale / static_cast<float>(kSolidPeriod);
+    level.scale = d.scale / static_cast<const SolidSlice&>(*level.source).side();
   }
   level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * level.scale;
   level.midlevel = d.midlevel ? *d.midlevel : level.source->meanHeight();

@@ -49,11 +49,10 @@ inline int64_t floorDiv(int64_t a, int64_t b) {
 }
 
 // The lattice point c reduced modulo the periods of an octave of frequency f, p M Z^3 with
-// p = f kSolidPeriod / 3 (a shift of q by kSolidPeriod along an axis moves the lattice by one of
-// them): one representative per class, found from c's coordinates M c / (9 p) in that basis.
-inline void reduce(int64_t c[3], int f) {
-  static_assert(kSolidPeriod % 3 == 0, "the lattice's periods are multiples of 3 Q's columns");
-  const int64_t p = static_cast<int64_t>(f) * (kSolidPeriod / 3);
+// p = f period / 3 (a shift of q by `period` along an axis moves the lattice by one of them): one
+// representative per class, found from c's coordinates M c / (9 p) in that basis.
+inline void reduce(int64_t c[3], int f, int period) {
+  const int64_t p = static_cast<int64_t>(f) * (period / 3);
   int64_t m[3];
   for (int k = 0; k < 3; ++k)
     m[k] = floorDiv(kM[k][0] * c[0] + kM[k][1] * c[1] + kM[k][2] * c[2], 9 * p);
@@ -69,7 +68,18 @@ inline Vec3 latticeGradient(int64_t cx, int64_t cy, int64_t cz, uint64_t salt) {
 
 }  // namespace
 
-SolidNoise::SolidNoise(const SolidNoiseOptions& options) : options_(options) {
+int solidTilePeriod(const SolidNoiseOptions& o) {
+  double f = 1.0;
+  for (int k = 1; k < o.octaves; ++k) f *= o.lacunarity;
+  const double finest = std::max(1.0, std::round(f));
+  return std::max(3, 3 * static_cast<int>(std::floor(kSolidTileCycles / (3.0 * finest))));
+}
+
+SolidNoise::SolidNoise(const SolidNoiseOptions& options)
+    : options_(options), period_(options.period > 0 ? options.period : solidTilePeriod(options)) {
+  if (period_ % 3 != 0)
+    throw Error("solid noise: the period must be a multiple of 3 (got " + std::to_string(period_) +
+                ")");
   if (options.octaves < 1 || options.octaves > 24 || options.firstOctave < 0 ||
       options.firstOctave >= options.octaves || !(options.lacunarity >= 1.0f) ||
       !std::isfinite(options.lacunarity) || !std::isfinite(options.gain))
@@ -113,7 +123,7 @@ float SolidNoise::octave(const Octave& o, Vec3 q, Vec3* grad) const {
   Vec3 g[8];
   for (int k = 0; k < 8; ++k) {
     int64_t c[3] = {cell[0] + (k & 1), cell[1] + ((k >> 1) & 1), cell[2] + (k >> 2)};
-    if (options_.periodic) reduce(c, o.frequency);
+    if (options_.periodic) reduce(c, o.frequency, period_);
     g[k] = latticeGradient(c[0], c[1], c[2], o.salt);
     n[k] = glm::dot(g[k],
                     Vec3(t[0] - static_cast<float>(k & 1), t[1] - static_cast<float>((k >> 1) & 1),
@@ -173,15 +183,16 @@ float SolidNoise::maxAbsHeight() const {
 uint64_t SolidNoise::fingerprint() const {
   Hasher h;
   h.string("SolidNoise/1").value(options_.seed).value(options_.periodic);
+  if (options_.periodic) h.value(period_);
   for (const Octave& o : octaves_) h.value(o.frequency).value(o.weight).value(o.salt);
   return h.digest();
 }
 
 namespace {
 
-bool isPeriod(Vec3 v) {
+bool isPeriod(Vec3 v, int period) {
   for (int k = 0; k < 3; ++k) {
-    const float cells = v[k] / static_cast<float>(kSolidPeriod);
+    const float cells = v[k] / static_cast<float>(period);
     if (std::abs(cells - std::round(cells)) > 1e-4f) return false;
   }
   return true;
@@ -195,11 +206,16 @@ SolidNoiseOptions periodicOptions(SolidNoiseOptions o) {
 }  // namespace
 
 SolidSlice::SolidSlice(SolidNoiseOptions noise, Vec3 a, Vec3 b, float side)
-    : noise_(periodicOptions(noise)), a_(a), b_(b), side_(side) {
+    : noise_(periodicOptions(noise)),
+      a_(a),
+      b_(b),
+      side_(side > 0.0f ? side : static_cast<float>(noise_.period())) {
+  const int period = noise_.period();
   if (std::abs(glm::length(a) - 1.0f) > 1e-5f || std::abs(glm::length(b) - 1.0f) > 1e-5f ||
-      std::abs(glm::dot(a, b)) > 1e-5f || !isPeriod(side * a) || !isPeriod(side * b))
+      std::abs(glm::dot(a, b)) > 1e-5f || !isPeriod(side_ * a, period) ||
+      !isPeriod(side_ * b, period))
     throw Error("solid slice: the tile's axes must be orthonormal and side times each a period (" +
-                std::to_string(kSolidPeriod) + " along x, y and z)");
+                std::to_string(period) + " along x, y and z)");
 }
 
 float SolidSlice::height(Vec2 p) const { return noise_.height(side_ * (p.x * a_ + p.y * b_)); }

@@ -57,6 +57,7 @@ TEST(SolidNoise, PeriodicLatticeRepeatsAlongEachAxisAndTheRendererNoiseDoesNot) 
   o.octaves = 3;
   o.seed = 11;
   o.periodic = true;
+  o.period = 6;
   const SolidNoise periodic(o);
   o.periodic = false;
   const SolidNoise free(o);
@@ -66,7 +67,7 @@ TEST(SolidNoise, PeriodicLatticeRepeatsAlongEachAxisAndTheRendererNoiseDoesNot) 
     const Vec3 p = Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 2.0f - 1.0f;
     for (int axis = 0; axis < 3; ++axis) {
       Vec3 shift(0.0f);
-      shift[axis] = static_cast<float>(kSolidPeriod);
+      shift[axis] = 6.0f;
       EXPECT_NEAR(periodic.height(p + shift), periodic.height(p), 1e-5f);
       differs += std::abs(free.height(p + shift) - free.height(p));
       half += std::abs(periodic.height(p + 0.5f * shift) - periodic.height(p));
@@ -104,6 +105,23 @@ TEST(SolidNoise, SliceTilesAndIsTheNoiseOnItsPlane) {
   }
   EXPECT_THROW(SolidSlice(o, Vec3(1, 0, 0), Vec3(0, 1, 0), 3.0f), Error);
   EXPECT_THROW(SolidSlice(o, Vec3(1, 0, 0), Vec3(1, 0, 0)), Error);
+}
+
+// The tables' tile: as many cells as keep the finest octave at 48 cycles or fewer.
+TEST(SolidNoise, TilePeriodFollowsTheFinestOctave) {
+  SolidNoiseOptions o;
+  for (auto [octaves, period] : {std::pair{1, 48}, {2, 24}, {3, 12}, {4, 6}, {5, 3}, {7, 3}}) {
+    o.octaves = octaves;
+    EXPECT_EQ(solidTilePeriod(o), period) << octaves;
+    o.periodic = true;
+    EXPECT_EQ(SolidNoise(o).period(), period);
+    EXPECT_FLOAT_EQ(SolidSlice(o).side(), static_cast<float>(period));
+  }
+  o.octaves = 2;
+  o.firstOctave = 1;  // the second octave alone
+  EXPECT_EQ(solidTilePeriod(o), 24);
+  o.period = 4;
+  EXPECT_THROW(SolidNoise{o}, Error);
 }
 
 TEST(SolidNoise, BoundHoldsAndIsNotVacuous) {

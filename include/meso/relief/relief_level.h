@@ -40,7 +40,7 @@ struct ReliefLevel {
   size_t partialSumEnd = 0;
   // A solid level (docs/solid-relief.md): the noise the renderers evaluate in solid space, with
   // solidCells lattice cells per unit of length there. `source` is then the periodic slice its
-  // tables trace (SolidSlice), with scale = solidCells / kSolidPeriod, so every statistic made from
+  // tables trace (SolidSlice), with scale = solidCells / its side, so every statistic made from
   // (u, v) (tables, visible heights, slopes) is the slice's on a unit-speed chart.
   std::shared_ptr<const SolidNoise> solid;
   float solidCells = 1.0f;

@@ -15,16 +15,23 @@ struct SolidNoiseOptions {
   float gain = 0.5f;        // amplitude ratio of successive octaves
   uint64_t seed = 0;
   int firstOctave = 0;  // only octaves firstOctave .. octaves - 1 (relief.split_octaves)
-  // Wrap every octave's lattice so that the noise repeats every kSolidPeriod along x, y and z:
-  // the form the tables trace (SolidSlice). The renderer's noise does not repeat.
+  // Wrap every octave's lattice so that the noise repeats every `period` along x, y and z: the
+  // form the tables trace (SolidSlice). The renderer's noise does not repeat.
   bool periodic = false;
+  // The period in noise units (octave-0 lattice cells), a multiple of 3 (Q's denominator); 0:
+  // solidTilePeriod of these options.
+  int period = 0;
 };
 
-// Period of a periodic SolidNoise along each axis, in noise units (octave-0 lattice cells): a
-// multiple of 3 (Q's denominator). A tile of 6 x 6 cells holds 216 lattice gradients per octave
-// whose statistics are those of the whole noise to a few tenths of a percent in intensity (3 x 3
-// cells, 27 gradients, were 1.3% apart at theta_V 80 between orientations).
-inline constexpr int kSolidPeriod = 6;
+// The most cycles of a level's finest octave that one table tile holds: the tables trace
+// render.tables.mesh_resolution (192) quads per tile side, 4 per cycle.
+inline constexpr int kSolidTileCycles = 48;
+
+// The period the tables' tile gets: the largest multiple of 3 at which the finest octave has at
+// most kSolidTileCycles cycles per tile (at least 3). The more cells of its coarsest octave a tile
+// holds, the closer its statistics are to the whole noise's: two octaves on tiles of 6 cells in six
+// orientations were 0.9% apart in intensity at theta_V = 80, on tiles of 24 cells 0.2%.
+int solidTilePeriod(const SolidNoiseOptions& options);
 
 // Sum over octaves o of gain^o * noise(Q f_o q + c_o): 3-D Perlin gradient noise (a hashed unit
 // gradient, one of 4096 spread evenly over the sphere, per lattice point; quintic fade) at integer
@@ -34,7 +41,7 @@ inline constexpr int kSolidPeriod = 6;
 // plane: gradient noise is not homogeneous (its rms slope on a lattice plane is 12% above that on
 // the plane halfway between), and surfaces along the axes would otherwise see the lattice planes'
 // statistics instead of those of the tables (docs/solid-relief.md). Q's entries are thirds, so
-// periodic lattices exist that repeat every kSolidPeriod along the axes of q. Deterministic per
+// periodic lattices exist that repeat every multiple of 3 along the axes of q. Deterministic per
 // seed; gradients are exact.
 class SolidNoise {
  public:
@@ -51,6 +58,8 @@ class SolidNoise {
   float maxAbsHeight() const;
   uint64_t fingerprint() const;
   const SolidNoiseOptions& options() const { return options_; }
+  // The period along each axis when periodic (options.period, or solidTilePeriod).
+  int period() const { return period_; }
 
  private:
   struct Octave {
@@ -61,18 +70,19 @@ class SolidNoise {
   };
   float octave(const Octave& o, Vec3 q, Vec3* grad) const;
   SolidNoiseOptions options_;
+  int period_ = 3;
   std::vector<Octave> octaves_;
 };
 
 // A planar slice of a periodic SolidNoise as a 2-D height source over one tile: h(x, y) =
 // noise(L (x a + y b)) for (x, y) in [0, 1)^2, where a and b are orthonormal and L a and L b are
-// periods of the noise (integer multiples of kSolidPeriod along each axis), so the slice tiles.
-// The default is the plane z = 0 with L = kSolidPeriod: the tile the tables of a solid level trace.
+// periods of the noise (integer multiples of its period along each axis), so the slice tiles.
+// The default is the plane z = 0 with L the period: the tile the tables of a solid level trace.
 class SolidSlice : public HeightSource {
  public:
   // Throws meso::Error unless noise is periodic, a and b are orthonormal and L a, L b are periods.
-  SolidSlice(SolidNoiseOptions noise, Vec3 a = {1, 0, 0}, Vec3 b = {0, 1, 0},
-             float side = static_cast<float>(kSolidPeriod));
+  // side <= 0: the noise's period.
+  SolidSlice(SolidNoiseOptions noise, Vec3 a = {1, 0, 0}, Vec3 b = {0, 1, 0}, float side = 0.0f);
   float height(Vec2 p) const override;
   Vec2 gradient(Vec2 p) const override;
   float heightAndGradient(Vec2 p, Vec2& g) const override;
