@@ -76,6 +76,11 @@ class InterruptCommandsTest : public meso::testing::TempDirTest {
     posix_spawn_file_actions_destroy(&actions);
     *status = -1;
     if (spawned != 0) return -1.0;
+    // `after` counts from when meso catches the signal: loading its libraries alone takes 0.4 s
+    // here, more on a loaded machine, and a signal before the handler kills it outright.
+    const auto ready = Clock::now();
+    while (!catches(pid, sig) && Clock::now() - ready < std::chrono::seconds(20))
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     std::this_thread::sleep_for(after);
     int raw = 0;
     if (::waitpid(pid, &raw, WNOHANG) == pid) {
@@ -94,6 +99,15 @@ class InterruptCommandsTest : public meso::testing::TempDirTest {
     ::kill(pid, SIGKILL);
     ::waitpid(pid, &raw, 0);
     return 10.0;
+  }
+  // Whether process pid has a handler for sig (the SigCgt mask of /proc/pid/status).
+  static bool catches(pid_t pid, int sig) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("SigCgt:", 0) == 0)
+        return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u;
+    return false;
   }
   std::string readErr() const {
     std::ifstream in(dir_ / "stderr.txt");
