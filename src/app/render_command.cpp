@@ -159,6 +159,7 @@ class RenderRun {
                            .falseColour = o_.falseColour,
                            .cancel = &interruptRequested(),
                            .filterBump = !o_.noBumpFilter,
+                           .filterTextures = !o_.noTextureFilter,
                            .window = window_};
     Image film;
     try {

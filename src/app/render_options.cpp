@@ -97,6 +97,9 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
   render->add_flag("--no-bump-filter", o.noBumpFilter,
                    "--algorithm bump: point-sample the slopes instead of filtering them over the "
                    "pixel footprint (Schilling)");
+  render->add_flag("--no-texture-filter", o.noTextureFilter,
+                   "Colour textures: the texel under each sample (bilinear, finest level) instead "
+                   "of a lookup filtered over the sample's footprint");
   render->add_flag("--no-shadows", o.noShadows,
                    "No shadow rays and no relief self-shadowing (render.shadows = false)");
   render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]")

@@ -35,8 +35,9 @@ struct RenderCommandOptions {
   std::vector<float> thresholds;  // e1,e2,e3,e4; empty: the scene's
   std::string crop;               // "X0,Y0,X1,Y1"; empty: the whole image
   bool falseColour = false;
-  bool noBumpFilter = false;  // --algorithm bump: point-sampled slopes instead of Schilling's
-  bool noShadows = false;     // render.shadows = false
+  bool noTextureFilter = false;  // colour textures: point lookups instead of filtered ones
+  bool noBumpFilter = false;     // --algorithm bump: point-sampled slopes instead of Schilling's
+  bool noShadows = false;        // render.shadows = false
   bool quiet = false;
   std::string frames;           // "A:B" (inclusive) or "A"; empty: every frame of the path
   std::string shard;            // "i/n": render frames f with f % n == i

@@ -1,4 +1,4 @@
-// The footprint of a pixel in (u, v) (surface_shader.h), for filtered bump lookups.
+// The footprint of a pixel in (u, v) (surface_shader.h), for filtered bump and texture lookups.
 #include "meso/render/surface_shader.h"
 
 #include <cmath>
@@ -26,6 +26,17 @@ Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, floa
   fp.valid = std::isfinite(d[0].x) && std::isfinite(d[0].y) && std::isfinite(d[1].x) &&
              std::isfinite(d[1].y);
   return fp;
+}
+
+Reflectance textureReflectance(const RenderContext& ctx, int material, Vec2 uv,
+                               const Footprint& footprint) {
+  Reflectance r = ctx.scene->materials[static_cast<size_t>(material)];
+  const RenderContext::MaterialTextures& t = ctx.materialTextures[static_cast<size_t>(material)];
+  const Vec2 dx = footprint.valid ? footprint.dUVdx : Vec2(0.0f);
+  const Vec2 dy = footprint.valid ? footprint.dUVdy : Vec2(0.0f);
+  if (t.kd >= 0) r.kd = ctx.textures->rgb(t.kd, uv, dx, dy);
+  if (t.ks >= 0) r.ks = ctx.textures->rgb(t.ks, uv, dx, dy);
+  return r;
 }
 
 }  // namespace meso

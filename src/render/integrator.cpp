@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -116,8 +117,10 @@ ShadowOrigin shadowOriginOf(const Ray& ray, const RayHit& hit, const Vec3& facet
 }
 
 // Shades one camera sample from what its ray found and the lights' visibility from its hit.
+// footprintScale: the bump filter's footprint (0: off); pixelScale: a sample's share of the pixel,
+// over which colour textures are filtered (0: point lookups).
 void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
-                 const SampleHit& s, const LightShadows& shadows, PixelSum& sum,
+                 float pixelScale, const SampleHit& s, const LightShadows& shadows, PixelSum& sum,
                  ShareCounts& shares) {
   if (!s.found) {
     sum.colour += ctx.scene->render.background;
@@ -129,9 +132,16 @@ void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   if (ctx.algorithm == Algorithm::Bump && footprintScale > 0.0f)  // only the bump renderer filters
     footprint = footprintAt(s.sp, ctx.camera.generateRay(fx + 1.0f, fy),
                             ctx.camera.generateRay(fx, fy + 1.0f), footprintScale);
-  const ShadeResult r = shadeSurface(ctx, object, s.sp, -ray.direction,
-                                     ctx.facetNormals && object.displaced ? &s.facet : nullptr,
-                                     &footprint, &s.limitP, ctx.shadows ? &shadows : nullptr);
+  std::optional<Reflectance> textured;
+  if (ctx.textured(object.material))
+    textured = textureReflectance(
+        ctx, object.material, s.sp.uv,
+        pixelScale > 0.0f ? footprintAt(s.sp, ctx.camera.generateRay(fx + 1.0f, fy),
+                                        ctx.camera.generateRay(fx, fy + 1.0f), pixelScale)
+                          : Footprint{});
+  const ShadeResult r = shadeSurface(
+      ctx, object, s.sp, -ray.direction, ctx.facetNormals && object.displaced ? &s.facet : nullptr,
+      &footprint, &s.limitP, ctx.shadows ? &shadows : nullptr, textured ? &*textured : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;
@@ -273,6 +283,8 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
   const Pixel origin = options.window ? Pixel(options.window->x0, options.window->y0) : Pixel(0, 0);
   const size_t perChunk = static_cast<size_t>(std::max(1, kChunkSamples / spp));
   // A pixel averages its samples, so each sample filters over 1/sqrt(spp) of the pixel.
+  const float pixelScale =
+      options.filterTextures ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
   const float footprintScale =
       options.filterBump ? 1.0f / std::sqrt(static_cast<float>(spp)) : 0.0f;
   const LightShadows lit;
@@ -291,8 +303,8 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
           if (h.found) sum.depth += h.hit.t, sum.hits += 1;
           continue;
         }
-        shadeSample(ctx, chunk.rays[s], chunk.film[s].x, chunk.film[s].y, footprintScale, h,
-                    shadowed ? chunk.shadows[s] : lit, sum, shares);
+        shadeSample(ctx, chunk.rays[s], chunk.film[s].x, chunk.film[s].y, footprintScale,
+                    pixelScale, h, shadowed ? chunk.shadows[s] : lit, sum, shares);
       }
       rays += spp;
       writePixel(sum, spp, options.falseColour, part[p].x - origin.x, part[p].y - origin.y, film,

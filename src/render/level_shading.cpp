@@ -51,7 +51,7 @@ float azimuthEq2(const Vec3& V, const Vec3& L, const Vec3& Pu, const Vec3& Pv) {
   return std::isfinite(c) ? fastAcos(c) : -1.0f;
 }
 
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeBrdf(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                const ViewFrame& f, const BrdfTable& brdf, const Vec3* Pu, const Vec3* Pv) {
   Vec3 I = material.ka;
   const Vec3 V = std::sin(f.thetaV) * f.T + std::cos(f.thetaV) * f.N;

@@ -76,7 +76,7 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
   return out;
 }
 
-Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeBrdfShadowed(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
                        float w, const LightShadows& macro, const ShadowingLevels& levels,
                        LightShadows* firstLevel) {

@@ -69,6 +69,31 @@ std::optional<std::string> precisionWarning(const ControlMesh& mesh, const std::
 
 }  // namespace
 
+namespace {
+
+// The kd and ks images of the materials that objects use, prepared for the TextureSystem.
+void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder) {
+  const Scene& scene = *ctx.scene;
+  ctx.materialTextures.assign(scene.materials.size(), {});
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    const bool used = std::any_of(ctx.objects.begin(), ctx.objects.end(),
+                                  [&](const auto& o) { return o.material == static_cast<int>(m); });
+    const Material& material = scene.materials[m];
+    const auto add = [&](const ColourTexture& t, const char* key) {
+      if (t.file.empty() || !used) return -1;
+      if (!ctx.textures) ctx.textures = std::make_shared<TextureLookup>();
+      try {
+        return ctx.textures->add(t.file, t.space, folder);
+      } catch (const Error& e) {
+        throw Error(t.loc, std::string("materials.") + key, e.what());
+      }
+    };
+    ctx.materialTextures[m] = {add(material.kdTexture, "kd"), add(material.ksTexture, "ks")};
+  }
+}
+
+}  // namespace
+
 bool RenderContext::viewDependent() const {
   for (const PreparedObject& o : objects)
     if (o.displaced) return true;
@@ -85,7 +110,9 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                     {},
                     scene.render.algorithm,
                     scene.render.normals == ShadingNormals::Facet,
-                    scene.render.shadows};
+                    scene.render.shadows,
+                    {},
+                    {}};
   ctx.reliefs.resize(scene.materials.size());
   for (const Object& object : scene.objects) {
     Timer load;
@@ -115,8 +142,10 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
         PreparedObject{std::move(surface), {}, {}, object.material, solid, false});
   }
   Timer tables;
-  const TableCache cache(scene.render.cacheDir.empty() ? TableCache::defaultFolder()
-                                                       : scene.render.cacheDir);
+  const std::filesystem::path cacheFolder =
+      scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir;
+  const TableCache cache(cacheFolder);
+  loadColourTextures(ctx, cacheFolder / "textures");
   TableSettings settings = tableSettings(scene.render.tables);
   // Self-shadowing tables only where a far-field renderer draws relief: bump ignores relief
   // shadows, displacement traces them.

@@ -28,7 +28,7 @@ namespace {
 // ka + sum over lights of radiance (kd (L.N) + ks highlight(H)), H the unit half vector; lights
 // below the shading horizon add nothing, and L = -V (no half vector) has no highlight.
 template <class Highlight>
-Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeWith(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                const Vec3& N, const Vec3& V, const LightShadows* shadows,
                const Highlight& highlight) {
   Vec3 I = material.ka;
@@ -54,14 +54,14 @@ Vec3 shadeWith(const Material& material, std::span<const Light> lights, const Ve
 
 }  // namespace
 
-Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeLocal(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                 const Vec3& N, const Vec3& V, const LightShadows* shadows) {
   return shadeWith(material, lights, P, N, V, shadows, [&](const Vec3& H) {
     return std::pow(std::max(glm::dot(H, N), 0.0f), material.phong);
   });
 }
 
-Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeRoughened(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                     const Vec3& N, const Vec3& V, const Vec3& e1, const Vec3& e2,
                     const SlopeCovariance& roughness, const LightShadows* shadows) {
   const float m = std::max(material.phong, 1e-3f);

@@ -23,7 +23,7 @@ struct LevelFrame {
 
 struct LevelContext {
   const RenderContext& ctx;
-  const Material& material;
+  const Reflectance& material;  // the material's, or its colour textures' at the hit
   const MaterialRelief& relief;
   const SurfacePoint& sp;  // as reliefChart gives it, at the hit
   ReliefCoord coord;       // where the levels are evaluated (at the limit point)
@@ -305,7 +305,7 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
 }
 
 // The local model at normal N: no relief, or --normals facet.
-ShadeResult shadeLocalAt(const RenderContext& ctx, const Material& material, const Vec3& P,
+ShadeResult shadeLocalAt(const RenderContext& ctx, const Reflectance& material, const Vec3& P,
                          const Vec3& N, const Vec3& V, const LightShadows* shadows,
                          const Vec3& algorithm) {
   ShadeResult r;
@@ -316,11 +316,12 @@ ShadeResult shadeLocalAt(const RenderContext& ctx, const Material& material, con
 }
 
 LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object,
-                          const SurfacePoint& sp, const ReliefCoord& coord, const Vec3& V,
-                          const Footprint* footprint, const LevelTransitions* transitions,
-                          MetricPosition metric, const LightShadows* shadows) {
+                          const Reflectance& material, const SurfacePoint& sp,
+                          const ReliefCoord& coord, const Vec3& V, const Footprint* footprint,
+                          const LevelTransitions* transitions, MetricPosition metric,
+                          const LightShadows* shadows) {
   return {ctx,
-          ctx.scene->materials[object.material],
+          material,
           ctx.reliefs[object.material],
           sp,
           coord,
@@ -338,7 +339,7 @@ LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                          const SurfacePoint& hit, const Vec3& V, const Vec3* facetNormal,
                          const Footprint* footprint, const Vec3* limitP,
-                         const LightShadows* shadows) {
+                         const LightShadows* shadows, const Reflectance* reflectance) {
   // T, weights, disp and the levels' heights come from the limit point (hit.P is the limit surface
   // at the hit's patch coordinates, moved to the raised hit when displaced), exactly as the
   // tessellator raised the geometry; shading happens at the hit.
@@ -347,7 +348,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
       reliefChart({limitP ? *limitP : hit.P, hit.Pu, hit.Pv, hit.N, hit.uv}, object.solid, coord);
   SurfacePoint sp = limit;
   sp.P = hit.P;
-  const Material& material = ctx.scene->materials[object.material];
+  const Reflectance& material = reflectance ? *reflectance : ctx.scene->materials[object.material];
   const MaterialRelief& relief = ctx.reliefs[object.material];
   // Shade the side that faces the eye (open meshes such as a ground plane are seen from either
   // side).
@@ -361,8 +362,9 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                         glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal, V, shadows,
                         algorithm_colour::kDisplacement);
   if (relief.levels.empty())  // an NDF alone
-    return shadeBottom(levelContext(ctx, object, sp, coord, V, footprint, nullptr, {}, shadows),
-                       frame, algorithm_colour::kSmooth, shadows);
+    return shadeBottom(
+        levelContext(ctx, object, material, sp, coord, V, footprint, nullptr, {}, shadows), frame,
+        algorithm_colour::kSmooth, shadows);
   const LevelTransitions transitions =
       ctx.algorithm == Algorithm::Auto
           ? levelTransitions(
@@ -371,7 +373,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                 ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
                 TransitionsFor::Shading)
           : LevelTransitions{};
-  const LevelContext c = levelContext(ctx, object, sp, coord, V, footprint, &transitions,
+  const LevelContext c = levelContext(ctx, object, material, sp, coord, V, footprint, &transitions,
                                       relief.metricAt(sp.Pu, sp.Pv), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);

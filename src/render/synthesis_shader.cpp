@@ -28,7 +28,7 @@ Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c) {
   return glm::normalize(toMicrofacetFrame(n0, n1));
 }
 
-SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
+SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Reflectance& material,
                                    std::span<const Light> lights, const Vec3& P, const Vec3& Pu,
                                    const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit,
                                    const LightShadows* shadows) {

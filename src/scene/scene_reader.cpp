@@ -199,8 +199,21 @@ Material readMaterial(TableReader& r, const std::filesystem::path& base) {
   m.name = *name;
   m.loc = r.loc(*r.get("name"));
   m.ka = r.colour("ka", m.ka);
-  m.kd = r.colour("kd", m.kd);
-  m.ks = r.colour("ks", m.ks);
+  // kd and ks: a colour, or a colour image's file name (read with its colour space when the
+  // scene is loaded; render/colour_textures.h).
+  const auto colourOrImage = [&](const char* key, Vec3& colour, ColourTexture& texture) {
+    const toml::node* n = r.get(key);
+    if (n && n->is_string()) {
+      texture.file = readablePath(r, key, base);
+      texture.loc = r.loc(*n);
+      colour = Vec3(1.0f);
+    } else {
+      colour = r.colour(key, colour);
+    }
+  };
+  colourOrImage("kd", m.kd, m.kdTexture);
+  colourOrImage("ks", m.ks, m.ksTexture);
+  m.kdTexture.space = m.ksTexture.space = r.choice("colour_space", ColourSpace::Auto);
   m.phong = static_cast<float>(r.number("phong", m.phong, 0.0, 10000.0));
   const std::vector<const toml::table*> levels = r.tableArray("relief");
   if (levels.size() > static_cast<size_t>(kMaxMaterialReliefLevels))

@@ -30,6 +30,9 @@ struct RenderOptions {
   // The bump renderer filters its slopes over each sample's footprint with Schilling's pyramids;
   // false: point-sampled Blinn bump mapping (aliases when the relief is finer than a pixel).
   bool filterBump = true;
+  // Colour textures are filtered over each sample's footprint (MIP-mapped lookups); false: the
+  // texel under the sample, bilinear at the finest level (a reference that many samples filter).
+  bool filterTextures = true;
   // Camera rays only: each sample's closest hit is found with Embree and nothing else is done (no
   // shading, no shadow rays; beauty is black, depth.Z as usual). The cost of tracing exactly the
   // frame's rays against its geometry: the baseline tools/bench_frame measures renderers against.

@@ -45,7 +45,7 @@ Vec3 redistributeNormal(const Redistribution& r, const ViewFrame& f, float disp,
 // L_n = [L.P_u, L.P_v], so a stretched or warped parameterization stretches the table's azimuths
 // with it (anisotropic highlights where the relief is stretched); without them (or when V or L is
 // along N) it is the angle between the projections of V and L on the tangent plane.
-Vec3 shadeBrdf(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeBrdf(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                const ViewFrame& f, const BrdfTable& brdf, const Vec3* Pu = nullptr,
                const Vec3* Pv = nullptr);
 

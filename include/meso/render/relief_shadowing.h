@@ -54,7 +54,7 @@ LightShadows reliefShadowing(std::span<const Light> lights, const Vec3& P, const
 // at theta_L > pi / 2 (the facets that face it); with it, such a light adds nothing. `firstLevel`
 // (may be null) receives what reliefShadowing(lights, P, m, V, the first of `levels` alone, &macro)
 // gives, from the same lookups.
-Vec3 shadeBrdfShadowed(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeBrdfShadowed(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                        const TileMap& m, const Vec3& V, const BrdfTable& t0, const BrdfTable& t1,
                        float w, const LightShadows& macro, const ShadowingLevels& levels,
                        LightShadows* firstLevel = nullptr);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "meso/appearance/material_tables.h"
+#include "meso/core/texture_lookup.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
@@ -66,6 +67,17 @@ struct RenderContext {
   Algorithm algorithm = Algorithm::Auto;
   bool facetNormals = false;  // render.normals = facet
   bool shadows = false;       // render.shadows: shadow rays and tabulated self-shadowing
+  // Colour textures (kd, ks images): the lookups and, per material, the index of its kd and ks
+  // texture in them (-1: the constant colour).
+  std::shared_ptr<TextureLookup> textures;
+  struct MaterialTextures {
+    int kd = -1, ks = -1;
+  };
+  std::vector<MaterialTextures> materialTextures;
+  bool textured(int material) const {
+    return static_cast<size_t>(material) < materialTextures.size() &&
+           (materialTextures[material].kd >= 0 || materialTextures[material].ks >= 0);
+  }
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).

@@ -52,7 +52,7 @@ struct LightShadows {
 // normal N (unit). The ambient term is ka under unit white ambient light. Lights below the shading
 // horizon (L.N <= 0) contribute nothing. `shadows` (may be null: all lit) scales each light's
 // diffuse and specular terms; null gives exactly the unshadowed value.
-Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeLocal(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                 const Vec3& N, const Vec3& V, const LightShadows* shadows = nullptr);
 
 // The same with Schilling's roughness-modified highlight (his Appendix A): the highlight of a
@@ -63,7 +63,7 @@ Vec3 shadeLocal(const Material& material, std::span<const Light> lights, const V
 // Schilling's, the lobe is scaled by 1 / sqrt(det K) so that its integral over slopes (the mean
 // intensity of the footprint) does not grow as it widens. roughness = 0 gives shadeLocal's value
 // up to float rounding.
-Vec3 shadeRoughened(const Material& material, std::span<const Light> lights, const Vec3& P,
+Vec3 shadeRoughened(const Reflectance& material, std::span<const Light> lights, const Vec3& P,
                     const Vec3& N, const Vec3& V, const Vec3& e1, const Vec3& e2,
                     const SlopeCovariance& roughness, const LightShadows* shadows = nullptr);
 

@@ -51,9 +51,19 @@ struct ShadeResult {
 // hit, from which T and disp are evaluated as the tessellator did. shadows (may be null: no
 // shadows at all, the unshadowed images bit for bit) is each light's macro visibility at the hit;
 // the relief's tabulated self-shadowing multiplies it where a level is not displaced.
+// reflectance (may be null: the material's constants) is what the colour textures give at the hit
+// (textureReflectance).
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                          const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal = nullptr,
                          const Footprint* footprint = nullptr, const Vec3* limitP = nullptr,
-                         const LightShadows* shadows = nullptr);
+                         const LightShadows* shadows = nullptr,
+                         const Reflectance* reflectance = nullptr);
+
+// The material's reflectance with its colour textures (kd, ks images) looked up at uv, filtered
+// over the footprint (a point lookup where it is not valid). Textures and relief share (u, v):
+// kd and ks scale the tables' diffuse and specular parts, which assumes the colour uncorrelated
+// with the relief below a pixel.
+Reflectance textureReflectance(const RenderContext& ctx, int material, Vec2 uv,
+                               const Footprint& footprint);
 
 }  // namespace meso

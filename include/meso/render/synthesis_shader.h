@@ -26,7 +26,7 @@ Vec3 synthesizedNormal(const SynthesisLevel& level, Vec2 uv, float c);
 // seen from V (unit, towards the eye) with pixelsPerUnit pixels per unit of u:
 // ka + sum over lights of radiance (kd (L.n_m) + ks D_lobe(h in n_m's frame) / peak), each light's
 // terms scaled by `shadows` (may be null: all lit).
-SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Material& material,
+SynthesisShade shadeSynthesisLevel(const SynthesisLevel& level, const Reflectance& material,
                                    std::span<const Light> lights, const Vec3& P, const Vec3& Pu,
                                    const Vec3& N, const Vec3& V, Vec2 uv, float pixelsPerUnit,
                                    const LightShadows* shadows = nullptr);

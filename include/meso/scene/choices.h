@@ -5,6 +5,8 @@
 // they are parsed (pbrt-v4's way): an unknown name is an error there, never a silent default.
 #pragma once
 
+#include "meso/core/texture_lookup.h"  // ColourSpace (materials.colour_space)
+
 #include "meso/geometry/control_mesh.h"   // SubdivisionScheme
 #include "meso/geometry/dicing_metric.h"  // DicingMetric
 
@@ -84,6 +86,11 @@ struct Choices<ReliefSource> {
   static constexpr std::array<ChoiceName<ReliefSource>, 3> names{{{ReliefSource::Image, "image"},
                                                                   {ReliefSource::Noise, "noise"},
                                                                   {ReliefSource::Solid, "solid"}}};
+};
+template <>
+struct Choices<ColourSpace> {
+  static constexpr std::array<ChoiceName<ColourSpace>, 3> names{
+      {{ColourSpace::Auto, "auto"}, {ColourSpace::Srgb, "srgb"}, {ColourSpace::Linear, "linear"}}};
 };
 template <>
 struct Choices<NdfType> {

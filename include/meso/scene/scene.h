@@ -86,13 +86,28 @@ struct NdfDecl {
   bool lambert = true;  // keep the kd (L.N) term
 };
 
-struct Material {
-  std::string name;
-  FileLoc loc;
+// What the local model reflects at a point: ka + sum over lights of kd (L.N) + ks (H.N)^phong.
+// Every renderer shades with one; a material's are its constants, or per sample its colour
+// textures' filtered values (render/colour_textures.h).
+struct Reflectance {
   Vec3 ka{0.0f};
   Vec3 kd{0.8f};
   Vec3 ks{0.0f};
   float phong = 20.0f;  // exponent n of (H.N)^n
+};
+
+// A colour image standing for kd or ks (docs/scene-format.md): looked up through OpenImageIO's
+// TextureSystem at the surface's (u, v), filtered over the pixel's footprint.
+struct ColourTexture {
+  std::filesystem::path file;  // empty: the constant colour
+  FileLoc loc;
+  ColourSpace space = ColourSpace::Auto;  // how its values are encoded
+};
+
+struct Material : Reflectance {
+  std::string name;
+  FileLoc loc;
+  ColourTexture kdTexture, ksTexture;
   std::vector<ReliefLevelDecl> relief;
   NdfDecl ndf;
 };
