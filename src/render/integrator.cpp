@@ -239,7 +239,9 @@ void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
     chunk.shadowOf.clear();
     for (size_t s = 0; s < n; ++s) {
       Ray ray;
-      if (chunk.hits[s].found && shadowRay(ctx.scene->lights[k], starts[s], ray)) {
+      if (chunk.hits[s].found &&
+          shadowRay(ctx.scene->lights[k], starts[s], ray,
+                    shadowSample(chunk.film[s], k, ctx.scene->render.seed))) {
         chunk.shadowRays.push_back(ray);
         chunk.shadowOf.push_back(static_cast<uint32_t>(s));
       }

@@ -84,6 +84,7 @@ Light readLight(TableReader& r) {
     l.direction = glm::normalize(l.direction);
   } else {
     l.position = r.vec3("position", l.position);
+    l.radius = static_cast<float>(r.number("radius", l.radius, 0.0, 1e6));
   }
   l.intensity = static_cast<float>(r.number("intensity", l.intensity, 0.0, 1e12));
   l.colour = r.colour("colour", l.colour);

@@ -167,6 +167,65 @@ TEST(Shadows, ShadowRayPointsAtTheLight) {
   EXPECT_FALSE(shadowRay(lamp, start, ray));
 }
 
+// A sphere light's rays are uniform in the cone it subtends and stop on its near side; rays from
+// inside it are none (the light is seen).
+TEST(Shadows, SphereLightRaysFillItsCone) {
+  const Vec3 start(0.0f, 0.0f, 0.0f);
+  Light lamp;
+  lamp.type = LightType::Point;
+  lamp.position = Vec3(0.0f, 0.0f, 4.0f);
+  lamp.radius = 1.0f;
+  const float cosMax = std::sqrt(1.0f - 1.0f / 16.0f);
+  double meanCos = 0.0, positiveX = 0.0;
+  constexpr int kRays = 4096;
+  for (int k = 0; k < kRays; ++k) {
+    Ray ray;
+    ASSERT_TRUE(shadowRay(lamp, start, ray, shadowSample(Vec2(0.5f + k, 0.25f), 0, 7)));
+    const float c = ray.direction.z;
+    EXPECT_GE(c, cosMax - 1e-5f);
+    meanCos += c / kRays;
+    positiveX += (ray.direction.x > 0.0f ? 1.0 : 0.0) / kRays;
+    const Vec3 end = start + ray.direction * (ray.tFar / (1.0f - 1e-5f));
+    EXPECT_NEAR(glm::length(end - lamp.position), lamp.radius, 1e-4f);
+  }
+  // Uniform in solid angle: E[cos] = (1 + cos max) / 2; symmetric about the axis.
+  EXPECT_NEAR(meanCos, 0.5 * (1.0 + cosMax), 2e-3);
+  EXPECT_NEAR(positiveX, 0.5, 0.03);
+  Ray ray;
+  EXPECT_FALSE(shadowRay(lamp, lamp.position + Vec3(0.5f, 0.0f, 0.0f), ray));
+  // The samples depend on the film position, the light and the seed only.
+  EXPECT_EQ(shadowSample(Vec2(3.5f, 2.25f), 1, 9), shadowSample(Vec2(3.5f, 2.25f), 1, 9));
+  EXPECT_NE(shadowSample(Vec2(3.5f, 2.25f), 1, 9), shadowSample(Vec2(3.5f, 2.25f), 2, 9));
+}
+
+// The floating quad under a point light: a point casts a hard shadow, a sphere of radius 0.15 a
+// soft one: a penumbra of partly lit pixels around an umbra
+// that stays dark, and the floor far from the shadow lit as before.
+TEST(Shadows, SphereLightCastsSoftShadows) {
+  Scene scene = quadScene(writeQuads("meso_sphere_light.obj", {{50.0f, 0.0f}, {0.5f, 1.0f}}),
+                          {0.0f, 0.0f, -1.0f});
+  scene.lights[0].type = LightType::Point;
+  scene.lights[0].position = Vec3(0.0f, 0.0f, 1.5f);  // the shadow reaches 1.5 from the centre
+  scene.lights[0].intensity = 4.5f;
+  scene.camera.spp = 64;
+  const Image hard = render(scene);
+  scene.lights[0].radius = 0.15f;  // a penumbra about 0.3 wide on the floor
+  const Image soft = render(scene);
+  ASSERT_TRUE(soft.allFinite());
+  int into = 0, out = 0, umbra = 0;  // light in the hard shadow, shadow outside it, dark in both
+  for (int y = 0; y < hard.height; ++y)
+    for (int x = 0; x < hard.width; ++x) {
+      const float h = hard.at(x, y, FilmLayout::R), v = soft.at(x, y, FilmLayout::R);
+      into += h == 0.0f && v > 0.0f;
+      out += h > 0.0f && v < 0.99f * h;
+      umbra += h == 0.0f && v == 0.0f;
+    }
+  EXPECT_GT(into, 10);
+  EXPECT_GT(out, 10);
+  EXPECT_GT(umbra, 10);
+  EXPECT_NEAR(soft.at(0, 0, FilmLayout::R), hard.at(0, 0, FilmLayout::R), 1e-5f);
+}
+
 // render.shadows = false under the floating quad of the test above: the floor in the quad's
 // shadow is lit exactly as the floor around it, the Lambertian value kd * cos(45 degrees).
 TEST(Shadows, ShadowsOffLightsTheFloorUnderAnOccluder) {

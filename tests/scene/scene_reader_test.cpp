@@ -265,6 +265,14 @@ TEST_F(SceneReaderTest, SplitOctavesMakesOneLevelPerOctave) {
 }
 
 // Solid relief: its keys, split_octaves, and the combinations refused at their key.
+// Sphere lights: a point light's radius, refused when negative.
+TEST_F(SceneReaderTest, PointLightRadius) {
+  const std::string light = "[[lights]]\ntype = \"point\"\nposition = [0, 0, 3]\n";
+  EXPECT_FLOAT_EQ(parse(light + "radius = 0.25\n" + kObject).lights[0].radius, 0.25f);
+  EXPECT_FLOAT_EQ(parse(light + kObject).lights[0].radius, 0.0f);
+  EXPECT_NE(errorOf(light + "radius = -1\n" + kObject).find("lights.radius"), std::string::npos);
+}
+
 TEST_F(SceneReaderTest, SolidReliefAndItsLimits) {
   const std::string head = "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n";
   const Scene s = parse(head +

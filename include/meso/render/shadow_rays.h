@@ -29,7 +29,14 @@ Vec3 shadowRayStart(const ShadowOrigin& o);
 float shadowOffset(const ShadowOrigin& o);
 
 // The occlusion ray from `start` towards `light` (up to a point light's position); false when
-// there is none to trace (a point light at the start itself), and the light counts as visible.
-bool shadowRay(const Light& light, const Vec3& start, Ray& ray);
+// there is none to trace (a point light at the start itself, or a start inside a sphere light),
+// and the light counts as visible. A point light with a radius is a sphere: the ray aims at a
+// direction of the cone the sphere subtends, uniform in solid angle for xi uniform in [0, 1)^2,
+// and stops short of the sphere (soft shadows, as the samples of a pixel average them).
+bool shadowRay(const Light& light, const Vec3& start, Ray& ray, Vec2 xi = Vec2(0.5f));
+
+// Two numbers in [0, 1) for the shadow ray of one camera sample (its film position, whose bits are
+// unique per sample) and one light: the same whatever the thread count.
+Vec2 shadowSample(Vec2 film, size_t light, uint64_t seed);
 
 }  // namespace meso

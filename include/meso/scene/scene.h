@@ -30,6 +30,10 @@ struct Light {
   Vec3 position{0.0f};                // point: where the light is
   float intensity = 1.0f;  // directional: irradiance at normal incidence; point: at distance 1
   Vec3 colour{1.0f};
+  // Point lights: the radius of the sphere that emits (0: a point). Shading takes the light from
+  // its centre (a uniformly emitting sphere lights what it wholly sees as a point of the same
+  // power); shadow rays aim at points of the sphere, so shadows are soft.
+  float radius = 0.0f;
 };
 
 // One relief level as declared in the scene (used by the relief and appearance work).
