@@ -1,4 +1,5 @@
 #include "consistency_command.h"
+#include "scene_options.h"
 
 #include "meso/appearance/table_cache.h"
 #include "meso/core/error.h"
@@ -54,7 +55,7 @@ std::string detailVerdict(const SceneConsistencyReport& report, float referenceD
 }  // namespace
 
 void runSceneConsistency(const ConsistencyCommandOptions& o) {
-  const Scene scene = loadScene(o.scene);
+  const Scene scene = loadScene(o.scene, setOverrides(o.set));
   SceneConsistencyOptions so;
   so.algorithms = o.algorithms;
   so.bands = o.bands;
@@ -96,6 +97,8 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
 
 void runConsistency(const ConsistencyCommandOptions& o) {
   if (!o.scene.empty()) return runSceneConsistency(o);
+  if (!o.set.empty())
+    throw Error("--set: expected a SCENE (the patch without one has no scene keys)");
   for (float t : o.thetaV)
     if (!(t >= 0.0f && t < 90.0f))
       throw Error(

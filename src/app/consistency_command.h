@@ -13,6 +13,7 @@ struct ConsistencyCommandOptions {
   // A scene: Figure 6 for the whole scene (each renderer against a displacement reference, per
   // object and per band of rows) instead of the periodic patch.
   std::filesystem::path scene;
+  std::vector<std::string> set;  // SCENE: --set KEY=VALUE, in order
   int bands = 6;
   float referenceDicing = 0.25f;
   int referenceSpp = 0;

@@ -5,6 +5,7 @@
 #include "cli_values.h"
 #include "consistency_command.h"
 #include "render_command.h"
+#include "scene_options.h"
 #include "tables_command.h"
 #include "trade_command.h"
 
@@ -42,6 +43,7 @@ void addConsistencyCommand(CLI::App& cli, meso::app::ConsistencyCommandOptions& 
   c->add_option("scene", o.scene,
                 "Scene file (TOML): compare renderers on the whole scene instead of the patch")
       ->check(CLI::ExistingFile);
+  meso::app::addSetOption(c, o.set);
   c->add_option("--bands", o.bands, "SCENE: bands of image rows")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
@@ -115,6 +117,7 @@ void addTablesCommand(CLI::App& cli, meso::app::TablesCommandOptions& o) {
       "build time, "
       "size and cache hit/miss per level as CSV; plot histograms and BRDF slices as PNG");
   t->add_option("scene", o.scene, "Scene file")->required();
+  meso::app::addSetOption(t, o.set);
   t->add_option("-o,--out-dir", o.outDir, "Folder for the plots")->capture_default_str();
   t->add_flag("--no-plots", o.noPlots, "Only build and report");
   t->callback([&o] { meso::app::runTables(o); });
@@ -178,6 +181,7 @@ void addTradeCommand(CLI::App& cli) {
                                    "(rmse against log time, Pareto front) and "
                                    "prints the default hybrid's ratios at equal rmse");
   t->add_option("scene", o.scene, "Scene file")->required();
+  meso::app::addSetOption(t, o.set);
   t->add_option("-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")
       ->capture_default_str();
   t->add_option("--frames", o.frames,

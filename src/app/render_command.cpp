@@ -4,6 +4,7 @@
 #include "interrupt.h"
 #include "memory_estimates.h"
 #include "render_stats.h"
+#include "scene_options.h"
 #include "video.h"
 
 #include "meso/core/atomic_file.h"
@@ -85,7 +86,7 @@ class RenderRun {
   // Loads the scene and checks every output before any work: nothing is rendered for a run that
   // cannot finish.
   void plan() {
-    scene_ = loadScene(o_.scene);
+    scene_ = loadScene(o_.scene, setOverrides(o_.set));
     applyRenderOptions(o_, scene_);
     window_ = cropWindow(o_, scene_.camera);
     if (scene_.lights.empty())

@@ -3,6 +3,7 @@
 
 #include "cli_choices.h"
 #include "cli_values.h"
+#include "scene_options.h"
 
 #include "meso/core/error.h"
 #include "meso/render/transition.h"
@@ -28,6 +29,7 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
       ->add_option("--stats", o.statsFile,
                    "Write timings, memory, counters and settings as JSON to this file")
       ->default_str("none");
+  addSetOption(render, o.set);
   render->add_option("--spp", o.spp, "Samples per pixel (jittered strata)")
       ->check(CLI::Range(1, 65536))
       ->default_str("camera.spp");

@@ -20,6 +20,7 @@ struct RenderCommandOptions {
   std::filesystem::path scene;
   std::filesystem::path output;     // .exr; empty: out/<scene stem>.exr
   std::filesystem::path statsFile;  // empty: none
+  std::vector<std::string> set;     // --set KEY=VALUE, in order
   std::optional<int> spp;
   std::optional<int> threads;
   std::optional<uint64_t> seed;

@@ -1,4 +1,5 @@
 #include "tables_command.h"
+#include "scene_options.h"
 
 #include "meso/appearance/table_plots.h"
 #include "memory_estimates.h"
@@ -15,7 +16,7 @@
 namespace meso::app {
 
 void runTables(const TablesCommandOptions& o) {
-  Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene, setOverrides(o.set));
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
   // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
   scene.render.algorithm = Algorithm::Auto;

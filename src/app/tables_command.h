@@ -3,11 +3,14 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace meso::app {
 
 struct TablesCommandOptions {
   std::filesystem::path scene;
+  std::vector<std::string> set;  // --set KEY=VALUE, in order
   std::filesystem::path outDir =
       "out/tables";  // plots: <material>_level<i>_histogram.png, _brdf.png
   bool noPlots = false;

@@ -1,6 +1,7 @@
 // `meso trade`: options to the study of include/meso/trade/trade_study.h, its outputs to files.
 // What is measured is documented in README.md (`meso trade`) and the library's headers.
 #include "trade_command.h"
+#include "scene_options.h"
 
 #include "cli_values.h"
 #include "external_program.h"
@@ -85,7 +86,7 @@ void plot(const fs::path& csv, const fs::path& png, bool quiet) {
 }
 
 Scene loadTradeScene(const TradeCommandOptions& o) {
-  Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene, setOverrides(o.set));
   if (o.width) scene.camera.width = *o.width;
   if (o.height) scene.camera.height = *o.height;
   if (o.threads) scene.render.threads = *o.threads;

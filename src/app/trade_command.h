@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace meso::app {
 
 struct TradeCommandOptions {
   std::filesystem::path scene;
+  std::vector<std::string> set;                // --set KEY=VALUE, in order
   std::filesystem::path outDir = "out/trade";  // trade.csv, trade.png, temporal.csv
   std::string frames;                          // "A:B" of the scene's [path]; empty: every frame
   trade::TradeSettings settings;               // the reference's budget and the swept values

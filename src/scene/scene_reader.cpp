@@ -6,6 +6,7 @@
 #include "meso/scene/camera_path.h"
 #include "meso/scene/relief_bands.h"
 
+#include "scene_overrides.h"
 #include "table_reader.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -456,7 +457,8 @@ void readTop(const toml::table& top, Scene& scene) {
 
 }  // namespace
 
-Scene parseScene(std::string_view text, const std::filesystem::path& file) {
+Scene parseScene(std::string_view text, const std::filesystem::path& file,
+                 std::span<const SceneOverride> overrides) {
   Scene scene;
   scene.file = file;
   toml::table top;
@@ -467,12 +469,13 @@ Scene parseScene(std::string_view text, const std::filesystem::path& file) {
     throw Error(FileLoc{file.string(), static_cast<int>(b.line), static_cast<int>(b.column)}, "",
                 std::string(e.description()));
   }
+  applySceneOverrides(top, overrides);
   readTop(top, scene);
   return scene;
 }
 
-Scene loadScene(const std::filesystem::path& file) {
-  Scene scene = parseScene(readInputFile(file, "scene", kMaxSceneBytes), file);
+Scene loadScene(const std::filesystem::path& file, std::span<const SceneOverride> overrides) {
+  Scene scene = parseScene(readInputFile(file, "scene", kMaxSceneBytes), file, overrides);
   expandImageBands(scene);
   return scene;
 }

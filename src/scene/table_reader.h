@@ -29,7 +29,9 @@ class TableReader {
                          const std::string& what) const {
     throw Error(loc(n), prefix_ + key, what);
   }
+  // A node set on the command line (SceneOverride) carries its option as its source path.
   FileLoc loc(const toml::node& n) const {
+    if (const auto& path = n.source().path; path && *path != file_) return {*path};
     return {file_, static_cast<int>(n.source().begin.line),
             static_cast<int>(n.source().begin.column)};
   }
