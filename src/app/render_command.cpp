@@ -86,7 +86,7 @@ class RenderRun {
   // Loads the scene and checks every output before any work: nothing is rendered for a run that
   // cannot finish.
   void plan() {
-    scene_ = loadScene(o_.scene, setOverrides(o_.set));
+    scene_ = loadScene(o_.scene, sceneOverrides(o_));
     applyRenderOptions(o_, scene_);
     window_ = cropWindow(o_, scene_.camera);
     if (scene_.lights.empty())

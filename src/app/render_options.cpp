@@ -9,6 +9,8 @@
 #include "meso/render/transition.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,18 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
                    "Write timings, memory, counters and settings as JSON to this file")
       ->default_str("none");
   addSetOption(render, o.set);
+  render
+      ->add_option("--camera-position", o.cameraPosition,
+                   "X,Y,Z: the eye (camera.position; not with a [path])")
+      ->default_str("camera.position");
+  render
+      ->add_option("--look-at", o.lookAt,
+                   "X,Y,Z: the point looked at (camera.look_at; not with a [path])")
+      ->default_str("camera.look_at");
+  render
+      ->add_option("--fov", o.fov,
+                   "Vertical field of view in degrees (camera.fov; not with a [path])")
+      ->default_str("camera.fov");
   render->add_option("--spp", o.spp, "Samples per pixel (jittered strata)")
       ->check(CLI::Range(1, 65536))
       ->default_str("camera.spp");
@@ -120,7 +134,68 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
   return render;
 }
 
+namespace {
+
+// A finite number as TOML writes it (TOML refuses .5 and 5.), else meso::Error naming `option`.
+std::string tomlNumber(const std::string& text, const std::string& option,
+                       const std::string& expected) {
+  if (!finiteNumberProblem(text).empty())
+    throw Error(option + ": expected " + expected + ", got \"" + text + "\"");
+  char out[32];
+  std::snprintf(out, sizeof out, "%.17g", std::strtod(text.c_str(), nullptr));
+  return out;
+}
+
+// "X,Y,Z" as the TOML array [X, Y, Z] (the reader checks the point), else meso::Error naming
+// `option`.
+std::string pointValue(const std::string& text, const std::string& option) {
+  const std::string expected = "X,Y,Z (three numbers separated by commas)";
+  std::string array;
+  size_t pieces = 0;
+  for (size_t start = 0; start <= text.size(); ++pieces) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    array += (array.empty() ? "" : ", ") +
+             tomlNumber(text.substr(start, comma - start), option, expected);
+    start = comma + 1;
+  }
+  if (pieces != 3) throw Error(option + ": expected " + expected + ", got \"" + text + "\"");
+  return "[" + array + "]";
+}
+
+// The camera options given, by name.
+std::vector<std::string> cameraOptionsGiven(const RenderCommandOptions& o) {
+  std::vector<std::string> given;
+  if (!o.cameraPosition.empty()) given.push_back("--camera-position");
+  if (!o.lookAt.empty()) given.push_back("--look-at");
+  if (!o.fov.empty()) given.push_back("--fov");
+  return given;
+}
+
+}  // namespace
+
+std::vector<SceneOverride> sceneOverrides(const RenderCommandOptions& o) {
+  std::vector<SceneOverride> overrides = setOverrides(o.set);
+  if (!o.cameraPosition.empty())
+    overrides.push_back({.origin = "--camera-position",
+                         .key = "camera.position",
+                         .value = pointValue(o.cameraPosition, "--camera-position")});
+  if (!o.lookAt.empty())
+    overrides.push_back({.origin = "--look-at",
+                         .key = "camera.look_at",
+                         .value = pointValue(o.lookAt, "--look-at")});
+  if (!o.fov.empty())
+    overrides.push_back({.origin = "--fov",
+                         .key = "camera.fov",
+                         .value = tomlNumber(o.fov, "--fov", "degrees in (0, 180)")});
+  return overrides;
+}
+
 void applyRenderOptions(const RenderCommandOptions& o, Scene& scene) {
+  if (const std::vector<std::string> camera = cameraOptionsGiven(o);
+      !camera.empty() && !scene.path.keys.empty())
+    throw Error(camera.front() + ": " + scene.file.string() +
+                " has a [path]: its keyframes place the camera (edit path.keys, or set their "
+                "defaults with --set camera.position=... and the like)");
   if (o.spp) scene.camera.spp = *o.spp;
   if (o.threads) scene.render.threads = *o.threads;
   if (o.seed) scene.render.seed = *o.seed;

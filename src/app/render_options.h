@@ -5,6 +5,7 @@
 #include "meso/render/integrator.h"
 #include "meso/scene/choices.h"
 #include "meso/scene/scene.h"
+#include "meso/scene/scene_parser.h"
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,9 @@ struct RenderCommandOptions {
   std::filesystem::path output;     // .exr; empty: out/<scene stem>.exr
   std::filesystem::path statsFile;  // empty: none
   std::vector<std::string> set;     // --set KEY=VALUE, in order
+  std::string cameraPosition;       // --camera-position X,Y,Z: camera.position
+  std::string lookAt;               // --look-at X,Y,Z: camera.look_at
+  std::string fov;                  // --fov DEG: camera.fov
   std::optional<int> spp;
   std::optional<int> threads;
   std::optional<uint64_t> seed;
@@ -49,8 +53,14 @@ struct RenderCommandOptions {
 // Adds the `render` subcommand and its options (writing into `o`); the caller sets its callback.
 CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o);
 
+// The options the scene reader applies (SceneOverride): every --set in order, then
+// --camera-position,
+// --look-at and --fov as camera.position, camera.look_at and camera.fov. Throws meso::Error naming
+// the option when an X,Y,Z is not three numbers.
+std::vector<SceneOverride> sceneOverrides(const RenderCommandOptions& o);
+
 // The options that override scene keys, applied to `scene` and checked (meso::Error naming the
-// option).
+// option). The camera options are refused on a scene with a [path]: its keyframes place the camera.
 void applyRenderOptions(const RenderCommandOptions& o, Scene& scene);
 
 // --crop as a window of the scene's image (after applyRenderOptions: --width and --height count);

@@ -1,6 +1,6 @@
 // `meso render`'s options as a user meets them (src/app/render_options.cpp): --crop renders a
-// window of the image bit for bit, a scene without lights is warned about, and --help gives every
-// option's default.
+// window of the image bit for bit, the camera options are the scene's camera keys, a scene without
+// lights is warned about, and --help gives every option's default.
 #include "support/run_meso.h"
 #include "support/temp_dir.h"
 
@@ -103,6 +103,76 @@ TEST_F(RenderOptionsTest, ASceneWithoutLightsIsWarnedAbout) {
   r = render("lit.exr", "");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find("no lights"), std::string::npos) << r.output;
+}
+
+// --camera-position, --look-at and --fov are the scene's camera keys: the same image bit for bit as
+// a file that says them.
+TEST_F(RenderOptionsTest, CameraOptionsAreTheCameraKeys) {
+  const std::string light = "[[lights]]\ndirection = [0.3, 0.2, -1]\n";
+  RunResult r = render("moved.exr", "--camera-position -0.2,-2,2.5 --look-at 0.1,0,0 --fov 35");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const fs::path edited =
+      write("edited.toml",
+            "[camera]\nposition = [-0.2, -2, 2.5]\nlook_at = [0.1, 0, 0]\nfov = 35\n"
+            "up = [0, 0, 1]\nresolution = [40, 24]\nspp = 2\n" +
+                light +
+                "[[materials]]\nname = \"m\"\nka = 0.05\nkd = 0.6\nks = 0.3\n"
+                "[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n"
+                "material = \"m\"\n");
+  r = run("render " + edited.string() + " -q -o " + (dir_ / "out/edited.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = render("unmoved.exr", "");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Image moved = film("moved.exr"), same = film("edited.exr"), unmoved = film("unmoved.exr");
+  int differs = 0;
+  for (int y = 0; y < moved.height; ++y)
+    for (int x = 0; x < moved.width; ++x)
+      for (int c = 0; c < FilmLayout::kChannels; ++c) {
+        ASSERT_EQ(moved.at(x, y, c), same.at(x, y, c)) << x << "," << y << " " << c;
+        differs += moved.at(x, y, c) != unmoved.at(x, y, c);
+      }
+  EXPECT_GT(differs, 100) << "the options moved the camera";
+}
+
+TEST_F(RenderOptionsTest, BadCameraOptionsExitWithStatusTwoNamingTheOption) {
+  const struct {
+    const char* args;
+    const char* message;
+  } cases[] = {
+      {"--fov 200", "meso: --fov: camera.fov: expected a number in (0, 180), got 200"},
+      {"--fov 0", "meso: --fov: camera.fov: expected a number in (0, 180), got 0"},
+      {"--fov abc", "meso: --fov: expected degrees in (0, 180), got \"abc\""},
+      {"--fov nan", "meso: --fov: expected degrees in (0, 180), got \"nan\""},
+      {"--camera-position 1,2", "meso: --camera-position: expected X,Y,Z (three numbers"},
+      {"--camera-position 1,2,3,4", "meso: --camera-position: expected X,Y,Z (three numbers"},
+      {"--look-at 1,,2", "meso: --look-at: expected X,Y,Z (three numbers"},
+      {"--look-at=0.4,-2.5,2",
+       "meso: --look-at: camera.look_at: expected a point different from camera.position"},
+      {"--camera-position 0,0,1e300",
+       "meso: --camera-position: camera.position: expected a number in [-1e+30, 1e+30], got "
+       "1e+300"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = render("bad.exr", c.args);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind(c.message, 0), 0) << c.args << ": " << r.output;
+  }
+  // A [path] places the camera in its keyframes: the options are refused, --set is not.
+  const fs::path path = scene(
+      "[[lights]]\ndirection = [0.3, 0.2, -1]\n[path]\nframes = 2\n[[path.keys]]\ntime = 0\n"
+      "[[path.keys]]\ntime = 1\nposition = [0.5, -2.5, 2]\n");
+  for (const char* option : {"--fov 30", "--camera-position 0,-2,2", "--look-at 0,0,0.1"}) {
+    const RunResult r =
+        run("render " + path.string() + " -q -o " + (dir_ / "out/p.exr").string() + " " + option);
+    EXPECT_EQ(r.status, 2) << option << ": " << r.output;
+    const std::string name = std::string(option).substr(0, std::string(option).find(' '));
+    EXPECT_EQ(r.output.rfind("meso: " + name + ": " + path.string() +
+                                 " has a [path]: its keyframes place the camera",
+                             0),
+              0)
+        << option << ": " << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir_ / "out"));
 }
 
 // Every option of `meso render --help` that takes a value shows its default (CLI11 writes it as
