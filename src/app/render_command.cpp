@@ -3,6 +3,7 @@
 #include "cli_values.h"
 #include "interrupt.h"
 #include "memory_estimates.h"
+#include "render_report.h"
 #include "render_stats.h"
 #include "scene_options.h"
 #include "video.h"
@@ -21,6 +22,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <optional>
@@ -38,8 +40,6 @@ std::filesystem::path frameOutput(const std::filesystem::path& output, int frame
   std::snprintf(suffix, sizeof suffix, "_%04d.exr", frame);
   return output.parent_path() / (output.stem().string() + suffix);
 }
-
-std::filesystem::path pngBeside(std::filesystem::path exr) { return exr.replace_extension(".png"); }
 
 // .exr in any case (.EXR from a camera's or a tool's naming).
 bool hasExrExtension(const std::filesystem::path& p) {
@@ -115,8 +115,15 @@ class RenderRun {
     }
     animated_ = !scene_.path.keys.empty();
     frames_ = framesToRender(o_, scene_);
+    for (int f : frames_) toRender_ += !completeOnDisk(frameOutput(output_, f, animated_));
     if (animated_) path_.emplace(scene_.path.keys);
     stats_.parseSeconds = total_.seconds();
+  }
+
+  // A frame of a path whose EXR and PNG exist: skipped unless --overwrite.
+  bool completeOnDisk(const std::filesystem::path& exr) const {
+    return animated_ && !o_.overwrite && std::filesystem::exists(exr) &&
+           std::filesystem::exists(pngBeside(exr));
   }
 
   void reportWarnings() {
@@ -138,6 +145,16 @@ class RenderRun {
         static_cast<double>(geometry.meshBytes) / (1024.0 * 1024.0) / millions;
   }
 
+  // "frame i of N" of a path with the run's ETA, before the frame's own progress bar.
+  void announceFrame(int f) const {
+    if (o_.quiet) return;
+    const int index = stats_.rendered + 1;
+    std::fprintf(stderr, "meso: %s\n",
+                 frameLine(index, std::max(toRender_, index), f, scene_.path.frames,
+                           total_.seconds(), framesSeconds_)
+                     .c_str());
+  }
+
   // Renders frame f and stages its EXR and PNG (committed at once without --stats, else with the
   // stats: a run that cannot write its stats leaves its last frame under no final name).
   void renderFrameOf(int f) {
@@ -145,10 +162,14 @@ class RenderRun {
     if (animated_) {
       checkOutputFile(exr, "-o");
       checkOutputFile(png, "-o (its PNG preview)");
-      if (!o_.overwrite && std::filesystem::exists(exr) && std::filesystem::exists(png)) {
+      if (completeOnDisk(exr)) {
         ++stats_.skipped;
         return;
       }
+      announceFrame(f);
+    }
+    Timer frameClock;
+    if (animated_) {
       noteFrameGeometry(
           prepareFrame(*ctx_, path_->frame(f, scene_.path.frames, scene_.camera), prep_));
     }
@@ -177,6 +198,8 @@ class RenderRun {
     if (o_.statsFile.empty()) lastFrame_.commit();
     const double w = phase.seconds();
     stats_.renderSeconds += r, stats_.writeSeconds += w, ++stats_.rendered;
+    framesSeconds_ += frameClock.seconds();
+    written_.exrs.push_back(exr);
     stats_.perFrame.push_back(frameJson(f, exr, counters_.rays.load() - raysBefore,
                                         ctx_->numTriangles(), geometry_, r, w));
     if (!o_.quiet)
@@ -211,6 +234,10 @@ class RenderRun {
     if (!o_.video.empty())
       assembleVideo(ffmpeg_, o_.video, output_, scene_.path.fps,
                     frames_.empty() ? 0 : frames_.front());
+    written_.animated = animated_;
+    written_.stats = o_.statsFile;
+    written_.video = o_.video;
+    if (!o_.quiet) std::fprintf(stderr, "meso: %s\n", writtenLine(written_).c_str());
   }
 
   const RenderCommandOptions& o_;
@@ -220,6 +247,9 @@ class RenderRun {
   std::string ffmpeg_;
   bool animated_ = false;
   std::vector<int> frames_;
+  int toRender_ = 0;            // frames_ not complete on disk at the start
+  double framesSeconds_ = 0.0;  // spent on the frames rendered so far
+  WrittenFiles written_;
   std::optional<CameraPath> path_;
   std::optional<PixelWindow> window_;  // --crop
   PrepareTimes prep_;

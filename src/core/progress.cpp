@@ -6,16 +6,13 @@
 #include <unistd.h>
 
 namespace meso {
-namespace {
 
-std::string formatSeconds(double s) {
+std::string formatDuration(double s) {
   char buf[32];
   int total = static_cast<int>(s + 0.5);
   std::snprintf(buf, sizeof buf, "%d:%02d", total / 60, total % 60);
   return buf;
 }
-
-}  // namespace
 
 namespace {
 std::atomic<bool> gProgressAllowed{true};
@@ -68,10 +65,10 @@ void ProgressBar::draw(bool final) const {
   const int filled = static_cast<int>(fraction * kWidth);
   std::string bar(filled, '=');
   bar.resize(kWidth, ' ');
-  std::string eta = done > 0 ? formatSeconds(elapsed * (1.0 - fraction) / fraction) : "?";
+  std::string eta = done > 0 ? formatDuration(elapsed * (1.0 - fraction) / fraction) : "?";
   std::fprintf(stderr, "\r%s [%s] %lld/%lld  elapsed %s  ETA %s ", label_.c_str(), bar.c_str(),
                static_cast<long long>(done), static_cast<long long>(total_),
-               formatSeconds(elapsed).c_str(), eta.c_str());
+               formatDuration(elapsed).c_str(), eta.c_str());
   if (final) std::fputc('\n', stderr);
   std::fflush(stderr);
 }

@@ -16,6 +16,9 @@ namespace meso {
 // for --quiet, for bars drawn deep in the library (table building).
 void setProgressAllowed(bool allowed);
 
+// A duration as m:ss (the bar's elapsed time and ETA; also the CLI's per-frame ETA).
+std::string formatDuration(double seconds);
+
 class ProgressBar {
  public:
   // enabled = false forces silence (e.g. --quiet); otherwise it draws only if stderr is a TTY and
