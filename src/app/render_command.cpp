@@ -1,6 +1,7 @@
 #include "render_command.h"
 
 #include "cli_values.h"
+#include "frame_settings.h"
 #include "interrupt.h"
 #include "memory_estimates.h"
 #include "render_report.h"
@@ -11,6 +12,7 @@
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
+#include "meso/core/input_file.h"
 #include "meso/core/timer.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
@@ -74,6 +76,7 @@ class RenderRun {
     stats_.threads = threads;
     createOutputFolder(output_.parent_path(), "-o");
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
+    if (animated_) storeFrameSettings(output_, settings_);
     ctx_.emplace(prepareRenderContext(scene_, prep_, false));
     if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
     reportWarnings();
@@ -116,7 +119,13 @@ class RenderRun {
     animated_ = !scene_.path.keys.empty();
     frames_ = framesToRender(o_, scene_);
     for (int f : frames_) toRender_ += !completeOnDisk(frameOutput(output_, f, animated_));
-    if (animated_) path_.emplace(scene_.path.keys);
+    if (animated_) {
+      settings_ =
+          frameSettings(scene_, readInputFile(o_.scene, "scene", kMaxSceneBytes), o_, window_);
+      checkOutputFile(settingsFileFor(output_), "-o (the frames' settings file)");
+      if (!o_.overwrite) checkResumedSettings(output_, settings_);
+      path_.emplace(scene_.path.keys);
+    }
     stats_.parseSeconds = total_.seconds();
   }
 
@@ -250,6 +259,7 @@ class RenderRun {
   int toRender_ = 0;            // frames_ not complete on disk at the start
   double framesSeconds_ = 0.0;  // spent on the frames rendered so far
   WrittenFiles written_;
+  nlohmann::json settings_;  // of a path's frames (frame_settings.h)
   std::optional<CameraPath> path_;
   std::optional<PixelWindow> window_;  // --crop
   PrepareTimes prep_;

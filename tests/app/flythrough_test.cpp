@@ -103,7 +103,7 @@ TEST_F(FlythroughTest, InterruptLeavesNoPartialFrameAndRerunCompletes) {
   int exr = 0;
   for (const auto& e : fs::directory_iterator(dir_)) {
     const std::string name = e.path().filename().string();
-    EXPECT_NE(name[0], '.') << "temporary left behind: " << name;
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "temporary left behind: " << name;
     if (e.path().extension() == ".exr") {
       ++exr;
       fs::path png = e.path();

@@ -166,12 +166,13 @@ class InterruptTest : public meso::testing::TempDirTest {
 
   // Every file under a final frame name must read back as a whole kWidth x kHeight image with the
   // expected channels. Returns the frames (numbers) whose EXR and PNG are both on disk, and counts
-  // the temporaries (names starting with '.').
+  // the temporaries (.NAME.tmp-PID-N.ext); the path's settings file (.f.meso-settings) is neither.
   std::set<int> checkFinalFrames(int* temporaries) const {
     std::set<int> exr, png;
     *temporaries = 0;
     for (const auto& e : fs::directory_iterator(dir_ / "out")) {
       const std::string name = e.path().filename().string();
+      if (name == ".f.meso-settings") continue;
       if (name[0] == '.') {
         ++*temporaries;
         continue;
@@ -223,7 +224,8 @@ TEST_F(InterruptTest, SigintExits130WithOnlyCompleteFramesAndNoTemporaries) {
   int expected = 0;
   for (int f : complete) EXPECT_EQ(f, expected++);
   size_t files = 0;
-  for (const auto& e : fs::directory_iterator(dir_ / "out")) files += e.is_regular_file();
+  for (const auto& e : fs::directory_iterator(dir_ / "out"))
+    files += e.is_regular_file() && e.path().filename() != ".f.meso-settings";
   EXPECT_EQ(files, 2 * complete.size()) << "an EXR without its PNG (or the reverse)";
 }
 

@@ -141,7 +141,7 @@ if command -v ffmpeg >/dev/null; then  # the gather job assembles the video when
   video=path12.mp4
   echo "video: path12.mp4, 12 frames"
 fi
-expected=$( (for f in $(seq 0 11); do printf 'path12_%04d.exr\npath12_%04d.png\n' "$f" "$f"; done; echo path12.farm; [[ -z $video ]] || echo "$video") | sort)
+expected=$( (for f in $(seq 0 11); do printf 'path12_%04d.exr\npath12_%04d.png\n' "$f" "$f"; done; echo .path12.meso-settings; echo path12.farm; [[ -z $video ]] || echo "$video") | sort)
 [[ $(ls -A "$work/out" | sort) == "$expected" ]] || fail "unexpected files in the output folder: $(ls -A "$work/out")"
 leftover=$(find "$work/out" "$MESO_CACHE_DIR" -name '*.tmp-*')
 [[ -z $leftover ]] || fail "temporary files left: $leftover"
