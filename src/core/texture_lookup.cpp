@@ -30,15 +30,14 @@ struct TextureLookup::Impl {
   std::vector<std::optional<Vec3>> constants;
 };
 
+// The process's shared TextureSystem, never destroyed: OpenImageIO 2.4's TextureSystem::destroy
+// frees a private instance through its base class with the base's size (AddressSanitizer:
+// new-delete-type-mismatch). The shared one lives until exit and keeps its files' handles.
 TextureLookup::TextureLookup() : impl_(std::make_unique<Impl>()) {
-  impl_->system = OIIO::TextureSystem::create(false);
-  // Every texture is prepared as a tiled MIP-map: nothing is read untiled or re-MIP-mapped.
-  impl_->system->attribute("max_memory_MB", 512.0f);
+  impl_->system = OIIO::TextureSystem::create(true);
 }
 
-TextureLookup::~TextureLookup() {
-  if (impl_->system) OIIO::TextureSystem::destroy(impl_->system);
-}
+TextureLookup::~TextureLookup() = default;
 
 namespace {
 
