@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 namespace meso {
@@ -260,8 +261,8 @@ void clampTableSlopes(const MaterialRelief& r, const std::string& name,
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings,
-                                   const TableSettings& settings,
-                                   std::vector<MetricClass> classes) {
+                                   const TableSettings& settings, std::vector<MetricClass> classes,
+                                   ProgressBar* shared) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) {
     r.levels.push_back(makeReliefLevel(d));
@@ -305,14 +306,17 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
   if (n == 0) return r;
   // Building a table set takes about half a second (minutes at high resolutions or for steep
   // relief), reading one from the cache milliseconds: the bar shows only for the former.
-  ProgressBar progress("tables " + material.name,
-                       static_cast<int64_t>(settings.build ? classes.size() * n : 0), true,
-                       std::chrono::milliseconds(1000));
+  std::optional<ProgressBar> own;
+  if (!shared)
+    own.emplace("tables " + material.name,
+                static_cast<int64_t>(settings.build ? classes.size() * n : 0), true,
+                std::chrono::milliseconds(1000));
+  ProgressBar& progress = shared ? *shared : *own;
   for (const MetricClass& m : classes)
     r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings,
                                           r.synthesis ? &lobe : nullptr, &r.tablesBuilt,
                                           &r.tablesFromCache, &r.tablesSeconds, progress));
-  progress.finish();
+  if (own) own->finish();
   return r;
 }
 

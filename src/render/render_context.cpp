@@ -1,10 +1,12 @@
 #include "meso/render/render_context.h"
 
+#include "meso/core/progress.h"
 #include "meso/core/timer.h"
 #include "meso/render/tile_map.h"
 #include "meso/scene/mesh_io.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -153,6 +155,15 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                      ctx.algorithm != Algorithm::Displacement;
   settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
   settings.keepHistograms = keepHistograms;
+  // The metric classes of every material first, so that one progress line counts every table set
+  // of the scene (with its ETA) instead of one line per material.
+  struct Plan {
+    size_t material;
+    std::vector<MetricClass> classes;
+    bool curved;
+  };
+  std::vector<Plan> plans;
+  int64_t sets = 0;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     std::vector<MetricClass> samples;
     bool used = false, curved = false;
@@ -179,13 +190,24 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                     scene.render.tables.metricStep, step, classes.size());
       ctx.warnings.push_back(text);
     }
-    ctx.reliefs[m] =
-        buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings, std::move(classes));
+    if (settings.build)
+      sets += static_cast<int64_t>(std::max<size_t>(classes.size(), 1) *
+                                   scene.materials[m].relief.size());
+    plans.push_back({m, std::move(classes), curved});
+  }
+  // Shown only when building takes longer than a second (tables read from the cache do not).
+  ProgressBar progress("tables (" + std::to_string(sets) + " sets)", sets, true,
+                       std::chrono::milliseconds(1000));
+  for (Plan& plan : plans) {
+    const size_t m = plan.material;
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
+                                         std::move(plan.classes), &progress);
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
-    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], curved);
+    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], plan.curved);
     times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
     times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
   }
+  progress.finish();
   times.tables += tables.seconds();
   for (PreparedObject& o : ctx.objects)
     o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();

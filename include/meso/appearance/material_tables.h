@@ -7,6 +7,7 @@
 #include "meso/appearance/metric_classes.h"
 #include "meso/appearance/synthesis_level.h"
 #include "meso/appearance/visible_height.h"
+#include "meso/core/progress.h"
 #include "meso/relief/height_source.h"
 #include "meso/relief/relief_level.h"
 #include "meso/scene/scene.h"
@@ -93,11 +94,13 @@ void buildVisibleHeights(MaterialRelief& relief, bool curvedSurface);
 TableSettings tableSettings(const TableResolution& resolution);
 
 // Builds (or loads) the tables of every level for each metric class (sorted by shape, then length,
-// here). Empty means the unit metric only.
+// here). Empty means the unit metric only. `progress` (may be null: a bar of the material's own)
+// advances by one per table set.
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
                                    std::vector<std::string>* warnings,
                                    const TableSettings& settings = {},
-                                   std::vector<MetricClass> classes = {});
+                                   std::vector<MetricClass> classes = {},
+                                   ProgressBar* progress = nullptr);
 
 // The steepest rms slope a class's tables are built for (89.4 degrees): beyond it the class's
 // length per unit of u is raised until the relief is this steep, with a warning. Tracing a tile
