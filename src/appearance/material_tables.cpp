@@ -19,8 +19,10 @@
 namespace meso {
 
 namespace {
-SolidNoiseOptions solidOptions(const ReliefLevelDecl& d) {
-  SolidNoiseOptions o;
+// The fBm parameters a noise or solid level declares (FractalNoiseOptions, SolidNoiseOptions).
+template <class Options>
+Options noiseOptions(const ReliefLevelDecl& d) {
+  Options o;
   o.octaves = std::max(d.octaves, 1);
   o.lacunarity = d.lacunarity;
   o.gain = d.gain;
@@ -31,16 +33,10 @@ SolidNoiseOptions solidOptions(const ReliefLevelDecl& d) {
 }  // namespace
 
 std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
-  if (d.source == ReliefSource::Solid) return std::make_unique<SolidSlice>(solidOptions(d));
-  if (d.source == ReliefSource::Noise) {
-    FractalNoiseOptions o;
-    o.octaves = std::max(d.octaves, 1);
-    o.lacunarity = d.lacunarity;
-    o.gain = d.gain;
-    o.seed = d.seed;
-    o.firstOctave = d.firstOctave;
-    return std::make_unique<FractalNoise>(o);
-  }
+  if (d.source == ReliefSource::Solid)
+    return std::make_unique<SolidSlice>(noiseOptions<SolidNoiseOptions>(d));
+  if (d.source == ReliefSource::Noise)
+    return std::make_unique<FractalNoise>(noiseOptions<FractalNoiseOptions>(d));
   try {
     HeightTable table = HeightTable::load(d.height, d.periodic);
     if (d.bandCount > 1)  // one band-limited level of the image (scene/relief_bands.h)
@@ -61,7 +57,7 @@ ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
   if (d.source == ReliefSource::Solid) {
     // The tables trace the periodic slice, one tile every period of its lattice; the renderers
     // evaluate the (non-repeating) noise itself at d.scale cells per unit of length.
-    level.solid = std::make_shared<SolidNoise>(solidOptions(d));
+    level.solid = std::make_shared<SolidNoise>(noiseOptions<SolidNoiseOptions>(d));
     level.solidCells = d.scale;
     level.scale = d.scale / static_cast<const SolidSlice&>(*level.source).side();
   }
