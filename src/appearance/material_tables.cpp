@@ -202,8 +202,12 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     const ReliefLevel& level = r.levels[n - 1 - k];
     const size_t finerLevel = level.partialSum ? level.partialSumEnd : n - k;
     const LevelTables* finer = finerLevel < n ? &reversed[n - 1 - finerLevel] : nullptr;
-    const TileRelief tile(level.partialSum ? *level.partialSum : level, lengthPerU);
-    reversed.push_back(buildLevelTables(tile, material.phong, settings, finer, cache, warnings,
+    const ReliefLevel& traced = level.partialSum ? *level.partialSum : level;
+    const TileRelief tile(traced, lengthPerU);
+    TableSettings levelSettings = settings;
+    levelSettings.histogram.meshResolution =
+        tableMeshResolution(traced, settings.histogram.meshResolution);
+    reversed.push_back(buildLevelTables(tile, material.phong, levelSettings, finer, cache, warnings,
                                         finer ? nullptr : lobe));
     const LevelTables& t = reversed.back();
     (t.fromCache ? *loaded : *built) += 1;

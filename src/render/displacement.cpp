@@ -1,7 +1,6 @@
 // Becker & Max 1993, section 2.3 and eq. (10); DESIGN.md sections 3 and 5.
 #include "meso/render/displacement.h"
 
-#include "meso/relief/height_table.h"
 #include "meso/relief/level_frames.h"
 #include "meso/render/transition.h"
 
@@ -21,11 +20,10 @@ float displacementBound(const MaterialRelief& relief) {
   return std::isfinite(sum) ? static_cast<float>(sum) : std::numeric_limits<float>::infinity();
 }
 
-float samplesPerU(const ReliefLevel& level, float reliefSamples) {
-  if (const auto* table = dynamic_cast<const HeightTable*>(level.source.get()))
-    return static_cast<float>(std::max(table->width(), table->heightTexels())) * level.scale *
-           std::max(1.0f, reliefSamples / kReliefSamplesPerTexel);
-  return std::max(8.0f, 2.0f * reliefSamples) * level.freqPerU;
+float samplesPerU(const ReliefLevel& level, const ReliefSampling& sampling) {
+  if (const int texels = level.source->texelsPerSide(); texels > 0)
+    return static_cast<float>(texels) * level.scale * sampling.texelEdges();
+  return std::max(8.0f, 2.0f * sampling.perWavelength) * level.freqPerU;
 }
 
 namespace {
@@ -248,7 +246,8 @@ int edgeRateFor(float uvEdge, float perU, float limit) {
 
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian, float reliefSamples, const SolidSpace& solid) {
+                      float pixelsPerRadian, const ReliefSampling& sampling,
+                      const SolidSpace& solid) {
   const int n = surface.numFaces();
   FaceDicing out;
   out.needsDicing.assign(static_cast<size_t>(n), 0);
@@ -260,21 +259,30 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   const float bound = displacementBound(relief);
   const float threshold =
       transition.D + transition.e3 * transition.eps;  // least nu that T can raise
-  const float slopePerU =
-      mode == DisplacementMode::Full && reliefSamples > 0.0f ? reliefSlopeRmsPerU(relief) : 0.0f;
+  // The floor resolves the relief's own finest wavelength: an image level whose T follows a
+  // coarser band (coupled bands, scene/relief_bands.h) still has the image's finest detail.
+  const ReliefLevel& finestLevel = relief.levels.back();
+  const float floorFreqPerU =
+      finestLevel.source->texelsPerSide() > 0
+          ? std::max(finestLevel.freqPerU,
+                     finestLevel.source->highestFrequency() * finestLevel.scale)
+          : finestLevel.freqPerU;
+  const float slopePerU = mode == DisplacementMode::Full && sampling.perWavelength > 0.0f
+                              ? reliefSlopeRmsPerU(relief)
+                              : 0.0f;
   tbb::parallel_for(0, n, [&](int face) {
     FaceSample s;
     if (!sampleFace(surface, face, eye, solid, s)) return;
     if (mode == DisplacementMode::Full) {
       const ReliefLevel& finest = relief.levels.back();
-      const float capPerU = samplesPerU(finest, reliefSamples);
+      const float capPerU = samplesPerU(finest, sampling);
       out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
       // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
       const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU
                                                 : std::numeric_limits<float>::infinity();
       if (!(s.leastCot >= kMaskingSlopes * slope))
         out.texelFloor[face] =
-            edgeRateFor(s.uvEdge, std::min(reliefSamples * finest.freqPerU, capPerU),
+            edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * floorFreqPerU, capPerU),
                         out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
       out.needsDicing[face] = 1;
       return;
@@ -300,7 +308,7 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     for (size_t i = relief.levels.size(); i-- > 0;)
       if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
         out.texelCap[face] =
-            edgeRateFor(s.uvEdge, samplesPerU(relief.levels[i], reliefSamples), 32767.0f);
+            edgeRateFor(s.uvEdge, samplesPerU(relief.levels[i], sampling), 32767.0f);
         break;
       }
   });

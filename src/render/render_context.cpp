@@ -258,11 +258,11 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
       ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
       &object.surface, object.solid);
   d.dicing.maxMicropolygons = std::max<size_t>(d.budget, 1);
-  AdaptiveTessellation t =
-      tessellateAdaptive(object.surface, d.screen, d.dicing,
-                         faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
-                                    ctx.camera.pixelsPerRadian(), rs.reliefSamples, object.solid),
-                         &displacement);
+  AdaptiveTessellation t = tessellateAdaptive(
+      object.surface, d.screen, d.dicing,
+      faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
+                 ctx.camera.pixelsPerRadian(), {rs.reliefSamples, rs.texelSamples}, object.solid),
+      &displacement);
   if (!t.warning.empty())
     ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
   stats.micropolygons += t.stats.micropolygons;

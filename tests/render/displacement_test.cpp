@@ -315,15 +315,19 @@ TEST(Displacement, HeightImageTexelCapIsRefinedWithReliefSamples) {
   ReliefLevel image;
   image.source = std::make_unique<HeightTable>(32, 16, std::vector<float>(32 * 16, 0.5f));
   image.scale = 3.0f;
-  EXPECT_FLOAT_EQ(samplesPerU(image, 0.0f), 96.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, 4.0f), 96.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, 8.0f), 192.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, 16.0f), 384.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {0.0f}), 96.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {4.0f}), 96.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {8.0f}), 192.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {16.0f}), 384.0f);
+  // render.texel_samples overrides it, for images only.
+  EXPECT_FLOAT_EQ(samplesPerU(image, {4.0f, 8.0f}), 768.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {16.0f, 1.0f}), 96.0f);
   ReliefLevel noise;
   noise.source = std::make_unique<FractalNoise>(FractalNoiseOptions{});
   noise.freqPerU = 10.0f;
-  EXPECT_FLOAT_EQ(samplesPerU(noise, 4.0f), 80.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(noise, 8.0f), 160.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(noise, {4.0f}), 80.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(noise, {8.0f}), 160.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(noise, {8.0f, 16.0f}), 160.0f);
 }
 
 }  // namespace

@@ -36,6 +36,9 @@ class HeightSource {
   // The mean of h over one tile (table units): the default midlevel, the height that stays on the
   // surface when the relief is displaced. The default samples a 128 x 128 grid of the tile.
   virtual float meanHeight() const;
+  // Samples per tile side of a sampled source (texels of an image along its longer side), where
+  // its surface is interpolated between samples; 0 for a source defined everywhere (noise).
+  virtual int texelsPerSide() const { return 0; }
 };
 
 // The parameters of relief level i (DESIGN.md section 1): world height amplitude * h(S u, S v).

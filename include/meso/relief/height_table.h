@@ -58,6 +58,7 @@ class HeightTable : public HeightSource {
   uint64_t fingerprint() const override;
   float maxAbsHeight() const override { return maxAbs_; }  // bilinear never leaves the texel range
   float meanHeight() const override { return mean_; }  // texel mean (a periodic bilinear's mean)
+  int texelsPerSide() const override { return std::max(width_, height_); }
 
   // The image it was read from had an alpha channel, which the heights ignore.
   bool ignoredAlpha() const { return ignoredAlpha_; }

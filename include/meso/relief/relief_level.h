@@ -80,6 +80,14 @@ struct ReliefLevel {
 // table: where the level's statistics (rms slope, height distribution) are sampled.
 std::vector<Vec2> levelSamplePoints(const ReliefLevel& level);
 
+// Quads per tile side at which the tables trace a level's tile (PeriodicTile): `base`
+// (render.tables.mesh_resolution) for a source defined everywhere; for a sampled one (a height
+// image) enough to resolve its interpolated surface where the level has energy, 8 quads per cycle
+// of its highest frequency up to two per texel (every texel centre a vertex, each texel's bilinear
+// patch split 2 x 2), never below base and at most kMaxTableMeshResolution.
+inline constexpr int kMaxTableMeshResolution = 1024;
+int tableMeshResolution(const ReliefLevel& level, int base);
+
 // The mean square of the level's height derivative along u or along v (the larger), per unit of u,
 // over levelSamplePoints: its squared rms slope on a unit-speed surface.
 double levelSlopeMeanSquarePerU(const ReliefLevel& level);

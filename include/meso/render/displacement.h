@@ -87,18 +87,31 @@ class ReliefDisplacement : public VertexDisplacement {
 float displacementBound(const MaterialRelief& relief);
 
 // The relief samples (render.relief_samples, default 4) at which a height image is diced to its
-// texels and no finer; more divide each texel (a reference that doubles them dices below the
-// texel, where the bilinear surface between texels still curves and casts shadows).
+// texels and no finer, unless render.texel_samples says otherwise.
 inline constexpr float kReliefSamplesPerTexel = 4.0f;
 
-// Samples of a level per unit of u: the texel spacing below which dicing stops. A height table has
-// max(W, H) * S texels per unit of u, times reliefSamples / kReliefSamplesPerTexel when that is
-// above 1; procedural noise is sampled max(8, 2 reliefSamples) times
-// per shortest wavelength: 8 resolve its silhouettes and self-occlusion (the shading normal is its
-// Blinn normal; on the terrain 8 instead of 16 changed no depth band by more than 0.05%), and
-// twice the relief samples keeps the cap above the floor, so a reference that doubles them is
-// refined, not capped.
-float samplesPerU(const ReliefLevel& level, float reliefSamples);
+// How finely full displacement samples relief where it is below a pixel.
+struct ReliefSampling {
+  // render.relief_samples: at least this many edges per shortest wavelength where sub-pixel relief
+  // can mask itself (the texel floor); 0 = pixel dicing only.
+  float perWavelength = 0.0f;
+  // render.texel_samples: at most this many edges per texel of a height image (the texel cap);
+  // 0 = perWavelength / kReliefSamplesPerTexel, at least 1. Above 1 each texel's bilinear patch is
+  // diced, which still curves and casts shadows below the texel (a converged reference needs 4 to
+  // 8 on sharp-edged images: docs/validation.md).
+  float perTexel = 0.0f;
+  float texelEdges() const {
+    return perTexel > 0.0f ? perTexel : std::max(1.0f, perWavelength / kReliefSamplesPerTexel);
+  }
+};
+
+// Samples of a level per unit of u: the spacing below which dicing stops (the texel cap). A height
+// table has max(W, H) * S texels per unit of u, times sampling.texelEdges(); procedural noise is
+// sampled max(8, 2 perWavelength) times per shortest wavelength: 8 resolve its silhouettes and
+// self-occlusion (the shading normal is its Blinn normal; on the terrain 8 instead of 16 changed
+// no depth band by more than 0.05%), and twice the relief samples keeps the cap above the floor,
+// so a reference that doubles them is refined, not capped.
+float samplesPerU(const ReliefLevel& level, const ReliefSampling& sampling);
 
 // Root of the summed mean squares of every level's height derivative along u or v (the larger),
 // per unit of u, from 1024 fixed points per level: the relief's rms slope on a unit-speed surface.
@@ -110,10 +123,10 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // (the edge rate at which micropolygons reach the sample spacing of the finest level that can be
 // raised on the face: every level in Full mode, in ByTransition mode those whose nu can exceed
 // D + e3 * eps there; finer levels are drawn flat, so dicing below their texels buys nothing).
-// In Full mode also the texel floor: at least reliefSamples micropolygon edges per shortest
-// wavelength of the finest level (at most its texel cap), so that relief smaller than a pixel is
-// still resolved by the geometry (0: pixel dicing only), on faces where the relief can mask
-// itself: where the most grazing view of the face's corners and centre has cot(theta_V) below
+// In Full mode also the texel floor: at least sampling.perWavelength micropolygon edges per
+// shortest wavelength of the finest level (at most its texel cap), so that relief smaller than a
+// pixel is still resolved by the geometry (0: pixel dicing only), on faces where the relief can
+// mask itself: where the most grazing view of the face's corners and centre has cot(theta_V) below
 // 3 times the relief's world rms slope. Elsewhere under-resolved relief already shows its normals
 // with their true distribution, and the floor would only cost micropolygons.
 // In ByTransition mode also the raise distance: the distance from the eye beyond which that nu
@@ -123,7 +136,7 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // (world edge lengths over SolidSpace::lengthPerUnit) instead of in (u, v).
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
-                      float pixelsPerRadian, float reliefSamples = 0.0f,
+                      float pixelsPerRadian, const ReliefSampling& sampling = {},
                       const SolidSpace& solid = {});
 
 }  // namespace meso

@@ -170,6 +170,9 @@ struct RenderSettings {
   // Full displacement: at least this many micropolygon edges per shortest wavelength of the
   // finest relief level wherever it is diced, also where that is below a pixel (0 = off).
   float reliefSamples = 4.0f;
+  // Full displacement: at most this many edges per texel of a height image (0: reliefSamples / 4,
+  // at least 1).
+  float texelSamples = 0.0f;
   int64_t maxMicropolygons =
       80000000;  // per frame (about 8 GiB); more coarsens dicing with a warning
   ShadingNormals normals = ShadingNormals::Bump;  // shading normal on displaced geometry
