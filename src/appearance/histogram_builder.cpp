@@ -4,6 +4,7 @@
 #include "meso/appearance/histogram_builder.h"
 
 #include "meso/core/rng.h"
+#include "meso/appearance/class_map.h"
 #include "meso/appearance/periodic_tile.h"
 
 #include <tbb/parallel_for.h>
@@ -24,12 +25,9 @@ void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const Hi
     const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
     const Vec3 towardEye(std::sin(thetaV) * std::cos(phiV), std::sin(thetaV) * std::sin(phiV),
                          std::cos(thetaV));
-    // The surface's shape maps tile tangents to its frame by [[a, b], [0, 1/a]]: rays go back by
-    // the inverse [[1/a, -b], [0, a]], normals forward by the inverse transpose [[1/a, 0], [-b,
-    // a]].
-    const float sa = s.shape.a, sb = s.shape.b;
-    const Vec3 tileEye =
-        glm::normalize(Vec3(towardEye.x / sa - sb * towardEye.y, sa * towardEye.y, towardEye.z));
+    // Rays go into the tile by M^-1, normals come back by M^-T (class_map.h).
+    const ClassMap map{s.shape};
+    const Vec3 tileEye = map.toTile(towardEye);
     const float c = std::cos(-phiV), sn = std::sin(-phiV);
     for (int r = 0; r < s.raysPerView; ++r) {
       // Uniform origins on a plane above the relief are uniform in projected area.
@@ -37,7 +35,7 @@ void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const Hi
       Vec2 xy;
       if (!tile.trace(o, -tileEye, xy)) continue;
       const Vec2 g = relief.gradient(xy.x, xy.y);
-      const Vec3 n = glm::normalize(Vec3(-g.x / sa, sb * g.x - sa * g.y, 1.0f));
+      const Vec3 n = map.normalFromTile(Vec3(-g.x, -g.y, 1.0f));
       // Into the view-aligned frame: rotate by -phi_V about z.
       h.add(slice, Vec3(c * n.x - sn * n.y, sn * n.x + c * n.y, n.z));
     }

@@ -1,12 +1,14 @@
 #include "meso/appearance/level_tables.h"
 
+#include "meso/appearance/class_derivation.h"
 #include "meso/core/timer.h"
 
 namespace meso {
 namespace {
 
 uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s,
-                  const LevelTables* finer, const SpecularLobe* lobe) {
+                  const LevelTables* finer, const SpecularLobe* lobe,
+                  const ClassDerivation* derivation) {
   const HistogramSettings& h = s.histogram;
   Hasher hash;
   hash.value(kTableFormatVersion).value(relief.fingerprint());
@@ -27,6 +29,8 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
     hash.string("lobe").value(lobe->fingerprint);
   else
     hash.value(phong);
+  // A derived class's tables are not its traced ones: keyed by the tile they derive from.
+  if (derivation) hash.string("derived").value(derivation->tileKey);
   return hash.digest();
 }
 
@@ -40,7 +44,8 @@ BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableS
 // The self-shadowing factor of a level, from the cache or traced in the periodic tile.
 ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHistogram& layout,
                             float phong, const TableSettings& s, uint64_t levelKey,
-                            const TableCache& cache, std::vector<std::string>* warnings) {
+                            const TableCache& cache, std::vector<std::string>* warnings,
+                            const ClassDerivation* derivation) {
   const ShadowingResolution& r = s.shadowing;
   Hasher hash;
   // v6: decided by horizon marches (ShadowingTable::trace), equal to v5's shadow rays to rounding.
@@ -63,9 +68,14 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
       table.numPhiV() == layout.resolution().phiV &&
       table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1)
     return table;
-  const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
-  table =
-      ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
+  const ShadowingTable* tileTable = derivation ? &derivation->tile().shadowing : nullptr;
+  if (tileTable && !tileTable->empty()) {
+    table = deriveShadowing(*tileTable, derivation->map, layout, r);
+  } else {
+    const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
+    table =
+        ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
+  }
   warning.clear();
   cache.store(key, table.toData(), &warning);
   if (!warning.empty() && warnings) warnings->push_back(warning);
@@ -77,9 +87,9 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                              const TableSettings& settings, const LevelTables* finer,
                              const TableCache& cache, std::vector<std::string>* warnings,
-                             const SpecularLobe* lobe) {
+                             const SpecularLobe* lobe, const ClassDerivation* derivation) {
   Timer timer;
-  const uint64_t key = tableKey(relief, phong, settings, finer, lobe);
+  const uint64_t key = tableKey(relief, phong, settings, finer, lobe, derivation);
   VisibleNormalHistogram distr(settings.histogram.resolution);
   std::string warning;
   TableCache::Lock buildLock;  // from a miss until the tables are stored: one build per key
@@ -96,9 +106,10 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
   // What the cache holds (or would): masses, then the BRDF.
   size_t bytes = cached ? cached->size() * sizeof(float) : 0;
   cached.reset();  // copied out: its memory goes to the tables built next
-  if (!fromCache) {
-    distr = buildVisibleNormalHistogram(relief, settings.histogram);
-  }
+  if (!fromCache)
+    distr = derivation ? deriveHistogram(derivation->tile().distr, derivation->map,
+                                         settings.histogram.resolution, settings.histogram.azimuths)
+                       : buildVisibleNormalHistogram(relief, settings.histogram);
   std::vector<float> thetaV(distr.resolution().thetaV);
   for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
   const int phiV = distr.resolution().phiV;
@@ -122,7 +133,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
   double shadowingSeconds = 0.0;
   if (settings.shadows) {
     Timer shadowTimer;
-    shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings);
+    shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings, derivation);
     shadowingSeconds = shadowTimer.seconds();
   }
   if (!settings.keepHistograms)
@@ -137,6 +148,37 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                      fromCache,
                      timer.seconds(),
                      bytes};
+}
+
+uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& s) {
+  const HistogramSettings& h = s.histogram;
+  Hasher hash;
+  hash.value(kTableFormatVersion).string("tile").value(relief.fingerprint());
+  hash.value(h.resolution.thetaV).value(h.resolution.thetaN).value(h.resolution.phi);
+  hash.value(h.resolution.phiV).value(h.azimuths).value(h.raysPerView).value(h.meshResolution);
+  hash.value(h.seed).value(h.shape.a).value(h.shape.b);
+  return hash.digest();
+}
+
+TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& s,
+                           const TableCache& cache, std::vector<std::string>* warnings) {
+  const uint64_t key = tileTablesKey(relief, s);
+  TileTables t{VisibleNormalHistogram(s.histogram.resolution), {}};
+  std::string warning;
+  TableCache::Lock buildLock;
+  std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
+  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (!cached || cached->size() != t.distr.numBins() || !t.distr.fromData(*cached)) {
+    t.distr = buildVisibleNormalHistogram(relief, s.histogram);
+    warning.clear();
+    cache.store(key, t.distr.toData(false), &warning);
+    if (!warning.empty() && warnings) warnings->push_back(warning);
+  }
+  buildLock.unlock();
+  t.distr.dropMeanNormals();  // derivation reads masses, as from the cache
+  if (s.shadows)
+    t.shadowing = shadowingFor(relief, t.distr, phong, s, key, cache, warnings, nullptr);
+  return t;
 }
 
 }  // namespace meso

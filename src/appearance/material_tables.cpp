@@ -116,6 +116,7 @@ TableSettings tableSettings(const TableResolution& q) {
   t.brdf.thetaL = q.brdfThetaL;
   t.brdf.phi = q.brdfPhi;
   t.variant = q.variant;
+  t.deriveClasses = q.deriveClasses;
   return t;
 }
 
@@ -172,13 +173,66 @@ void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLe
 
 namespace {
 
+// The level as its tables trace it: a band that finer bands of its image continue is tabulated as
+// their sum.
+const ReliefLevel& tabulatedLevel(const ReliefLevel& level) {
+  return level.partialSum ? *level.partialSum : level;
+}
+
+// Where the metric classes of a material derive their histograms and self-shadowing factors from
+// (class_derivation.h): per level, a tile traced as the isotropic class at the geometric middle of
+// the classes' lengths, with twice the classes' view-azimuth slices (the derivation interpolates
+// between them at each class view's image M^-1 V; with as many slices as the classes, a stretched
+// and sheared class's mean visible normal was 1.5 times as far from its traced one).
+// Isotropic, the tile has the relief's own slopes and each class's map is the class's own shape;
+// at the middle, no class's heights are scaled by more than half the range of lengths (t = tile
+// length / class length). A class that is that isotropic class is traced as it is.
+struct DerivationTiles {
+  float length = 1.0f;                           // the tile's length per unit of u
+  TableSettings settings;                        // the tile's
+  std::vector<std::optional<TileTables>> tiles;  // per level, built when first needed
+  std::vector<uint64_t> keys;                    // per level
+  // The tile's settings for one level (its traced mesh follows the level: tableMeshResolution).
+  TableSettings levelSettings(const ReliefLevel& level) const {
+    TableSettings s = settings;
+    s.histogram.meshResolution = tableMeshResolution(level, settings.histogram.meshResolution);
+    return s;
+  }
+  bool derives(const MetricClass& m) const {
+    return !(m.shape.identity() && m.lengthPerU == length);
+  }
+};
+
+std::optional<DerivationTiles> planDerivation(const MaterialRelief& r,
+                                              const std::vector<MetricClass>& classes,
+                                              const TableSettings& s) {
+  if (!s.deriveClasses || !s.build || s.histogram.resolution.phiV <= 1 || r.levels.empty())
+    return std::nullopt;
+  const auto [lo, hi] = std::minmax_element(
+      classes.begin(), classes.end(),
+      [](const MetricClass& x, const MetricClass& y) { return x.lengthPerU < y.lengthPerU; });
+  DerivationTiles d;
+  d.length = std::sqrt(lo->lengthPerU * hi->lengthPerU);
+  if (classes.size() == 1 && classes[0].shape.identity()) return std::nullopt;
+  d.settings = s;
+  d.settings.histogram.shape = {};
+  d.settings.histogram.resolution.phiV *= 2;
+  d.settings.histogram.azimuths *= 2;
+  for (const ReliefLevel& level : r.levels)
+    d.keys.push_back(tileTablesKey(TileRelief(tabulatedLevel(level), d.length),
+                                   d.levelSettings(tabulatedLevel(level))));
+  d.tiles.resize(r.levels.size());
+  return d;
+}
+
 // The tables of every level for one metric class, finest first in the build (each coarser BRDF
-// integrates the finer one), stored coarsest first.
+// integrates the finer one), stored coarsest first. With `derive`, the class's histograms and
+// shadowing factors derive from its tiles'.
 MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
                                const MetricClass& metric, const TableCache& cache,
                                std::vector<std::string>* warnings, const TableSettings& shapeless,
-                               const SpecularLobe* lobe, int* built, int* loaded, double* seconds,
-                               ProgressBar& progress) {
+                               const SpecularLobe* lobe, DerivationTiles* derive, int* built,
+                               int* loaded, double* seconds, ProgressBar& progress) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -197,18 +251,31 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
   std::vector<LevelTables> reversed;
   reversed.reserve(n);
   for (size_t k = 0; k < n; ++k) {
-    // A band that finer bands of its image continue is tabulated as their sum, over the level
-    // after the image (eq. 1) or as the finest level.
-    const ReliefLevel& level = r.levels[n - 1 - k];
+    // A band that finer bands of its image continue is tabulated over the level after the image
+    // (eq. 1) or as the finest level.
+    const size_t index = n - 1 - k;
+    const ReliefLevel& level = r.levels[index];
     const size_t finerLevel = level.partialSum ? level.partialSumEnd : n - k;
     const LevelTables* finer = finerLevel < n ? &reversed[n - 1 - finerLevel] : nullptr;
-    const ReliefLevel& traced = level.partialSum ? *level.partialSum : level;
+    const ReliefLevel& traced = tabulatedLevel(level);
     const TileRelief tile(traced, lengthPerU);
     TableSettings levelSettings = settings;
     levelSettings.histogram.meshResolution =
         tableMeshResolution(traced, settings.histogram.meshResolution);
+    std::optional<ClassDerivation> derivation;
+    if (derive && derive->derives(metric))
+      derivation = ClassDerivation{
+          ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
+          [derive, index, &traced, &material, &cache, warnings]() {
+            std::optional<TileTables>& t = derive->tiles[index];
+            if (!t)
+              t = buildTileTables(TileRelief(traced, derive->length), material.phong,
+                                  derive->levelSettings(traced), cache, warnings);
+            return std::cref(*t);
+          }};
     reversed.push_back(buildLevelTables(tile, material.phong, levelSettings, finer, cache, warnings,
-                                        finer ? nullptr : lobe));
+                                        finer ? nullptr : lobe,
+                                        derivation ? &*derivation : nullptr));
     const LevelTables& t = reversed.back();
     (t.fromCache ? *loaded : *built) += 1;
     *seconds += t.seconds;
@@ -312,9 +379,11 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                 static_cast<int64_t>(settings.build ? classes.size() * n : 0), true,
                 std::chrono::milliseconds(1000));
   ProgressBar& progress = shared ? *shared : *own;
+  std::optional<DerivationTiles> derive = planDerivation(r, classes, settings);
   for (const MetricClass& m : classes)
     r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings,
-                                          r.synthesis ? &lobe : nullptr, &r.tablesBuilt,
+                                          r.synthesis ? &lobe : nullptr,
+                                          derive ? &*derive : nullptr, &r.tablesBuilt,
                                           &r.tablesFromCache, &r.tablesSeconds, progress));
   if (own) own->finish();
   return r;

@@ -2,6 +2,7 @@
 // rays from the visible hits of the periodic tile (DESIGN.md section 6).
 #include "meso/appearance/shadowing_table.h"
 
+#include "meso/appearance/class_map.h"
 #include "meso/appearance/table_axis.h"
 
 #include "meso/core/power.h"
@@ -16,10 +17,8 @@
 namespace meso {
 namespace {
 
-// A surface-frame direction into tile coordinates through the shape (histogram_builder.cpp).
-Vec3 toTile(const Vec3& w, const MetricShape& s) {
-  return glm::normalize(Vec3(w.x / s.a - s.b * w.y, s.a * w.y, w.z));
-}
+// A surface-frame direction into tile coordinates through the shape (class_map.h).
+Vec3 toTile(const Vec3& w, const MetricShape& s) { return ClassMap{s}.toTile(w); }
 
 struct Hit {
   Vec3 p;  // tile coordinates, just off the surface
@@ -49,9 +48,8 @@ std::vector<std::pair<Hit, float>> visibleHits(const PeriodicRelief& relief,
       const Vec2 g = relief.gradient(p.x, p.y);
       const Vec3 nTile = glm::normalize(Vec3(-g.x, -g.y, 1.0f));
       // Off the surface by 1e-4 tile units along its normal: the tile's float rounding is ~1e-7.
-      hits.push_back({{p + 1e-4f * nTile,
-                       glm::normalize(Vec3(-g.x / shape.a, shape.b * g.x - shape.a * g.y, 1.0f))},
-                      phiV});
+      hits.push_back(
+          {{p + 1e-4f * nTile, ClassMap{shape}.normalFromTile(Vec3(-g.x, -g.y, 1.0f))}, phiV});
     }
   return hits;
 }
@@ -83,7 +81,7 @@ void sumSlice(const std::vector<std::pair<Hit, float>>& hits, const PeriodicTile
       const float phiL = phiV - phiVL[j], cosPhi = std::cos(phiL), sinPhi = std::sin(phiL);
       const float lnA = cosPhi * n.x + sinPhi * n.y;  // L.n = sinL lnA + cosL n.z
       // toTile is linear in the horizontal part: every theta_L has this tile direction.
-      const Vec2 h(cosPhi / shape.a - shape.b * sinPhi, shape.a * sinPhi);
+      const Vec2 h = ClassMap{shape}.horizontalToTile({cosPhi, sinPhi});
       const float hLength = glm::length(h);
       for (int i = 0; i < nL; ++i) {
         const float lDotV = sinL[i] * lvB[j] + cosL[i] * cosV;
@@ -142,17 +140,8 @@ ShadowingTable ShadowingTable::traceWith(const PeriodicRelief& relief, const Per
                                          const VisibleNormalHistogram& layout,
                                          const HistogramSettings& hs, ShadowingResolution res,
                                          float phong, uint64_t seed, bool withShadowRays) {
-  ShadowingTable t;
-  const HistogramResolution& h = layout.resolution();
-  t.res_ = res;
-  t.phiV_ = std::max(h.phiV, 1);
-  t.nPhi_ = phiNodes(res, t.phiV_);
-  const int nV = (h.thetaV - 1) * std::max(res.thetaVRefine, 1) + 1;
-  t.thetaV_.resize(nV);
-  for (int k = 0; k < nV; ++k)
-    t.thetaV_[k] = layout.thetaVMax() * static_cast<float>(k) / static_cast<float>(nV - 1);
-  const int slices = nV * t.phiV_;
-  t.data_.assign(2 * static_cast<size_t>(slices) * t.numDelta() * t.nPhi_, 1.0f);
+  ShadowingTable t = onNodes(layout, res);
+  const int slices = t.numThetaV() * t.phiV_;
   const size_t half = t.data_.size() / 2;
   std::vector<float> phiVL(t.nPhi_);
   for (int j = 0; j < t.nPhi_; ++j) phiVL[j] = t.phi(j);
@@ -186,6 +175,42 @@ ShadowingTable ShadowingTable::traceWith(const PeriodicRelief& relief, const Per
         t.data_[idx] = sum.d > 0.0 ? static_cast<float>(sum.dLit / sum.d) : 1.0f;
         t.data_[half + idx] = sum.s > 0.0 ? static_cast<float>(sum.sLit / sum.s) : 1.0f;
       }
+  });
+  return t;
+}
+
+ShadowingTable ShadowingTable::onNodes(const VisibleNormalHistogram& layout,
+                                       ShadowingResolution res) {
+  ShadowingTable t;
+  const HistogramResolution& h = layout.resolution();
+  t.res_ = res;
+  t.phiV_ = std::max(h.phiV, 1);
+  t.nPhi_ = phiNodes(res, t.phiV_);
+  const int nV = (h.thetaV - 1) * std::max(res.thetaVRefine, 1) + 1;
+  t.thetaV_.resize(nV);
+  for (int k = 0; k < nV; ++k)
+    t.thetaV_[k] = layout.thetaVMax() * static_cast<float>(k) / static_cast<float>(nV - 1);
+  t.data_.assign(2 * static_cast<size_t>(nV) * t.phiV_ * t.numDelta() * t.nPhi_, 1.0f);
+  return t;
+}
+
+ShadowingTable ShadowingTable::tabulate(const VisibleNormalHistogram& layout,
+                                        ShadowingResolution res, const NodeFunction& f) {
+  ShadowingTable t = onNodes(layout, res);
+  const size_t half = t.data_.size() / 2;
+  tbb::parallel_for(0, t.numThetaV() * t.phiV_, [&](int k) {
+    const float thetaV = t.thetaV_[k / t.phiV_];
+    const float phiV = t.phiV_ > 1 ? layout.phiVCentre(k % t.phiV_) : 0.0f;
+    for (int i = 0; i < t.numDelta(); ++i) {
+      // As trace(): a light at or below theta_L = 0 is never shadowed.
+      const float thetaL = std::clamp(thetaV + t.delta(i), 0.0f, 0.5f * kPi);
+      if (thetaL <= 0.0f) continue;
+      for (int j = 0; j < t.nPhi_; ++j) {
+        const Value v = f(thetaV, phiV, thetaL, t.phi(j));
+        t.data_[t.index(k, i, j)] = std::clamp(v.diffuse, 0.0f, 1.0f);
+        t.data_[half + t.index(k, i, j)] = std::clamp(v.specular, 0.0f, 1.0f);
+      }
+    }
   });
   return t;
 }

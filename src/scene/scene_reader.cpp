@@ -165,6 +165,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));
     q.variant = tr.choice("variant", q.variant);
     q.metricStep = static_cast<float>(tr.number("metric_step", q.metricStep, 0.01, 4.0));
+    q.deriveClasses = tr.boolean("derive_classes", q.deriveClasses);
     tr.finish();
   }
   r.finish();

@@ -3,11 +3,13 @@
 #pragma once
 
 #include "meso/appearance/brdf_table.h"
+#include "meso/appearance/class_map.h"
 #include "meso/appearance/histogram_builder.h"
 #include "meso/appearance/redistribution.h"
 #include "meso/appearance/shadowing_table.h"
 #include "meso/appearance/table_cache.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,25 @@ struct TableSettings {
   // layout (the renderers read none of its masses): 3 MB less per table set at the default
   // resolution, 28 of the default scene's 126 MB of tables. `meso tables` keeps them for its plots.
   bool keepHistograms = true;
+  // render.tables.derive_classes: every metric class of a level but one derives its histograms
+  // and self-shadowing factor from that one's traced tile (class_derivation.h) instead of tracing
+  // its own; false traces every class. Only tables with view-azimuth slices derive (an average
+  // over view azimuths does not map to another class's).
+  bool deriveClasses = true;
+};
+
+// What the metric classes of one level derive from: the histogram (masses) and self-shadowing
+// factor of one traced tile.
+struct TileTables {
+  VisibleNormalHistogram distr{HistogramResolution{}};
+  ShadowingTable shadowing;  // empty unless TableSettings::shadows
+};
+
+// A metric class whose histogram and self-shadowing factor derive from its level's traced tile.
+struct ClassDerivation {
+  ClassMap map;          // from the tile's frame to the class's
+  uint64_t tileKey = 0;  // identifies the tile's tables: part of the class's cache key
+  std::function<const TileTables&()> tile;  // loaded or traced when first called
 };
 
 struct LevelTables {
@@ -51,9 +72,19 @@ struct LevelTables {
 // the finest level, whose BRDF uses (L.N) and (H.N)^phong. Warnings (a corrupt cache file that was
 // rebuilt, an unwritable cache) are appended to *warnings.
 // `lobe` (may be null) replaces (H.N)^phong in the finest level's BRDF.
+// `derivation` (may be null): the histogram and self-shadowing factor are derived from a traced
+// tile's (the relief and settings' shape then only name the class).
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                              const TableSettings& settings, const LevelTables* finer,
                              const TableCache& cache, std::vector<std::string>* warnings,
-                             const SpecularLobe* lobe = nullptr);
+                             const SpecularLobe* lobe = nullptr,
+                             const ClassDerivation* derivation = nullptr);
+
+// The cache key of a traced tile's TileTables (relief as traced, settings' histogram and shadows).
+uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& settings);
+// Loads or traces the histogram (its own cache entry, masses only) and self-shadowing factor of a
+// tile, for the classes that derive from it.
+TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
+                           const TableCache& cache, std::vector<std::string>* warnings);
 
 }  // namespace meso

@@ -8,6 +8,7 @@
 #include "meso/appearance/periodic_tile.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace meso {
@@ -64,6 +65,11 @@ class ShadowingTable {
     float diffuse = 1.0f;
     float specular = 1.0f;
   };
+  // The table on the nodes trace() fills, each node's value f(theta_V, phi_V, theta_L, phi_{V-L})
+  // (phi_V the slice's centre): a table derived from another class's (class_derivation.h).
+  using NodeFunction = std::function<Value(float, float, float, float)>;
+  static ShadowingTable tabulate(const VisibleNormalHistogram& layout, ShadowingResolution res,
+                                 const NodeFunction& f);
   // Multilinear in (theta_V, phi_V, theta_L - theta_V, phi_{V-L}); an empty table is 1.
   Value lookup(float thetaV, float phiV, float thetaL, float phiVL) const;
   bool empty() const { return data_.empty(); }
@@ -87,6 +93,7 @@ class ShadowingTable {
   TableLayout layout() const {
     return {data_.data(), data_.data() + data_.size() / 2, phiV_, numDelta(), nPhi_};
   }
+  static ShadowingTable onNodes(const VisibleNormalHistogram& layout, ShadowingResolution res);
   static ShadowingTable traceWith(const PeriodicRelief& relief, const PeriodicTile& tile,
                                   const VisibleNormalHistogram& layout,
                                   const HistogramSettings& histogram, ShadowingResolution res,

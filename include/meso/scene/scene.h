@@ -156,6 +156,8 @@ struct TableResolution {
   // Spacing of the metric classes (docs/metric.md) in octaves of length per unit of u: a surface
   // whose |P_u x P_v| varies gets one table set per step over its range.
   float metricStep = 0.25f;
+  // Metric classes derive their histograms from one traced tile per level (false: each traces).
+  bool deriveClasses = true;
 };
 
 struct RenderSettings {
