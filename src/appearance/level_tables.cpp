@@ -161,7 +161,8 @@ uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& s) {
 }
 
 TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& s,
-                           const TableCache& cache, std::vector<std::string>* warnings) {
+                           const HistogramResolution& shadowingLayout, const TableCache& cache,
+                           std::vector<std::string>* warnings) {
   const uint64_t key = tileTablesKey(relief, s);
   TileTables t{VisibleNormalHistogram(s.histogram.resolution), {}};
   std::string warning;
@@ -176,8 +177,11 @@ TileTables buildTileTables(const PeriodicRelief& relief, float phong, const Tabl
   }
   buildLock.unlock();
   t.distr.dropMeanNormals();  // derivation reads masses, as from the cache
+  // The factor is smooth in V and L, and its theta_V nodes already refine the slices.
+  const VisibleNormalHistogram layout(shadowingLayout, t.distr.thetaVMax(),
+                                      VisibleNormalHistogram::LayoutOnly{});
   if (s.shadows)
-    t.shadowing = shadowingFor(relief, t.distr, phong, s, key, cache, warnings, nullptr);
+    t.shadowing = shadowingFor(relief, layout, phong, s, key, cache, warnings, nullptr);
   return t;
 }
 

@@ -216,7 +216,9 @@ std::optional<DerivationTiles> planDerivation(const MaterialRelief& r,
   if (classes.size() == 1 && classes[0].shape.identity()) return std::nullopt;
   d.settings = s;
   d.settings.histogram.shape = {};
-  d.settings.histogram.resolution.phiV *= 2;
+  HistogramResolution& q = d.settings.histogram.resolution;
+  q.phiV *= 2;
+  q.thetaV = 2 * q.thetaV - 1;
   d.settings.histogram.azimuths *= 2;
   for (const ReliefLevel& level : r.levels)
     d.keys.push_back(tileTablesKey(TileRelief(tabulatedLevel(level), d.length),
@@ -266,11 +268,12 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     if (derive && derive->derives(metric))
       derivation = ClassDerivation{
           ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
-          [derive, index, &traced, &material, &cache, warnings]() {
+          [derive, index, &traced, &material, &shapeless, &cache, warnings]() {
             std::optional<TileTables>& t = derive->tiles[index];
             if (!t)
               t = buildTileTables(TileRelief(traced, derive->length), material.phong,
-                                  derive->levelSettings(traced), cache, warnings);
+                                  derive->levelSettings(traced), shapeless.histogram.resolution,
+                                  cache, warnings);
             return std::cref(*t);
           }};
     reversed.push_back(buildLevelTables(tile, material.phong, levelSettings, finer, cache, warnings,

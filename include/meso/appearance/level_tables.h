@@ -83,8 +83,9 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
 // The cache key of a traced tile's TileTables (relief as traced, settings' histogram and shadows).
 uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& settings);
 // Loads or traces the histogram (its own cache entry, masses only) and self-shadowing factor of a
-// tile, for the classes that derive from it.
+// tile, for the classes that derive from it; the factor on the slices of `shadowingLayout`.
 TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
-                           const TableCache& cache, std::vector<std::string>* warnings);
+                           const HistogramResolution& shadowingLayout, const TableCache& cache,
+                           std::vector<std::string>* warnings);
 
 }  // namespace meso
