@@ -266,16 +266,16 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
         tableMeshResolution(traced, settings.histogram.meshResolution);
     std::optional<ClassDerivation> derivation;
     if (derive && derive->derives(metric))
-      derivation = ClassDerivation{
-          ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
-          [derive, index, &traced, &material, &shapeless, &cache, warnings]() {
-            std::optional<TileTables>& t = derive->tiles[index];
-            if (!t)
-              t = buildTileTables(TileRelief(traced, derive->length), material.phong,
-                                  derive->levelSettings(traced), shapeless.histogram.resolution,
-                                  cache, warnings);
-            return std::cref(*t);
-          }};
+      derivation =
+          ClassDerivation{ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
+                          [derive, index, &traced, &material, &shapeless, &cache, warnings]() {
+                            std::optional<TileTables>& t = derive->tiles[index];
+                            if (!t)
+                              t = buildTileTables(TileRelief(traced, derive->length),
+                                                  material.phong, derive->levelSettings(traced),
+                                                  shapeless.histogram.resolution, cache, warnings);
+                            return std::cref(*t);
+                          }};
     reversed.push_back(buildLevelTables(tile, material.phong, levelSettings, finer, cache, warnings,
                                         finer ? nullptr : lobe,
                                         derivation ? &*derivation : nullptr));
