@@ -2,6 +2,7 @@
 
 #include "meso/core/progress.h"
 #include "meso/core/timer.h"
+#include "meso/geometry/flat_faces.h"
 #include "meso/render/tile_map.h"
 #include "meso/scene/mesh_io.h"
 
@@ -294,7 +295,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     if (object.displaced)
       displaceObject(ctx, k, d, stats);
     else if (object.mesh.numTriangles() == 0)
-      object.mesh = tessellateUniform(object.surface, ctx.scene->render.tessellationRate);
+      object.mesh = tessellateSmooth(object.surface, ctx.scene->render.tessellationRate);
   }
   stats.tessellateSeconds = tess.seconds();
 

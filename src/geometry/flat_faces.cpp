@@ -1,0 +1,80 @@
+// Flat faces drawn by two triangles (flat_faces.h).
+#include "meso/geometry/flat_faces.h"
+
+#include "limit_surface_impl.h"
+#include "meso/core/error.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace meso {
+namespace {
+
+// Whether P(st) = P(c0) + A (st - c0) at every test point, A fitted from corners 0, 1 and the last.
+bool isAffine(const LimitSurface& surface, int face) {
+  const int n = surface.faceSize(face);
+  if (n < 3) return false;
+  std::vector<Vec2> st(static_cast<size_t>(n));
+  std::vector<Vec3> P(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    st[k] = surface.cornerSt(face, k);
+    P[k] = surface.evaluate(face, st[k]).P;
+  }
+  const Vec2 a = st[1] - st[0], b = st[n - 1] - st[0];
+  const float det = a.x * b.y - a.y * b.x;
+  if (!(std::abs(det) > 1e-12f)) return false;
+  const Vec3 da = P[1] - P[0], db = P[n - 1] - P[0];
+  float size = 0.0f;
+  for (int k = 1; k < n; ++k) size = std::max(size, glm::length(P[k] - P[0]));
+  if (!(size > 0.0f) || !std::isfinite(size)) return false;
+  const float tolerance = 1e-5f * size;
+  // st = c0 + x a + y b  =>  P = P0 + x da + y db.
+  const auto affine = [&](Vec2 p) {
+    const Vec2 d = p - st[0];
+    const float x = (d.x * b.y - d.y * b.x) / det, y = (a.x * d.y - a.y * d.x) / det;
+    return P[0] + x * da + y * db;
+  };
+  Vec2 centre(0.0f);
+  for (const Vec2& c : st) centre += c / static_cast<float>(n);
+  std::vector<Vec2> tests(st.begin(), st.end());
+  for (int k = 0; k < n; ++k) {
+    const Vec2 mid = 0.5f * (st[k] + st[(k + 1) % n]);
+    tests.push_back(mid);
+    for (float w : {0.3f, 0.7f}) tests.push_back(centre + w * (st[k] - centre));
+    tests.push_back(centre + 0.5f * (mid - centre));
+  }
+  tests.push_back(centre);
+  for (const Vec2& p : tests)
+    if (!(glm::length(surface.evaluate(face, p).P - affine(p)) <= tolerance)) return false;
+  return true;
+}
+
+}  // namespace
+
+std::vector<uint8_t> affineFaces(const LimitSurface& surface) {
+  std::vector<uint8_t> out(static_cast<size_t>(surface.numFaces()), 0);
+  tbb::parallel_for(0, surface.numFaces(), [&](int f) {
+    out[f] = surface.hasLimitSurface(f) && isAffine(surface, f) ? 1 : 0;
+  });
+  return out;
+}
+
+TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate) {
+  if (rate < 1)
+    throw Error("tessellation rate must be at least 1 (got " + std::to_string(rate) + ")");
+  EdgeRateTessellator tessellator(surface);
+  std::vector<int> rates(static_cast<size_t>(tessellator.numEdges()), 1);
+  const std::vector<uint8_t> affine = affineFaces(surface);
+  const auto& base = surface.impl().refiner->GetLevel(0);
+  for (int f = 0; f < surface.numFaces(); ++f) {
+    if (affine[f] || !surface.hasLimitSurface(f)) continue;
+    for (int e : base.GetFaceEdges(f)) rates[e] = rate;
+  }
+  return tessellator.tessellate(rates, nullptr);
+}
+
+}  // namespace meso

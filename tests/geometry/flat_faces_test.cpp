@@ -1,0 +1,52 @@
+#include "meso/geometry/flat_faces.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+namespace meso {
+namespace {
+
+// A bilinear grid is flat parallelograms: two triangles a face, and every barycentric hit gives
+// the patch coordinates of the very point it hit.
+TEST(FlatFaces, BilinearGridIsTwoTrianglesAFace) {
+  const LimitSurface surface(test::grid(4), SubdivisionScheme::Bilinear);
+  const std::vector<uint8_t> affine = affineFaces(surface);
+  for (uint8_t a : affine) EXPECT_EQ(a, 1);
+  const TessellatedMesh smooth = tessellateSmooth(surface, 8);
+  EXPECT_EQ(smooth.numTriangles(), 2u * 16u);
+  EXPECT_EQ(tessellateUniform(surface, 8).numTriangles(), 2u * 64u * 16u);
+  for (size_t t = 0; t < smooth.numTriangles(); ++t)
+    for (float b1 : {0.2f, 0.5f})
+      for (float b2 : {0.1f, 0.3f}) {
+        const uint32_t* v = &smooth.indices[3 * t];
+        const Vec3 onTriangle = (1.0f - b1 - b2) * smooth.positions[v[0]] +
+                                b1 * smooth.positions[v[1]] + b2 * smooth.positions[v[2]];
+        const Vec3 limit =
+            surface.evaluate(smooth.triangleFace[t], smooth.patchCoords(t, b1, b2)).P;
+        EXPECT_LT(glm::length(onTriangle - limit), 1e-5f);
+      }
+  EXPECT_EQ(test::countOpenEdges(smooth), 16);  // the grid's border only: watertight inside
+}
+
+// A bent or curved face is not affine: a grid with one raised vertex keeps the rate on the faces
+// around it (and the edges they share with flat faces), a torus everywhere.
+TEST(FlatFaces, CurvedFacesKeepTheRate) {
+  ControlMesh bent = test::grid(4);
+  bent.positions[12].z = 0.5f;  // the centre vertex of the 5 x 5 grid
+  const LimitSurface bentSurface(bent, SubdivisionScheme::Bilinear);
+  const std::vector<uint8_t> affine = affineFaces(bentSurface);
+  int flat = 0;
+  for (uint8_t a : affine) flat += a;
+  EXPECT_EQ(flat, 12);  // the four faces at the centre are bent
+  const size_t bentTriangles = tessellateSmooth(bentSurface, 8).numTriangles();
+  EXPECT_GT(bentTriangles, 4u * 128u);
+  EXPECT_LT(bentTriangles, 16u * 128u);
+  EXPECT_EQ(test::countOpenEdges(tessellateSmooth(bentSurface, 8)), 16);  // the grid's border
+  const LimitSurface torus(test::torus(8, 6, 2.0f, 0.5f), SubdivisionScheme::CatmullClark);
+  for (uint8_t a : affineFaces(torus)) EXPECT_EQ(a, 0);
+  EXPECT_EQ(tessellateSmooth(torus, 4).numTriangles(), tessellateUniform(torus, 4).numTriangles());
+}
+
+}  // namespace
+}  // namespace meso
