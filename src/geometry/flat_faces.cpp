@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace meso {
@@ -28,10 +29,15 @@ bool isAffine(const LimitSurface& surface, int face) {
   const float det = a.x * b.y - a.y * b.x;
   if (!(std::abs(det) > 1e-12f)) return false;
   const Vec3 da = P[1] - P[0], db = P[n - 1] - P[0];
-  float size = 0.0f;
-  for (int k = 1; k < n; ++k) size = std::max(size, glm::length(P[k] - P[0]));
-  if (!(size > 0.0f) || !std::isfinite(size)) return false;
-  const float tolerance = 1e-5f * size;
+  float size = 0.0f, far = 0.0f;
+  for (int k = 0; k < n; ++k) {
+    size = std::max(size, glm::length(P[k] - P[0]));
+    far = std::max({far, std::abs(P[k].x), std::abs(P[k].y), std::abs(P[k].z)});
+  }
+  if (!(size > 0.0f) || !std::isfinite(size) || !std::isfinite(far)) return false;
+  // Relative to the face, and at least a few units in the last place of its coordinates (a face
+  // 300 units from the origin evaluates to about 3e-5).
+  const float tolerance = 1e-5f * size + 8.0f * std::numeric_limits<float>::epsilon() * far;
   // st = c0 + x a + y b  =>  P = P0 + x da + y db.
   const auto affine = [&](Vec2 p) {
     const Vec2 d = p - st[0];

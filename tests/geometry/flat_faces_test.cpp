@@ -29,6 +29,14 @@ TEST(FlatFaces, BilinearGridIsTwoTrianglesAFace) {
   EXPECT_EQ(test::countOpenEdges(smooth), 16);  // the grid's border only: watertight inside
 }
 
+// Far from the origin the limit evaluates to within float rounding of the plane, not exactly on it:
+// a ground's far faces are still flat.
+TEST(FlatFaces, FlatFacesFarFromTheOriginAreFlat) {
+  ControlMesh far = test::grid(4);
+  for (Vec3& p : far.positions) p += Vec3(300.0f, -280.0f, 0.0f);
+  for (uint8_t a : affineFaces(LimitSurface(far, SubdivisionScheme::Bilinear))) EXPECT_EQ(a, 1);
+}
+
 // A bent or curved face is not affine: a grid with one raised vertex keeps the rate on the faces
 // around it (and the edges they share with flat faces), a torus everywhere.
 TEST(FlatFaces, CurvedFacesKeepTheRate) {

@@ -11,8 +11,9 @@
 namespace meso {
 
 // Per face: 1 where the limit surface is an affine image of the face's patch coordinates (a flat
-// parallelogram of a bilinear mesh, such as every face of a ground grid), to a relative tolerance
-// of 1e-5 of the face's size at its corners, edge midpoints and interior points. Such a face's
+// parallelogram of a bilinear mesh, such as every face of a ground grid), to 1e-5 of the face's
+// size plus 8 units in the last place of its largest coordinate, at its corners, edge midpoints
+// and interior points. Such a face's
 // triangles lie in its surface, and a hit's barycentrics give exactly the patch coordinates of the
 // limit point it hit, at any tessellation rate.
 std::vector<uint8_t> affineFaces(const LimitSurface& surface);
