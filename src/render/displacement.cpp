@@ -274,8 +274,7 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     FaceSample s;
     if (!sampleFace(surface, face, eye, solid, s)) return;
     if (mode == DisplacementMode::Full) {
-      const ReliefLevel& finest = relief.levels.back();
-      const float capPerU = samplesPerU(finest, sampling);
+      const float capPerU = samplesPerU(finestLevel, sampling);
       out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
       // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
       const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU

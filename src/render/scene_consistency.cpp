@@ -46,9 +46,9 @@ struct ReferenceDicing {
 
 // Edges per texel of the reference and of the coarse reference: a height image's bilinear surface
 // keeps curving and casting shadows below its texels, so one edge per texel is far from converged
-// (scenes/bricks.toml at 0.25 px: 1, 2, 4 and 8 edges per texel differ by up to 1.9%, 1.1%, 0.15%
-// from the next in a depth band; docs/validation.md); 8 and 4 by default, twice the scene's and
-// the scene's if it asks for more.
+// (scenes/bricks_plane.toml: one edge per texel is 0.9% darker than eight in the farthest depth
+// band; docs/validation.md); 8 and 4 by default, twice the scene's and the scene's if it
+// asks for more.
 std::pair<float, float> referenceTexelSamples(const Scene& scene) {
   const float sceneEdges =
       ReliefSampling{scene.render.reliefSamples, scene.render.texelSamples}.texelEdges();
