@@ -26,6 +26,11 @@ namespace meso {
 // kite (V_i, M_i, C, M_i-1) of the chart, mapped piecewise affinely (two triangles split along
 // V_i-C) onto the sub-face's normalized square, so the map is continuous and orientation
 // preserving.
+// Appends the chart vertices of an N-gon face (N > 3: the regular N-gon; N = 3: the unit right
+// triangle), counter-clockwise from edge 0 along +s, then the centre. Defined in face_chart.cpp
+// with Impl::chartToBfr and Impl::bfrToChart.
+void appendFaceChart(int n, std::vector<Vec2>& chart);
+
 struct LimitSurface::Impl {
   struct Face {
     OpenSubdiv::Bfr::Parameterization param;

@@ -1,6 +1,7 @@
 // Small control meshes, a relief and a mesh check shared by the geometry tests.
 #pragma once
 
+#include "meso/core/rng.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/control_mesh.h"
 #include "meso/geometry/tessellation.h"
@@ -15,6 +16,13 @@
 #include <vector>
 
 namespace meso::test {
+
+// A direction uniform on the unit sphere.
+inline Vec3 randomDirection(Rng& rng) {
+  const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
 
 inline void addFace(ControlMesh& mesh, std::initializer_list<int> vertices) {
   mesh.faceSizes.push_back(static_cast<int>(vertices.size()));
