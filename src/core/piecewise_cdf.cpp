@@ -1,5 +1,6 @@
 #include "meso/core/piecewise_cdf.h"
 
+#include "meso/core/check.h"
 #include "meso/core/math.h"
 
 #include <algorithm>
@@ -47,6 +48,7 @@ void appendCumulative(std::span<const double> masses, std::vector<float>& out) {
 }
 
 void appendGuide(std::span<const float> cdf, std::vector<uint16_t>& out) {
+  MESO_DCHECK(cdf.size() >= 2, "a CDF of one bin or more");
   const size_t n = cdf.size() - 1;
   size_t i = 0;
   for (int g = 0; g <= kCdfGuideSize; ++g) {
@@ -70,6 +72,7 @@ namespace {
 // bin of the inverse at p of a nondecreasing table, given at(lo) below p and at(hi) not.
 template <class Table>
 size_t bisectEdges(const Table& table, size_t lo, size_t hi, float p, bool inclusive) {
+  MESO_DCHECK(lo < hi, "a nonempty range of edges");
   while (hi - lo > 1) {
     const size_t mid = (lo + hi) / 2;
     const float c = table.at(mid);
@@ -163,6 +166,8 @@ BinPosition cdfInverseInBins(const CdfRows& rows, float p, InverseSide side) {
 }
 
 float cdfForward(const CdfRows& rows, float lo, float width, float x, BinShape shape) {
+  MESO_DCHECK(rows.edges() >= 2, "a CDF of one bin or more");
+  MESO_DCHECK(width > 0.0f && std::isfinite(width) && std::isfinite(lo), "finite bins");
   const size_t n = rows.edges() - 1;
   const float t = (x - lo) / width;
   if (!(t > 0.0f)) return 0.0f;  // also catches NaN
@@ -174,6 +179,8 @@ float cdfForward(const CdfRows& rows, float lo, float width, float x, BinShape s
 }
 
 float cdfInverse(const CdfRows& rows, float lo, float width, float p, BinShape shape) {
+  MESO_DCHECK(rows.edges() >= 2, "a CDF of one bin or more");
+  MESO_DCHECK(width > 0.0f && std::isfinite(width) && std::isfinite(lo), "finite bins");
   const size_t n = rows.edges() - 1;
   p = std::clamp(std::isfinite(p) ? p : 0.0f, 0.0f, 1.0f);
   // Largest edge i with C(i) < p (first edge where the CDF reaches p is i + 1), so zero-mass bins

@@ -3,6 +3,7 @@
 #include "meso/geometry/limit_surface.h"
 
 #include "limit_surface_impl.h"
+#include "meso/core/check.h"
 #include "meso/core/error.h"
 
 #include <opensubdiv/bfr/limits.h>
@@ -293,6 +294,7 @@ bool textureDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl
 }  // namespace
 
 SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
+  MESO_DCHECK(face >= 0 && face < numFaces(), "a base face of this surface");
   const Impl::Face& f = impl_->faces[face];
   SurfacePoint sp;
   if (!f.surface.IsValid()) {

@@ -5,6 +5,7 @@
 
 #include "face_split.h"
 #include "limit_surface_impl.h"
+#include "meso/core/check.h"
 #include "meso/core/error.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/ray_scene.h"
@@ -12,6 +13,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -81,6 +83,11 @@ size_t EdgeRateTessellator::ownedBoundaryPoints(int f, const std::vector<int>& e
 
 size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates,
                                         const std::vector<FaceSplit>& splits) {
+  MESO_DCHECK(edgeRates.size() == edgeOwner_.size(), "one rate per base edge");
+  MESO_DCHECK(std::all_of(edgeRates.begin(), edgeRates.end(), [](int r) { return r >= 1; }),
+              "every edge rate at least 1");
+  MESO_DCHECK(splits.empty() || splits.size() == static_cast<size_t>(surface_.numFaces()),
+              "one split per base face");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 64),
                     [&](const tbb::blocked_range<size_t>& range) {
                       FaceScratch scratch;

@@ -1,6 +1,8 @@
 // A floating-point image with named channels ("R", "G", "B", "depth.Z", "normal.X", ...).
 #pragma once
 
+#include "meso/core/check.h"
+
 #include <string>
 #include <vector>
 
@@ -21,10 +23,15 @@ struct Image {
 
   int numChannels() const { return static_cast<int>(channels.size()); }
   float& at(int x, int y, int c) {
+    MESO_DCHECK(inside(x, y, c), "pixel and channel within the image");
     return pixels[(static_cast<size_t>(y) * width + x) * channels.size() + c];
   }
   float at(int x, int y, int c) const {
+    MESO_DCHECK(inside(x, y, c), "pixel and channel within the image");
     return pixels[(static_cast<size_t>(y) * width + x) * channels.size() + c];
+  }
+  bool inside(int x, int y, int c) const {
+    return x >= 0 && x < width && y >= 0 && y < height && c >= 0 && c < numChannels();
   }
   // Index of a named channel, or -1.
   int channelIndex(const std::string& name) const {
