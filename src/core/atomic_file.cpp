@@ -18,8 +18,6 @@
 namespace meso {
 namespace {
 
-std::atomic<long long> gWriteLimit{-1};
-
 // Temporaries not yet renamed or removed: what an interrupted process must delete on its way out.
 std::mutex gTemporariesMutex;
 std::set<std::filesystem::path>& temporaries() {
@@ -126,11 +124,11 @@ void createOutputFolder(const std::filesystem::path& folder, const std::string& 
 }
 
 void writeBytes(const std::filesystem::path& path, std::string_view bytes,
-                const std::filesystem::path& shown) {
+                const std::filesystem::path& shown, const WriteOptions& options) {
   const std::filesystem::path& file = shown.empty() ? path : shown;
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) failErrno(file, "create", errno);
-  const long long limit = gWriteLimit.load();
+  const long long limit = options.maxBytes;
   size_t done = 0;
   while (done < bytes.size()) {
     size_t chunk = std::min<size_t>(bytes.size() - done, size_t(1) << 20);
@@ -184,9 +182,10 @@ void writeAtomically(const std::filesystem::path& target,
   }
 }
 
-void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes) {
-  writeAtomically(target,
-                  [&](const std::filesystem::path& tmp) { writeBytes(tmp, bytes, target); });
+void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes,
+                         const WriteOptions& options) {
+  writeAtomically(
+      target, [&](const std::filesystem::path& tmp) { writeBytes(tmp, bytes, target, options); });
 }
 
 StagedFiles::~StagedFiles() {
@@ -219,8 +218,6 @@ void StagedFiles::commit() {
     staged_.erase(staged_.begin());
   }
 }
-
-void setWriteLimitForTesting(long long bytes) { gWriteLimit.store(bytes); }
 
 int removeTemporaries() {
   std::lock_guard<std::mutex> lock(gTemporariesMutex);

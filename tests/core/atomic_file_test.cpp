@@ -64,13 +64,12 @@ class OutputFileTest : public testing::TempDirTest {
   }
 };
 
-// A write that fails part way (the hook stands in for a full disk) leaves neither the final file
-// nor the temporary, and says which file and why.
+// A write that fails part way (WriteOptions::maxBytes stands in for a full disk) leaves neither the
+// final file nor the temporary, and says which file and why.
 TEST_F(OutputFileTest, FailedWriteLeavesNothing) {
   const fs::path target = dir_ / "big.bin";
-  setWriteLimitForTesting(1000);
-  const std::string e = errorOf([&] { writeFileAtomically(target, std::string(5000, 'x')); });
-  setWriteLimitForTesting(-1);
+  const std::string e = errorOf(
+      [&] { writeFileAtomically(target, std::string(5000, 'x'), WriteOptions{.maxBytes = 1000}); });
   EXPECT_NE(e.find(target.string() + ": cannot write: No space left on device"), std::string::npos)
       << e;
   EXPECT_TRUE(fs::is_empty(dir_));

@@ -25,18 +25,26 @@ void checkOutputFile(const std::filesystem::path& target, const std::string& wha
 // when a component exists and is not a folder or cannot be created.
 void createOutputFolder(const std::filesystem::path& folder, const std::string& what);
 
+// How a file is written.
+struct WriteOptions {
+  // Fail with ENOSPC, as a full disk does, once the file would grow past this many bytes (tests
+  // stand in for a full disk with it). Negative: no limit.
+  long long maxBytes = -1;
+};
+
 // Writes `bytes` to a new file `file` (which must not exist), checking every write, the fsync and
 // the close: throws meso::Error("SHOWN: cannot write: <errno text>") on a full disk or I/O error
 // (SHOWN: `shown`, the final name of a temporary, or `file` when empty).
 void writeBytes(const std::filesystem::path& file, std::string_view bytes,
-                const std::filesystem::path& shown = {});
+                const std::filesystem::path& shown = {}, const WriteOptions& options = {});
 
 // Calls write(tmp) and renames tmp to target; on any exception removes tmp and rethrows.
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path&)>& write);
 
 // writeAtomically with writeBytes: the one way meso writes a whole file.
-void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
+void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes,
+                         const WriteOptions& options = {});
 
 // Several files that must appear together or not at all (a frame's EXR and PNG and the run's
 // stats): stage() writes each completely under a temporary name, commit() renames them all; the
@@ -60,9 +68,5 @@ class StagedFiles {
 // many were removed. forgetTemporary() drops one from that list (after renaming it by hand).
 int removeTemporaries();
 void forgetTemporary(const std::filesystem::path& tmp);
-
-// Test hook: when set, writeBytes fails once the file would grow past this many bytes, as a full
-// disk does (ENOSPC). Negative (the default): no limit.
-void setWriteLimitForTesting(long long bytes);
 
 }  // namespace meso
