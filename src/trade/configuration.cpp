@@ -3,17 +3,13 @@
 
 #include "meso/render/transition.h"
 
-#include <cstdio>
+#include <fmt/format.h>
 
 namespace meso::trade {
 
 const char* algorithmName(Kind kind) { return kind == Kind::Hybrid ? "auto" : "displacement"; }
 
-std::string formatNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
+std::string formatNumber(double v) { return fmt::format("{:g}", v); }
 
 std::vector<Configuration> configurations(const SweepGrid& grid, const Scene& scene) {
   std::vector<Configuration> list;

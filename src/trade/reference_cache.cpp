@@ -6,6 +6,8 @@
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -77,9 +79,7 @@ fs::path ReferenceCache::defaultFolder(const Scene& scene) {
 }
 
 fs::path ReferenceCache::fileFor(uint64_t key) const {
-  char name[32];
-  std::snprintf(name, sizeof name, "%016llx.ref", static_cast<unsigned long long>(key));
-  return folder_ / name;
+  return folder_ / fmt::format("{:016x}.ref", key);
 }
 
 std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* warning) const {

@@ -5,6 +5,8 @@
 #include "meso/render/local_contrast.h"
 #include "meso/trade/image_errors.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -143,12 +145,10 @@ std::optional<std::string> budgetSpent(const ReferenceLevel& level, int k, float
   // Halving the dicing rate gives up to 4x the micropolygons (fewer where texels cap it).
   const double next = 4.0 * static_cast<double>(level.render.micropolygons);
   if (next <= static_cast<double>(b.maxMicropolygons)) return std::nullopt;
-  char why[160];
-  std::snprintf(why, sizeof why,
-                "the next level (%g px) would need about %.3g micropolygons, over "
-                "--reference-max-micropolygons %lld",
-                rate / 2.0f, next, b.maxMicropolygons);
-  return std::string(why);
+  return fmt::format(
+      "the next level ({:g} px) would need about {:.3g} micropolygons, over "
+      "--reference-max-micropolygons {}",
+      rate / 2.0f, next, b.maxMicropolygons);
 }
 
 // What remains if the changes keep shrinking as they did over the last two levels (a geometric
@@ -166,17 +166,13 @@ double remainingEstimatePct(const ReferenceStudy& s) {
 // "0.5 px 64 spp -> 0.25 px 128 spp (mean +1.2%, rmse 0.9%) -> ..."
 std::string referenceLevels(const ReferenceStudy& s) {
   std::string text;
-  char buf[160];
   for (size_t k = 0; k < s.levels.size(); ++k) {
     const ReferenceLevel& l = s.levels[k];
     if (k == 0)
-      std::snprintf(buf, sizeof buf, "%g px %g/wavelength %d spp", l.dicingRate, l.reliefSamples,
-                    l.spp);
+      text += fmt::format("{:g} px {:g}/wavelength {} spp", l.dicingRate, l.reliefSamples, l.spp);
     else
-      std::snprintf(buf, sizeof buf,
-                    " -> %g px %g/wavelength %d spp (worst band %+.2f%%, rmse %.2f%%)",
-                    l.dicingRate, l.reliefSamples, l.spp, l.meanChangePct, l.rmseChangePct);
-    text += buf;
+      text += fmt::format(" -> {:g} px {:g}/wavelength {} spp (worst band {:+.2f}%, rmse {:.2f}%)",
+                          l.dicingRate, l.reliefSamples, l.spp, l.meanChangePct, l.rmseChangePct);
   }
   return text;
 }
@@ -231,32 +227,24 @@ ReferenceStudy convergeReference(const Scene& base, const ReferenceBudget& budge
 }
 
 std::string referenceVerdict(const ReferenceStudy& s) {
-  char buf[512];
-  if (s.converged) {
-    std::snprintf(buf, sizeof buf,
-                  "reference converged (the mean of every depth band changed by less than %g%%, "
-                  "the rmse is below %g%% of the mean): %s",
-                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str());
-    return buf;
-  }
+  if (s.converged)
+    return fmt::format(
+        "reference converged (the mean of every depth band changed by less than {:g}%, the rmse "
+        "is below {:g}% of the mean): {}",
+        s.tolerance, s.rmseTolerance, referenceLevels(s));
   const ReferenceLevel& last = s.levels.back();
   const double rest = remainingEstimatePct(s);
-  char estimate[160] = "";
-  if (rest >= 0.0)
-    std::snprintf(estimate, sizeof estimate, "; extrapolated, that band is still about %.2g%% off",
-                  rest);
+  const std::string estimate =
+      rest >= 0.0 ? fmt::format("; extrapolated, that band is still about {:.2g}% off", rest) : "";
   if (s.levels.size() < 2)
-    std::snprintf(buf, sizeof buf,
-                  "reference NOT converged: only one level (%s), %s; its error is unknown",
-                  referenceLevels(s).c_str(), s.stop.c_str());
-  else
-    std::snprintf(buf, sizeof buf,
-                  "reference NOT converged (tolerances: band mean %g%%, rmse %g%%): %s; %s; the "
-                  "last refinement still changed the mean of a depth band by %+.2f%% and the "
-                  "rmse by %.2f%% of the mean%s",
-                  s.tolerance, s.rmseTolerance, referenceLevels(s).c_str(), s.stop.c_str(),
-                  last.meanChangePct, last.rmseChangePct, estimate);
-  return buf;
+    return fmt::format("reference NOT converged: only one level ({}), {}; its error is unknown",
+                       referenceLevels(s), s.stop);
+  return fmt::format(
+      "reference NOT converged (tolerances: band mean {:g}%, rmse {:g}%): {}; {}; the last "
+      "refinement still changed the mean of a depth band by {:+.2f}% and the rmse by {:.2f}% of "
+      "the mean{}",
+      s.tolerance, s.rmseTolerance, referenceLevels(s), s.stop, last.meanChangePct,
+      last.rmseChangePct, estimate);
 }
 
 }  // namespace meso::trade

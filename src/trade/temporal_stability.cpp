@@ -4,8 +4,9 @@
 #include "meso/render/film_layout.h"
 #include "meso/trade/configuration.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
-#include <cstdio>
 
 namespace meso::trade {
 namespace {
@@ -64,29 +65,20 @@ std::vector<TemporalBand> temporalBands(const MeasuredRender& hybrid,
 std::string temporalCsv(const std::vector<TemporalBand>& bands, float halfWidth) {
   std::string s =
       "band,threshold,half_width,pixels,hybrid_mean_abs_change,reference_mean_abs_change,ratio\n";
-  char line[256];
-  for (const TemporalBand& b : bands) {
-    std::snprintf(line, sizeof line, "%s,%s,%g,%zu,%.6g,%.6g,%.4g\n", b.name.c_str(),
-                  thresholdText(b).c_str(), halfWidth, b.pixels, b.hybridChange, b.referenceChange,
-                  ratio(b));
-    s += line;
-  }
+  for (const TemporalBand& b : bands)
+    s += fmt::format("{},{},{:g},{},{:.6g},{:.6g},{:.4g}\n", b.name, thresholdText(b), halfWidth,
+                     b.pixels, b.hybridChange, b.referenceChange, ratio(b));
   return s;
 }
 
 std::string temporalTable(const std::vector<TemporalBand>& bands, float halfWidth) {
-  char line[256];
-  std::snprintf(
-      line, sizeof line,
-      "temporal stability: mean |beauty(f+1) - beauty(f)| in bands |T - e| <= %g of the hybrid\n"
-      "  %-5s %9s %10s %12s %12s %8s\n",
+  std::string s = fmt::format(
+      "temporal stability: mean |beauty(f+1) - beauty(f)| in bands |T - e| <= {:g} of the hybrid\n"
+      "  {:<5} {:>9} {:>10} {:>12} {:>12} {:>8}\n",
       halfWidth, "band", "threshold", "pixels", "hybrid", "reference", "ratio");
-  std::string s = line;
-  for (const TemporalBand& b : bands) {
-    std::snprintf(line, sizeof line, "  %-5s %9s %10zu %12.5g %12.5g %8.3g\n", b.name.c_str(),
-                  thresholdText(b).c_str(), b.pixels, b.hybridChange, b.referenceChange, ratio(b));
-    s += line;
-  }
+  for (const TemporalBand& b : bands)
+    s += fmt::format("  {:<5} {:>9} {:>10} {:>12.5g} {:>12.5g} {:>8.3g}\n", b.name,
+                     thresholdText(b), b.pixels, b.hybridChange, b.referenceChange, ratio(b));
   return s;
 }
 

@@ -5,9 +5,10 @@
 #include "meso/render/local_contrast.h"
 #include "meso/trade/pareto_front.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace meso::trade {
@@ -27,22 +28,18 @@ std::string bandList(const std::vector<double>& bands) {
 }
 
 std::string levelComment(const ReferenceLevel& l, size_t k) {
-  char line[640];
-  std::snprintf(line, sizeof line,
-                "# reference level %zu: dicing_rate %g, relief_samples %g, spp %d, micropolygons "
-                "%zu, seconds %.6g%s, mean_change_pct %s, rmse_change_pct %s, band_change_pct %s\n",
-                k, l.dicingRate, l.reliefSamples, l.spp, l.render.micropolygons, l.render.seconds,
-                l.fromCache ? " (cached)" : "", k ? formatNumber(l.meanChangePct).c_str() : "",
-                k ? formatNumber(l.rmseChangePct).c_str() : "", bandList(l.bandChangePct).c_str());
-  return line;
+  return fmt::format(
+      "# reference level {}: dicing_rate {:g}, relief_samples {:g}, spp {}, micropolygons {}, "
+      "seconds {:.6g}{}, mean_change_pct {}, rmse_change_pct {}, band_change_pct {}\n",
+      k, l.dicingRate, l.reliefSamples, l.spp, l.render.micropolygons, l.render.seconds,
+      l.fromCache ? " (cached)" : "", k ? formatNumber(l.meanChangePct) : "",
+      k ? formatNumber(l.rmseChangePct) : "", bandList(l.bandChangePct));
 }
 
 // The worst contrast ratio, "" when no depth band shows relief.
 std::string contrastCell(double ratio) {
   if (std::isnan(ratio)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", ratio);
-  return buf;
+  return fmt::format("{:.4g}", ratio);
 }
 
 // ", worst contrast ratio 0.93", or nothing when no depth band shows relief.
@@ -54,16 +51,13 @@ std::string row(const TradeResult& r) {
   const Configuration& c = r.config;
   // D is left empty where the algorithm does not use it (displacement alone).
   const std::string D = c.kind == Kind::Hybrid ? formatNumber(c.D) : "";
-  char line[640];
   // relief_samples is left empty for the hybrid, which dices by pixels where it displaces.
   const std::string samples = c.kind == Kind::Hybrid ? "" : formatNumber(c.reliefSamples);
-  std::snprintf(line, sizeof line,
-                "%s,%s,%s,%d,%g,%s,%.6g,%.1f,%zu,%.6g,%.6g,%.6g,%.1f,%.1f,%.4g,%s\n",
-                c.name.c_str(), algorithmName(c.kind), D.c_str(), c.spp, c.dicingRate,
-                samples.c_str(), r.seconds, r.peakRssMib, r.micropolygons, r.errors.meanAbsError,
-                r.errors.rmse, r.errors.intensityErrorPct, r.geometryMib, r.addedMib,
-                r.errors.worstBandPct, contrastCell(r.errors.worstContrastRatio).c_str());
-  return line;
+  return fmt::format(
+      "{},{},{},{},{:g},{},{:.6g},{:.1f},{},{:.6g},{:.6g},{:.6g},{:.1f},{:.1f},{:.4g},{}\n", c.name,
+      algorithmName(c.kind), D, c.spp, c.dicingRate, samples, r.seconds, r.peakRssMib,
+      r.micropolygons, r.errors.meanAbsError, r.errors.rmse, r.errors.intensityErrorPct,
+      r.geometryMib, r.addedMib, r.errors.worstBandPct, contrastCell(r.errors.worstContrastRatio));
 }
 
 const TradeResult& defaultHybrid(const std::vector<TradeResult>& results) {
@@ -95,10 +89,8 @@ const TradeResult* cheapestAsAccurate(const std::vector<TradeResult>& results, d
 
 // Ahead of `text`: "speedup <d / h>x", and " (the hybrid is slower)" when it is.
 std::string speedupText(double hybridSeconds, double displacementSeconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "speedup %.2fx%s", ratio(displacementSeconds, hybridSeconds),
-                displacementSeconds < hybridSeconds ? " (the hybrid is slower)" : "");
-  return buf;
+  return fmt::format("speedup {:.2f}x{}", ratio(displacementSeconds, hybridSeconds),
+                     displacementSeconds < hybridSeconds ? " (the hybrid is slower)" : "");
 }
 
 // "; interpolated over spp: ..." when the interpolation is cheaper than the swept `cheapest`.
@@ -106,42 +98,35 @@ std::string interpolatedText(const TradeResult& h, const std::vector<TradeResult
                              const TradeResult* cheapest) {
   const std::optional<InterpolatedDisplacement> i = interpolatedAsAccurate(results, h.errors.rmse);
   if (!i || (cheapest && cheapest->seconds <= i->seconds)) return "";
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "; interpolated between the swept spp: displacement-only (dicing %g px, relief "
-                "samples %g) reaches that rmse at about %.3g spp (%d spp: %.4g, %d spp: %.4g) in "
-                "about %.3g s: %s",
-                i->fewer->config.dicingRate, i->fewer->config.reliefSamples, i->spp,
-                i->fewer->config.spp, i->fewer->errors.rmse, i->more->config.spp,
-                i->more->errors.rmse, i->seconds, speedupText(h.seconds, i->seconds).c_str());
-  return buf;
+  return fmt::format(
+      "; interpolated between the swept spp: displacement-only (dicing {:g} px, relief samples "
+      "{:g}) reaches that rmse at about {:.3g} spp ({} spp: {:.4g}, {} spp: {:.4g}) in about "
+      "{:.3g} s: {}",
+      i->fewer->config.dicingRate, i->fewer->config.reliefSamples, i->spp, i->fewer->config.spp,
+      i->fewer->errors.rmse, i->more->config.spp, i->more->errors.rmse, i->seconds,
+      speedupText(h.seconds, i->seconds));
 }
 
 // "<ratio>x", or "n/a" when the displacement configuration's figure is 0 (a peak that did not rise
 // above the process's baseline: a ratio to it says nothing).
 std::string ratioText(double hybrid, double displacement) {
   if (!(displacement > 0.0)) return "n/a";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3gx", ratio(hybrid, displacement));
-  return buf;
+  return fmt::format("{:.3g}x", ratio(hybrid, displacement));
 }
 
 std::string comparison(const TradeResult& h, const TradeResult& d, const char* as, const char* at) {
-  char buf[1000];
-  std::snprintf(
-      buf, sizeof buf,
-      "cheapest displacement-only %s (dicing %g px, relief samples %g, %d spp) %.3g s, rmse "
-      "%.4g, worst band %+.3g%%%s: %s; hybrid / displacement at %s: time %.3gx, peak "
-      "memory %.3gx (%s of what each added above the process's baseline), geometry memory "
-      "%.3gx, micropolygons %.3gx, spp %.3gx",
+  return fmt::format(
+      "cheapest displacement-only {} (dicing {:g} px, relief samples {:g}, {} spp) {:.3g} s, rmse "
+      "{:.4g}, worst band {:+.3g}%{}: {}; hybrid / displacement at {}: time {:.3g}x, peak memory "
+      "{:.3g}x ({} of what each added above the process's baseline), geometry memory {:.3g}x, "
+      "micropolygons {:.3g}x, spp {:.3g}x",
       as, d.config.dicingRate, d.config.reliefSamples, d.config.spp, d.seconds, d.errors.rmse,
-      d.errors.worstBandPct, contrastText(d.errors.worstContrastRatio).c_str(),
-      speedupText(h.seconds, d.seconds).c_str(), at, ratio(h.seconds, d.seconds),
-      ratio(h.peakRssMib, d.peakRssMib), ratioText(h.addedMib, d.addedMib).c_str(),
+      d.errors.worstBandPct, contrastText(d.errors.worstContrastRatio),
+      speedupText(h.seconds, d.seconds), at, ratio(h.seconds, d.seconds),
+      ratio(h.peakRssMib, d.peakRssMib), ratioText(h.addedMib, d.addedMib),
       ratio(h.geometryMib, d.geometryMib),
       ratio(static_cast<double>(h.micropolygons), static_cast<double>(d.micropolygons)),
       ratio(h.config.spp, d.config.spp));
-  return buf;
 }
 
 }  // namespace
@@ -193,13 +178,12 @@ std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStu
 std::string tradeSummary(const std::vector<TradeResult>& results, const ReferenceStudy& study) {
   const TradeResult& h = defaultHybrid(results);
   const double hRatio = h.errors.worstContrastRatio;
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "trade: default hybrid (D %g, %g px, %d spp) %.3g s, rmse %.4g, mean error %.3g%%, "
-                "worst band %+.3g%%%s%s",
-                h.config.D, h.config.dicingRate, h.config.spp, h.seconds, h.errors.rmse,
-                h.errors.intensityErrorPct, h.errors.worstBandPct, contrastText(hRatio).c_str(),
-                asDetailed(hRatio) ? "" : " (NOT as detailed as the reference)");
+  const std::string head = fmt::format(
+      "trade: default hybrid (D {:g}, {:g} px, {} spp) {:.3g} s, rmse {:.4g}, mean error {:.3g}%, "
+      "worst band {:+.3g}%{}{}",
+      h.config.D, h.config.dicingRate, h.config.spp, h.seconds, h.errors.rmse,
+      h.errors.intensityErrorPct, h.errors.worstBandPct, contrastText(hRatio),
+      asDetailed(hRatio) ? "" : " (NOT as detailed as the reference)");
   const TradeResult* cheapest = cheapestAsAccurate(results, h.errors.rmse, -1.0);
   // Intensity consistency and detail too: no depth band further from the reference than the
   // hybrid's worst (at least 0.5%, the reference's own tolerance), no contrast ratio further from 1
@@ -208,13 +192,11 @@ std::string tradeSummary(const std::vector<TradeResult>& results, const Referenc
   const double detail = std::isnan(hRatio) ? kContrastTolerance
                                            : std::max(std::abs(hRatio - 1.0), kContrastTolerance);
   const TradeResult* consistent = cheapestAsAccurate(results, h.errors.rmse, band, detail);
-  char bandLine[300];
-  std::snprintf(bandLine, sizeof bandLine,
-                "trade: as consistent and as detailed too (every depth band's mean within %.3g%% "
-                "of the reference's, its local contrast within %.3g%% where the reference shows "
-                "relief): ",
-                band, 100.0 * detail);
-  return std::string(buf) +
+  const std::string bandLine = fmt::format(
+      "trade: as consistent and as detailed too (every depth band's mean within {:.3g}% of the "
+      "reference's, its local contrast within {:.3g}% where the reference shows relief): ",
+      band, 100.0 * detail);
+  return head +
          (cheapest ? "; " + comparison(h, *cheapest, "as accurate", "equal rmse")
                    : "; no displacement-only configuration swept is as accurate") +
          interpolatedText(h, results, cheapest) + "\n" + bandLine +
@@ -226,17 +208,12 @@ std::string tradeSummary(const std::vector<TradeResult>& results, const Referenc
 }
 
 std::string progressLine(const TradeResult& r, size_t index, size_t count) {
-  char line[320];
-  std::snprintf(
-      line, sizeof line,
-      "meso: trade %zu/%zu %-28s %8.3f s %8.1f MiB %10zu mp  rmse %.5g  mae %.5g  mean "
-      "error %.3g%%  "
-      "worst band %+.3g%%  contrast ratio %s\n",
-      index + 1, count, r.config.name.c_str(), r.seconds, r.peakRssMib, r.micropolygons,
-      r.errors.rmse, r.errors.meanAbsError, r.errors.intensityErrorPct, r.errors.worstBandPct,
-      std::isnan(r.errors.worstContrastRatio) ? "-"
-                                              : contrastCell(r.errors.worstContrastRatio).c_str());
-  return line;
+  return fmt::format(
+      "meso: trade {}/{} {:<28} {:>8.3f} s {:>8.1f} MiB {:>10} mp  rmse {:.5g}  mae {:.5g}  mean "
+      "error {:.3g}%  worst band {:+.3g}%  contrast ratio {}\n",
+      index + 1, count, r.config.name, r.seconds, r.peakRssMib, r.micropolygons, r.errors.rmse,
+      r.errors.meanAbsError, r.errors.intensityErrorPct, r.errors.worstBandPct,
+      std::isnan(r.errors.worstContrastRatio) ? "-" : contrastCell(r.errors.worstContrastRatio));
 }
 
 }  // namespace meso::trade
