@@ -1,5 +1,8 @@
 #include "bands_command.h"
 
+#include "cli_options.h"
+#include "command.h"
+
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
@@ -21,7 +24,20 @@ Image toImage(const HeightTable& t) {
   return img;
 }
 
-}  // namespace
+CLI::App* addBandsOptions(CLI::App& cli, BandsCommandOptions& o) {
+  CLI::App* b = cli.add_subcommand(
+      "bands",
+      "Split one height map into band-limited relief levels whose sum reproduces it (Becker & Max "
+      "1993, 4.3); "
+      "writes one EXR per band and prints each band's measured highest frequency");
+  addOption(b, "height", o.height, "Height image (any format OpenImageIO reads)", CLI::ExistingFile)
+      ->required();
+  addOption(b, "-n,--levels", o.levels, "Number of bands", CLI::Range(1, 16))
+      ->capture_default_str();
+  addOption(b, "-o,--out-dir", o.outDir, "Folder for the band images")->capture_default_str();
+  b->add_flag("--clamp", o.clamp, "The map does not tile (it is mirrored before filtering)");
+  return b;
+}
 
 void runBands(const BandsCommandOptions& o) {
   if (o.levels < 1 || o.levels > 16)
@@ -70,6 +86,24 @@ void runBands(const BandsCommandOptions& o) {
                  (o.outDir / (o.height.stem().string() + "_band" + std::to_string(k + 1) + ".exr"))
                      .string()
                      .c_str());
+}
+
+class BandsCommand : public Command {
+ public:
+  explicit BandsCommand(CLI::App& cli) {
+    app_ = addBandsOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext&) override { runBands(options_); }
+  BandsCommandOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> makeBandsCommand(CLI::App& cli) {
+  return std::make_unique<BandsCommand>(cli);
 }
 
 }  // namespace meso::app

@@ -1,7 +1,12 @@
 #include "cache_command.h"
 
+#include "cli_options.h"
+#include "command.h"
+
 #include "meso/appearance/table_cache.h"
 #include "meso/core/error.h"
+
+#include <fmt/chrono.h>
 
 #include <chrono>
 #include <cstdio>
@@ -29,14 +34,10 @@ std::string localTime(std::filesystem::file_time_type t) {
       std::chrono::system_clock::to_time_t(std::chrono::file_clock::to_sys(t));
   std::tm parts{};
   localtime_r(&seconds, &parts);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%d %H:%M:%S", &parts);
-  return text;
+  return fmt::format("{:%Y-%m-%d %H:%M:%S}", parts);
 }
 
 std::string tables(int n) { return std::to_string(n) + (n == 1 ? " table" : " tables"); }
-
-}  // namespace
 
 void runCacheList(const CacheCommandOptions& o) {
   const TableCache cache(folderOf(o));
@@ -75,6 +76,57 @@ void runCachePrune(const CacheCommandOptions& o) {
   if (r.kept > 0)
     std::printf("kept %s the limit would remove: in use by another process or not removable\n",
                 tables(r.kept).c_str());
+}
+
+// `cache` and its three commands, each with --cache-dir.
+class CacheCommand : public Command {
+ public:
+  explicit CacheCommand(CLI::App& cli) {
+    addOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void addOptions(CLI::App& cli, CacheCommandOptions& o) {
+    app_ = cli.add_subcommand(
+        "cache", "The table cache folder: list its tables, clear it, or prune it to a size");
+    app_->require_subcommand(1);
+    const auto addFolder = [&o](CLI::App* sub) {
+      addOption(
+          sub, "--cache-dir", o.cacheDir,
+          "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
+    };
+    list_ = app_->add_subcommand(
+        "list",
+        "One line per table, least recently used first: file, size, last use; then the total");
+    addFolder(list_);
+    clear_ =
+        app_->add_subcommand("clear", "Remove every table and lock file (those in use are kept)");
+    addFolder(clear_);
+    prune_ = app_->add_subcommand(
+        "prune",
+        "Remove least recently used tables until the rest fit in a size (the same eviction "
+        "that runs after every store)");
+    addFolder(prune_);
+    addOption(prune_, "--to,--cache-limit", o.to,
+              "Size to prune to: bytes with an optional K, M, G or T suffix (500M, 4G); "
+              "default $MESO_CACHE_LIMIT, else 4G");
+  }
+
+  void execute(const RunContext&) override {
+    if (list_->parsed()) runCacheList(options_);
+    if (clear_->parsed()) runCacheClear(options_);
+    if (prune_->parsed()) runCachePrune(options_);
+  }
+
+  CacheCommandOptions options_;
+  CLI::App *list_ = nullptr, *clear_ = nullptr, *prune_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> makeCacheCommand(CLI::App& cli) {
+  return std::make_unique<CacheCommand>(cli);
 }
 
 }  // namespace meso::app

@@ -2,7 +2,10 @@
 // least recently used tables down to a size.
 #pragma once
 
+#include "command.h"
+
 #include <filesystem>
+#include <memory>
 #include <string>
 
 namespace meso::app {
@@ -12,11 +15,9 @@ struct CacheCommandOptions {
   std::string to;                  // prune: target size ("500M"); empty: TableCache::defaultLimit()
 };
 
-// One line per table, least recently used first (file name, size, last use), then a total line.
-void runCacheList(const CacheCommandOptions& options);
-// Removes every table and lock file no other process holds; says how many and how many bytes.
-void runCacheClear(const CacheCommandOptions& options);
-// Removes least recently used tables until the rest take at most options.to.
-void runCachePrune(const CacheCommandOptions& options);
+// The `cache` command (list: one line per table, least recently used first, then a total; clear:
+// removes every table and lock file no other process holds; prune: removes least recently used
+// tables until the rest take at most --to), registered on `cli` with its options.
+std::unique_ptr<Command> makeCacheCommand(CLI::App& cli);
 
 }  // namespace meso::app

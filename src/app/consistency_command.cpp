@@ -1,4 +1,8 @@
 #include "consistency_command.h"
+
+#include "cli_options.h"
+#include "command.h"
+#include "interrupt.h"
 #include "scene_options.h"
 
 #include "meso/appearance/table_cache.h"
@@ -10,7 +14,8 @@
 #include "meso/render/local_contrast.h"
 #include "meso/render/scene_consistency.h"
 #include "meso/scene/scene_parser.h"
-#include "render_command.h"
+
+#include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
@@ -33,26 +38,93 @@ ReliefLevelDecl reliefFrom(const ConsistencyCommandOptions& o) {
 
 // "as detailed (...): fails: brdf, redistribution; worst ..." for stderr.
 std::string detailVerdict(const SceneConsistencyReport& report, float referenceDicing) {
-  char head[200];
-  std::snprintf(head, sizeof head,
-                "as detailed (local contrast within %g%% of the reference's where its contrast is "
-                "at least %g): ",
-                100.0 * kContrastTolerance, kReliefContrastFloor);
-  if (std::isnan(report.worstContrastRatio)) return head + std::string("no region shows relief");
+  const std::string head = fmt::format(
+      "as detailed (local contrast within {:g}% of the reference's where its contrast is at least "
+      "{:g}): ",
+      100.0 * kContrastTolerance, kReliefContrastFloor);
+  if (std::isnan(report.worstContrastRatio)) return head + "no region shows relief";
   std::string failing;
   for (const std::string& r : report.notDetailed) failing += (failing.empty() ? "" : ", ") + r;
-  char tail[400];
-  std::snprintf(tail, sizeof tail,
-                "; worst: %s in %s, contrast ratio %.3f; the reference's contrast moves %.2f%% "
-                "when diced at %g px",
-                report.worstContrastRenderer.c_str(), report.worstContrastRegion.c_str(),
-                report.worstContrastRatio, 100.0 * report.referenceContrastChange,
-                2.0 * referenceDicing);
   return head + (failing.empty() ? std::string("every renderer passes") : "fails: " + failing) +
-         tail;
+         fmt::format(
+             "; worst: {} in {}, contrast ratio {:.3f}; the reference's contrast moves {:.2f}% "
+             "when diced at {:g} px",
+             report.worstContrastRenderer, report.worstContrastRegion, report.worstContrastRatio,
+             100.0 * report.referenceContrastChange, 2.0 * referenceDicing);
 }
 
-}  // namespace
+// The patch's relief, light and tables (the options that apply without a SCENE too).
+void addPatchOptions(CLI::App* c, ConsistencyCommandOptions& o) {
+  addOption(c, "--height", o.height,
+            "Height image (any format OpenImageIO reads); default: procedural fBm noise",
+            CLI::ExistingFile);
+  addOption(c, "--amplitude", o.amplitude,
+            "Relief amplitude in units of one tile (the tile is 1 x 1)", CLI::Range(0.0f, 10.0f))
+      ->capture_default_str();
+  addOption(c, "--scale", o.scale, "Tiling scale S: the height table repeats S times per tile",
+            CLI::Range(1e-3f, 1e3f))
+      ->capture_default_str();
+  addOption(c, "--octaves", o.octaves, "Octaves of the procedural noise", CLI::Range(1, 12))
+      ->capture_default_str();
+  addOption(c, "--seed", o.seed, "Seed of the procedural noise")->capture_default_str();
+  addOption(c, "--theta-v", o.thetaV, "View angles in degrees, comma separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(c, "--theta-l", o.thetaL, "Light polar angle in degrees", CLI::Range(0.0f, 90.0f))
+      ->capture_default_str();
+  addOption(c, "--phi", o.phi, "phi_V - phi_L in degrees", CLI::Range(-360.0f, 360.0f))
+      ->capture_default_str();
+  addChoice(c, "--component", o.component,
+            "Terms of the local model: " + choiceList<Component>("|"));
+  addOption(c, "--phong", o.phong, "Phong exponent of the specular component",
+            CLI::Range(0.0f, 10000.0f))
+      ->capture_default_str();
+  addChoice(c, "--format", o.format, choiceList<TableFormat>("|"));
+  addOption(c, "--normalize", o.normalize,
+            "Scale so that bump at the first theta_V equals this (the paper used 128)");
+  addOption(c, "--samples", o.samples, "Samples per view azimuth", CLI::Range(16, 1 << 24))
+      ->capture_default_str();
+  addOption(c, "--azimuths", o.azimuths, "View azimuths averaged", CLI::Range(1, 4096))
+      ->capture_default_str();
+  addChoice(c, "--variant", o.variant,
+            "Redistribution maps: " + choiceList<RedistributionVariant>("|"));
+  addOption(c, "--cache-dir", o.cacheDir,
+            "Table cache folder (default $MESO_CACHE_DIR, $XDG_CACHE_HOME/meso or ~/.cache/meso)");
+  c->add_flag("--no-cache", o.noCache, "Build the tables without reading or writing the cache");
+  c->add_flag("--shadows", o.shadows,
+              "Relief self-shadowing: shadow rays in displacement, the traced shadowing factor in "
+              "redistribution and brdf "
+              "(SCENE: the scene's render.shadows is used)");
+  addOption(c, "--shadow-rays", o.shadowRays,
+            "--shadows: visible hits per view slice of the shadowing table (0: the renderer's)",
+            CLI::Range(0, 1 << 22));
+}
+
+CLI::App* addConsistencyOptions(CLI::App& cli, ConsistencyCommandOptions& o) {
+  CLI::App* c = cli.add_subcommand("consistency",
+                                   "Becker & Max's Figure 6 for any relief: area-averaged "
+                                   "intensity of a flat periodic patch for "
+                                   "bump, redistribution, brdf and displacement at each theta_V; "
+                                   "given a SCENE, the same for the "
+                                   "whole scene: each renderer against a full-displacement "
+                                   "reference, per object and band of rows");
+  addOption(c, "scene", o.scene,
+            "Scene file (TOML): compare renderers on the whole scene instead of the patch",
+            CLI::ExistingFile);
+  addSetOption(c, o.set);
+  addOption(c, "--bands", o.bands, "SCENE: bands of image rows", CLI::Range(1, 4096))
+      ->capture_default_str();
+  addOption(c, "--reference-dicing", o.referenceDicing,
+            "SCENE: dicing rate of the displacement reference, pixels", CLI::Range(0.01f, 100.0f))
+      ->capture_default_str();
+  addOption(c, "--reference-spp", o.referenceSpp,
+            "SCENE: samples per pixel of the reference (0: the scene's)", CLI::Range(0, 65536))
+      ->capture_default_str();
+  addChoices(c, "--algorithms", o.algorithms,
+             "SCENE: renderers compared with the reference, comma separated");
+  addPatchOptions(c, o);
+  return c;
+}
 
 void runSceneConsistency(const ConsistencyCommandOptions& o) {
   const Scene scene = loadScene(o.scene, setOverrides(o.set));
@@ -131,6 +203,24 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
   const std::string table = formatConsistency(rows, o.format, o.normalize);
   std::fputs(table.c_str(), stdout);
+}
+
+class ConsistencyCommand : public Command {
+ public:
+  explicit ConsistencyCommand(CLI::App& cli) {
+    app_ = addConsistencyOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext&) override { runConsistency(options_); }
+  ConsistencyCommandOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> makeConsistencyCommand(CLI::App& cli) {
+  return std::make_unique<ConsistencyCommand>(cli);
 }
 
 }  // namespace meso::app

@@ -1,14 +1,18 @@
 // `meso consistency`: the paper's Figure 6 for any relief.
 #pragma once
 
+#include "command.h"
+
 #include "meso/scene/choices.h"
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace meso::app {
 
+// Its options; the patch table goes to stdout.
 struct ConsistencyCommandOptions {
   // A scene: Figure 6 for the whole scene (each renderer against a displacement reference, per
   // object and per band of rows) instead of the periodic patch.
@@ -40,7 +44,7 @@ struct ConsistencyCommandOptions {
   int shadowRays = 0;    // visible hits per slice of the shadowing table; 0: the renderer's default
 };
 
-// Prints the table on stdout. Throws meso::Error on bad input.
-void runConsistency(const ConsistencyCommandOptions& options);
+// The `consistency` command, registered on `cli` with its options.
+std::unique_ptr<Command> makeConsistencyCommand(CLI::App& cli);
 
 }  // namespace meso::app

@@ -7,6 +7,8 @@
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <cstdio>
 #include <fstream>
@@ -49,11 +51,7 @@ std::optional<nlohmann::json> storedSettings(const std::filesystem::path& file) 
 // A setting's value in a message: numbers as printf's %g writes them (floats stored as doubles
 // would show 0.30000001192092896).
 std::string shown(const nlohmann::json& v) {
-  if (v.is_number_float()) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v.get<double>());
-    return text;
-  }
+  if (v.is_number_float()) return fmt::format("{:g}", v.get<double>());
   if (!v.is_array()) return v.dump();
   std::string out = "[";
   for (const nlohmann::json& e : v) out.append(out.size() > 1 ? "," : "").append(shown(e));
@@ -90,10 +88,7 @@ nlohmann::json frameSettings(const Scene& scene, const std::string& sceneText,
                              const std::optional<PixelWindow>& window) {
   nlohmann::json s = settingsJson(scene, {});
   for (const char* where : {"scene", "output", "threads", "objects"}) s.erase(where);
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx",
-                static_cast<unsigned long long>(Hasher().string(sceneText).digest()));
-  s["scene_text_fnv1a"] = hash;
+  s["scene_text_fnv1a"] = fmt::format("{:016x}", Hasher().string(sceneText).digest());
   s["set"] = o.set;
   s["false_colour"] = o.falseColour;
   s["bump_filter"] = !o.noBumpFilter;

@@ -26,22 +26,23 @@ double levelTablesBytes(const TableResolution& r, std::string* key) {
   return histograms + brdf + relief;
 }
 
-void checkRenderMemory(Scene& scene, std::vector<std::string>& warnings, bool withFilm) {
+void checkRenderMemory(Scene& scene, uint64_t limitBytes, std::vector<std::string>& warnings,
+                       bool withFilm) {
   const std::string file = scene.file.string();
   const double film = withFilm ? filmBytes(scene.camera.width, scene.camera.height) : 0.0;
-  requireMemory(film, file, "camera.resolution",
-                "the film of " + std::to_string(scene.camera.width) + "x" +
-                    std::to_string(scene.camera.height) +
-                    " pixels, 11 float channels, and its EXR and PNG");
+  requireMemoryWithin(limitBytes, film, file, "camera.resolution",
+                      "the film of " + std::to_string(scene.camera.width) + "x" +
+                          std::to_string(scene.camera.height) +
+                          " pixels, 11 float channels, and its EXR and PNG");
   std::string key;
   size_t levels = 0;
   for (const Material& m : scene.materials) levels += m.relief.size();
   const double tables = static_cast<double>(levels) * levelTablesBytes(scene.render.tables, &key);
-  requireMemory(film + tables, file, key,
-                "the appearance tables of " + std::to_string(levels) +
-                    " relief level(s) at [render.tables] " + formatMib(tables) + ", and the film " +
-                    formatMib(film));
-  const double left = static_cast<double>(memoryLimitBytes()) - film - tables;
+  requireMemoryWithin(limitBytes, film + tables, file, key,
+                      "the appearance tables of " + std::to_string(levels) +
+                          " relief level(s) at [render.tables] " + formatMib(tables) +
+                          ", and the film " + formatMib(film));
+  const double left = static_cast<double>(limitBytes) - film - tables;
   const int64_t fits = static_cast<int64_t>(std::max(0.0, left) / kBytesPerMicropolygon);
   if (fits < scene.render.maxMicropolygons) {
     if (levels > 0)  // only a scene with relief displaces anything
@@ -49,7 +50,7 @@ void checkRenderMemory(Scene& scene, std::vector<std::string>& warnings, bool wi
                          std::to_string(scene.render.maxMicropolygons) + " to " +
                          std::to_string(std::max<int64_t>(fits, 1000)) +
                          " so that the micropolygons fit in the memory limit of " +
-                         formatMib(static_cast<double>(memoryLimitBytes())) + " (--memory-limit)");
+                         formatMib(static_cast<double>(limitBytes)) + " (--memory-limit)");
     scene.render.maxMicropolygons = std::max<int64_t>(fits, 1000);
   }
 }

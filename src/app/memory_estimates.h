@@ -4,6 +4,7 @@
 
 #include "meso/scene/scene.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,10 +18,12 @@ double filmBytes(int width, int height);
 // part.
 double levelTablesBytes(const TableResolution& r, std::string* key);
 
-// Refuses (meso::Error naming the key) a scene whose film or tables exceed the memory limit, and
-// lowers render.max_micropolygons to what fits beside them (the cap becomes a memory cap), adding a
-// warning when it does. withFilm false: only the tables (meso tables renders nothing).
-void checkRenderMemory(Scene& scene, std::vector<std::string>& warnings, bool withFilm = true);
+// Refuses (meso::Error naming the key) a scene whose film or tables exceed `limitBytes`
+// (--memory-limit), and lowers render.max_micropolygons to what fits beside them (the cap becomes
+// a memory cap), adding a warning when it does. withFilm false: only the tables (meso tables
+// renders nothing).
+void checkRenderMemory(Scene& scene, uint64_t limitBytes, std::vector<std::string>& warnings,
+                       bool withFilm = true);
 
 // Measured: about 70 MiB of geometry per million displaced micropolygons; with margin.
 inline constexpr double kBytesPerMicropolygon = 96.0;

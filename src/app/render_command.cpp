@@ -13,12 +13,15 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 #include "meso/core/input_file.h"
+#include "meso/core/progress.h"
 #include "meso/core/timer.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
 #include "meso/render/transition.h"
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
+
+#include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -38,9 +41,7 @@ std::filesystem::path defaultOutput(const std::filesystem::path& scene) {
 
 std::filesystem::path frameOutput(const std::filesystem::path& output, int frame, bool animated) {
   if (!animated) return output;
-  char suffix[32];
-  std::snprintf(suffix, sizeof suffix, "_%04d.exr", frame);
-  return output.parent_path() / (output.stem().string() + suffix);
+  return output.parent_path() / fmt::format("{}_{:04}.exr", output.stem().string(), frame);
 }
 
 // .exr in any case (.EXR from a camera's or a tool's naming).
@@ -66,7 +67,7 @@ std::vector<int> framesToRender(const RenderCommandOptions& o, const Scene& scen
 // One `meso render` run: the checked plan, then the frames, then the stats and the video.
 class RenderRun {
  public:
-  explicit RenderRun(const RenderCommandOptions& o) : o_(o) {}
+  RenderRun(const RenderCommandOptions& o, const RunContext& context) : o_(o), context_(context) {}
 
   void run() {
     plan();
@@ -98,7 +99,7 @@ class RenderRun {
                    "materials' ambient term ka\n",
                    o_.scene.string().c_str());
     std::vector<std::string> memoryWarnings;
-    checkRenderMemory(scene_, memoryWarnings);
+    checkRenderMemory(scene_, context_.memoryLimitBytes, memoryWarnings);
     for (const std::string& w : memoryWarnings)
       std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
     output_ = o_.output.empty() ? defaultOutput(o_.scene) : o_.output;
@@ -250,6 +251,7 @@ class RenderRun {
   }
 
   const RenderCommandOptions& o_;
+  const RunContext context_;
   Timer total_;
   Scene scene_;
   std::filesystem::path output_;
@@ -271,8 +273,25 @@ class RenderRun {
   StagedFiles lastFrame_;  // the last frame rendered, staged until the stats are written
 };
 
+class RenderCommand : public Command {
+ public:
+  explicit RenderCommand(CLI::App& cli) {
+    app_ = addRenderOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext& context) override {
+    setProgressAllowed(!options_.quiet);
+    RenderRun(options_, context).run();
+  }
+  RenderCommandOptions options_;
+};
+
 }  // namespace
 
-void runRender(const RenderCommandOptions& o) { RenderRun(o).run(); }
+std::unique_ptr<Command> makeRenderCommand(CLI::App& cli) {
+  return std::make_unique<RenderCommand>(cli);
+}
 
 }  // namespace meso::app

@@ -1,12 +1,16 @@
 // `meso render`: the command itself (its options: render_options.h).
 #pragma once
 
+#include "command.h"
 #include "interrupt.h"
 #include "render_options.h"
 
+#include <memory>
+
 namespace meso::app {
 
-// Renders and writes the EXR, its PNG preview and (optionally) the stats JSON. Throws meso::Error.
-void runRender(const RenderCommandOptions& options);
+// The `render` command (options: render_options.h), registered on `cli`. It renders and writes the
+// EXR, its PNG preview and (optionally) the stats JSON.
+std::unique_ptr<Command> makeRenderCommand(CLI::App& cli);
 
 }  // namespace meso::app

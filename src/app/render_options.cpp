@@ -1,12 +1,14 @@
 // `meso render`'s options (render_options.h).
 #include "render_options.h"
 
-#include "cli_choices.h"
+#include "cli_options.h"
 #include "cli_values.h"
 #include "scene_options.h"
 
 #include "meso/core/error.h"
 #include "meso/render/transition.h"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -22,88 +24,71 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
   render->footer(
       "=VALUE after an option is its default; a scene key (camera.spp) there means the scene's "
       "value, whose own default docs/scene-format.md gives. Flags are off unless given.");
-  render->add_option("scene", o.scene, "Scene file (TOML, see docs/scene-format.md)")->required();
-  render
-      ->add_option("-o,--output", o.output,
-                   "Output .exr; the PNG preview is written beside it with the same name")
+  addOption(render, "scene", o.scene, "Scene file (TOML, see docs/scene-format.md)")->required();
+  addOption(render, "-o,--output", o.output,
+            "Output .exr; the PNG preview is written beside it with the same name")
       ->default_str("out/<scene name>.exr");
-  render
-      ->add_option("--stats", o.statsFile,
-                   "Write timings, memory, counters and settings as JSON to this file")
+  addOption(render, "--stats", o.statsFile,
+            "Write timings, memory, counters and settings as JSON to this file")
       ->default_str("none");
   addSetOption(render, o.set);
-  render
-      ->add_option("--camera-position", o.cameraPosition,
-                   "X,Y,Z: the eye (camera.position; not with a [path])")
+  addOption(render, "--camera-position", o.cameraPosition,
+            "X,Y,Z: the eye (camera.position; not with a [path])")
       ->default_str("camera.position");
-  render
-      ->add_option("--look-at", o.lookAt,
-                   "X,Y,Z: the point looked at (camera.look_at; not with a [path])")
+  addOption(render, "--look-at", o.lookAt,
+            "X,Y,Z: the point looked at (camera.look_at; not with a [path])")
       ->default_str("camera.look_at");
-  render
-      ->add_option("--fov", o.fov,
-                   "Vertical field of view in degrees (camera.fov; not with a [path])")
+  addOption(render, "--fov", o.fov,
+            "Vertical field of view in degrees (camera.fov; not with a [path])")
       ->default_str("camera.fov");
-  render->add_option("--spp", o.spp, "Samples per pixel (jittered strata)")
-      ->check(CLI::Range(1, 65536))
+  addOption(render, "--spp", o.spp, "Samples per pixel (jittered strata)", CLI::Range(1, 65536))
       ->default_str("camera.spp");
-  render->add_option("--threads", o.threads, "Worker threads, 0 = all cores")
-      ->check(CLI::Range(0, 1024))
+  addOption(render, "--threads", o.threads, "Worker threads, 0 = all cores", CLI::Range(0, 1024))
       ->default_str("render.threads");
-  render->add_option("--seed", o.seed, "Random seed")->default_str("render.seed");
+  addOption(render, "--seed", o.seed, "Random seed")->default_str("render.seed");
   addChoice(render, "--algorithm", o.algorithm, choiceList<Algorithm>("|"))
       ->default_str("render.algorithm");
-  render
-      ->add_option("--tessellation-rate", o.tessellationRate,
-                   "Uniform Bfr tessellation rate per base-face edge")
-      ->check(CLI::Range(1, 64))
+  addOption(render, "--tessellation-rate", o.tessellationRate,
+            "Uniform Bfr tessellation rate per base-face edge", CLI::Range(1, 64))
       ->default_str("render.tessellation_rate");
-  render->add_option("--width", o.width, "Image width in pixels")
-      ->check(CLI::Range(1, 16384))
+  addOption(render, "--width", o.width, "Image width in pixels", CLI::Range(1, 16384))
       ->default_str("camera.resolution");
-  render->add_option("--height", o.height, "Image height in pixels")
-      ->check(CLI::Range(1, 16384))
+  addOption(render, "--height", o.height, "Image height in pixels", CLI::Range(1, 16384))
       ->default_str("camera.resolution");
-  render
-      ->add_option("--crop", o.crop,
-                   "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 of the image "
-                   "(0,0 its top-left corner); the output is that window, the same bits as in the "
-                   "whole image")
+  addOption(render, "--crop", o.crop,
+            "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 of the image "
+            "(0,0 its top-left corner); the output is that window, the same bits as in the "
+            "whole image")
       ->default_str("none");
-  render->add_option("--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels")
-      ->check(CLI::Range(0.01f, 1000.0f))
+  addOption(render, "--dicing-rate", o.dicingRate, "Longest displaced micropolygon edge in pixels",
+            CLI::Range(0.01f, 1000.0f))
       ->default_str("render.dicing_rate");
   addChoice(render, "--dicing-metric", o.dicingMetric,
             "isotropic (world length over the pixel footprint at its depth) or projected "
             "(foreshortened screen length; cheaper, under-resolved at grazing angles)")
       ->default_str("render.dicing_metric");
-  render
-      ->add_option("--relief-samples", o.reliefSamples,
-                   "Full displacement: least micropolygon edges per shortest relief wavelength, "
-                   "also below a pixel; 0 = pixel dicing only")
-      ->check(CLI::Range(0.0f, 16.0f))
+  addOption(render, "--relief-samples", o.reliefSamples,
+            "Full displacement: least micropolygon edges per shortest relief wavelength, "
+            "also below a pixel; 0 = pixel dicing only",
+            CLI::Range(0.0f, 16.0f))
       ->default_str("render.relief_samples");
-  render
-      ->add_option("--max-micropolygons", o.maxMicropolygons,
-                   "Cap per frame; a frame over it is diced coarser, with a warning")
-      ->check(CLI::Range(int64_t{1000}, int64_t{1} << 40))
+  addOption(render, "--max-micropolygons", o.maxMicropolygons,
+            "Cap per frame; a frame over it is diced coarser, with a warning",
+            CLI::Range(int64_t{1000}, int64_t{1} << 40))
       ->default_str("render.max_micropolygons");
   addChoice(render, "--normals", o.normals,
             "Shading normal of --algorithm displacement: bump (the paper's) or facet")
       ->default_str("render.normals");
-  render
-      ->add_option("--D", o.transitionD,
-                   "Transition D: pixels per shortest wavelength below which a level is not "
-                   "displaced")
-      ->check(CLI::Range(0.0f, 1e6f))
+  addOption(render, "--D", o.transitionD,
+            "Transition D: pixels per shortest wavelength below which a level is not "
+            "displaced",
+            CLI::Range(0.0f, 1e6f))
       ->default_str("render.D");
-  render
-      ->add_option("--eps", o.transitionEps, "Transition eps of T = (nu - D) / (cos theta_V + eps)")
-      ->check(CLI::Range(0.0f, 1e6f))
+  addOption(render, "--eps", o.transitionEps,
+            "Transition eps of T = (nu - D) / (cos theta_V + eps)", CLI::Range(0.0f, 1e6f))
       ->default_str("render.eps");
-  render
-      ->add_option("--thresholds", o.thresholds,
-                   "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
+  addOption(render, "--thresholds", o.thresholds,
+            "Transition thresholds e1,e2,e3,e4 with e1 < e2 < 0 < e3 < e4")
       ->delimiter(',')
       ->expected(4)
       ->default_str("render.thresholds");
@@ -118,17 +103,15 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
                    "of a lookup filtered over the sample's footprint");
   render->add_flag("--no-shadows", o.noShadows,
                    "No shadow rays and no relief self-shadowing (render.shadows = false)");
-  render->add_option("--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]")
+  addOption(render, "--frames", o.frames, "Frames A:B (inclusive) of the scene's [path]")
       ->default_str("all");
-  render
-      ->add_option("--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)")
+  addOption(render, "--shard", o.shard, "i/n: render only the frames f with f % n == i (for farms)")
       ->default_str("0/1");
   render->add_flag("--overwrite", o.overwrite,
                    "Re-render frames of a [path] whose EXR and PNG already exist (a still is "
                    "always written)");
-  render
-      ->add_option("--video", o.video,
-                   "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)")
+  addOption(render, "--video", o.video,
+            "Assemble the frames' PNGs into this video with ffmpeg (must be on the PATH)")
       ->default_str("none");
   render->add_flag("-q,--quiet", o.quiet, "No progress bar and no summary");
   return render;
@@ -141,9 +124,7 @@ std::string tomlNumber(const std::string& text, const std::string& option,
                        const std::string& expected) {
   if (!finiteNumberProblem(text).empty())
     throw Error(option + ": expected " + expected + ", got \"" + text + "\"");
-  char out[32];
-  std::snprintf(out, sizeof out, "%.17g", std::strtod(text.c_str(), nullptr));
-  return out;
+  return fmt::format("{:.17g}", std::strtod(text.c_str(), nullptr));
 }
 
 // "X,Y,Z" as the TOML array [X, Y, Z] (the reader checks the point), else meso::Error naming

@@ -1,13 +1,14 @@
 // `--set KEY=VALUE` (scene_options.h).
 #include "scene_options.h"
 
+#include "cli_options.h"
+
 #include "meso/core/error.h"
 
 namespace meso::app {
 
 CLI::Option* addSetOption(CLI::App* command, std::vector<std::string>& set) {
-  return command
-      ->add_option("--set", set,
+  return addOption(command, "--set", set,
                    "KEY=VALUE: set a scene key as if the file said KEY = VALUE (camera.fov=30, "
                    "render.algorithm=bump, camera.resolution=[320,180], materials[1].kd=0.5); "
                    "repeatable, checked like the file")

@@ -1,10 +1,12 @@
 #include "tables_command.h"
+
+#include "cli_options.h"
+#include "command.h"
+#include "memory_estimates.h"
 #include "scene_options.h"
 
-#include "meso/appearance/table_plots.h"
-#include "memory_estimates.h"
-
 #include "meso/appearance/material_tables.h"
+#include "meso/appearance/table_plots.h"
 #include "meso/core/atomic_file.h"
 #include "meso/core/image_io.h"
 #include "meso/core/timer.h"
@@ -14,14 +16,28 @@
 #include <cstdio>
 
 namespace meso::app {
+namespace {
 
-void runTables(const TablesCommandOptions& o) {
+CLI::App* addTablesOptions(CLI::App& cli, TablesCommandOptions& o) {
+  CLI::App* t = cli.add_subcommand(
+      "tables",
+      "Build (or load from the cache) the appearance tables of the scene's relief levels; print "
+      "build time, "
+      "size and cache hit/miss per level as CSV; plot histograms and BRDF slices as PNG");
+  addOption(t, "scene", o.scene, "Scene file")->required();
+  addSetOption(t, o.set);
+  addOption(t, "-o,--out-dir", o.outDir, "Folder for the plots")->capture_default_str();
+  t->add_flag("--no-plots", o.noPlots, "Only build and report");
+  return t;
+}
+
+void runTables(const TablesCommandOptions& o, const RunContext& context) {
   Scene scene = loadScene(o.scene, setOverrides(o.set));
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
   // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
   scene.render.algorithm = Algorithm::Auto;
   std::vector<std::string> memoryWarnings;
-  checkRenderMemory(scene, memoryWarnings, false);
+  checkRenderMemory(scene, context.memoryLimitBytes, memoryWarnings, false);
   if (!o.noPlots) createOutputFolder(o.outDir, "-o");
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
@@ -55,6 +71,24 @@ void runTables(const TablesCommandOptions& o) {
       }
   }
   if (!o.noPlots) std::fprintf(stderr, "meso: plots in %s\n", o.outDir.string().c_str());
+}
+
+class TablesCommand : public Command {
+ public:
+  explicit TablesCommand(CLI::App& cli) {
+    app_ = addTablesOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext& context) override { runTables(options_, context); }
+  TablesCommandOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> makeTablesCommand(CLI::App& cli) {
+  return std::make_unique<TablesCommand>(cli);
 }
 
 }  // namespace meso::app

@@ -2,7 +2,10 @@
 // build time, size and cache hit or miss per level, and writes PNG plots of them.
 #pragma once
 
+#include "command.h"
+
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,7 @@ struct TablesCommandOptions {
   bool noPlots = false;
 };
 
-void runTables(const TablesCommandOptions& options);
+// The `tables` command, registered on `cli` with its options.
+std::unique_ptr<Command> makeTablesCommand(CLI::App& cli);
 
 }  // namespace meso::app

@@ -1,14 +1,17 @@
 // `meso trade`: options to the study of include/meso/trade/trade_study.h, its outputs to files.
 // What is measured is documented in README.md (`meso trade`) and the library's headers.
 #include "trade_command.h"
-#include "scene_options.h"
 
+#include "cli_options.h"
 #include "cli_values.h"
+#include "command.h"
 #include "external_program.h"
-#include "render_command.h"
+#include "interrupt.h"
+#include "scene_options.h"
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
+#include "meso/core/progress.h"
 #include "meso/render/integrator.h"
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
@@ -31,6 +34,90 @@ namespace meso::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The swept values, frame size and --temporal.
+void addSweepOptions(CLI::App* t, TradeCommandOptions& o) {
+  addOption(t, "--d-values", o.settings.grid.dValues, "Transition D of the hybrid configurations")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(t, "--spp-values", o.settings.grid.sppValues,
+            "Samples per pixel of every swept configuration")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(t, "--dicing-rates", o.settings.grid.dicingRates,
+            "Dicing rates (pixels) of the displacement-only configurations")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(t, "--relief-samples-values", o.settings.grid.reliefSamples,
+            "render.relief_samples of the displacement-only configurations (0: pixel dicing "
+            "only)")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(t, "--hybrid-dicing-rates", o.settings.grid.hybridDicingRates,
+            "Dicing rates (pixels) of the hybrid configurations (at the scene's D, for every spp)")
+      ->delimiter(',')
+      ->capture_default_str();
+  addOption(t, "--width", o.width, "Image width in pixels (overrides camera.resolution)");
+  addOption(t, "--height", o.height, "Image height in pixels (overrides camera.resolution)");
+  addOption(t, "--threads", o.threads, "Worker threads, 0 = all cores (overrides render.threads)");
+  t->add_flag(
+      "--temporal", o.settings.temporal,
+      "Also the frame-to-frame change of the default hybrid and the reference in "
+      "bands around e1..e4 (needs a [path] and two or more frames); writes DIR/temporal.csv");
+  t->add_flag("--temporal-only", o.temporalOnly,
+              "Only the reference and the default hybrid, for --temporal");
+  addOption(t, "--band", o.band, "Half width in T of the --temporal bands")->capture_default_str();
+  t->add_flag("-q,--quiet", o.settings.quiet, "No progress on stderr");
+}
+
+CLI::App* addTradeOptions(CLI::App& cli, TradeCommandOptions& o) {
+  CLI::App* t = cli.add_subcommand("trade",
+                                   "Speed/accuracy trade: time, peak memory, micropolygons and "
+                                   "error against a displacement reference refined "
+                                   "until it converges (or a warning) for the hybrid over D x spp "
+                                   "and dicing rate x spp and displacement alone "
+                                   "over dicing rate x spp; writes DIR/trade.csv, DIR/trade.png "
+                                   "(rmse against log time, Pareto front) and "
+                                   "prints the default hybrid's ratios at equal rmse");
+  addOption(t, "scene", o.scene, "Scene file")->required();
+  addSetOption(t, o.set);
+  addOption(t, "-o,--out-dir", o.outDir, "Folder for trade.csv, trade.png and temporal.csv")
+      ->capture_default_str();
+  addOption(t, "--frames", o.frames,
+            "Frames A:B (inclusive) of the scene's [path]: times summed, errors averaged; "
+            "default all");
+  addOption(t, "--reference-spp", o.settings.reference.spp,
+            "Samples per pixel of the reference's first level; each "
+            "refinement doubles it")
+      ->capture_default_str();
+  addOption(t, "--reference-dicing-rate", o.settings.reference.dicingRate,
+            "Dicing rate (pixels) of the reference's first level; each refinement halves it")
+      ->capture_default_str();
+  addOption(t, "--reference-tolerance", o.settings.reference.tolerance,
+            "Percent: the reference has converged when a refinement changes its mean intensity "
+            "by less (and "
+            "the rmse is within --reference-rmse-tolerance)")
+      ->capture_default_str();
+  addOption(t, "--reference-rmse-tolerance", o.settings.reference.rmseTolerance,
+            "Percent of the mean intensity: largest rmse between successive reference levels "
+            "that counts as "
+            "converged (it includes both levels' sampling noise)")
+      ->capture_default_str();
+  addOption(
+      t, "--reference-max-refinements", o.settings.reference.maxRefinements,
+      "Most refinements of the reference (dicing rate halved, spp doubled) after its first level")
+      ->capture_default_str();
+  addOption(t, "--reference-max-micropolygons", o.settings.reference.maxMicropolygons,
+            "No reference level is started that would need more micropolygons (it would be "
+            "about 4x the last)")
+      ->capture_default_str();
+  addOption(t, "--reference-cache", o.referenceCache,
+            "Folder of cached reference renders (default: references/ in the table cache folder)");
+  t->add_flag("--no-reference-cache", o.noReferenceCache,
+              "Render the reference levels even if cached; store none");
+  addSweepOptions(t, o);
+  return t;
+}
 
 void checkRange(double v, const char* option, double lo, double hi) {
   if (!std::isfinite(v) || v < lo || v > hi)
@@ -103,8 +190,6 @@ void writeTemporal(const TradeCommandOptions& o, const trade::TradeStudy& study,
     std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());
 }
 
-}  // namespace
-
 void runTrade(const TradeCommandOptions& options) {
   TradeCommandOptions o = options;
   o.settings.temporal = o.settings.temporal || o.temporalOnly;
@@ -144,6 +229,27 @@ void runTrade(const TradeCommandOptions& options) {
   plot(o.outDir / "trade.csv", o.outDir / "trade.png", o.settings.quiet);
   std::printf("%s\n", trade::tradeSummary(study.results, study.reference).c_str());
   if (o.settings.temporal) writeTemporal(o, study, scene);
+}
+
+class TradeCommand : public Command {
+ public:
+  explicit TradeCommand(CLI::App& cli) {
+    app_ = addTradeOptions(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext&) override {
+    setProgressAllowed(!options_.settings.quiet);
+    runTrade(options_);
+  }
+  TradeCommandOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> makeTradeCommand(CLI::App& cli) {
+  return std::make_unique<TradeCommand>(cli);
 }
 
 }  // namespace meso::app

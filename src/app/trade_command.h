@@ -2,12 +2,17 @@
 // in include/meso/trade/). Time, memory and error of the hybrid (algorithm auto over D x spp and
 // dicing rate x spp) and of displacement alone (dicing rate x spp) against a full-displacement
 // reference refined until it converges (or a warning says it did not); optionally the temporal
-// stability of the hybrid near its thresholds.
+// stability of the hybrid near its thresholds. It writes DIR/trade.csv, DIR/trade.png (plotted by
+// tools/plot_trade.py from the CSV, when python3 with matplotlib is there) and DIR/temporal.csv,
+// and prints the summary on stdout and progress on stderr.
 #pragma once
+
+#include "command.h"
 
 #include "meso/trade/trade_study.h"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,9 +33,7 @@ struct TradeCommandOptions {
   float band = 0.1f;          // half width of the T bands around e1..e4
 };
 
-// Renders every configuration, writes DIR/trade.csv, DIR/trade.png (plotted by
-// tools/plot_trade.py from the CSV, when python3 with matplotlib is there) and DIR/temporal.csv,
-// prints the summary on stdout and progress on stderr. Throws meso::Error on bad values.
-void runTrade(const TradeCommandOptions& options);
+// The `trade` command, registered on `cli` with its options.
+std::unique_ptr<Command> makeTradeCommand(CLI::App& cli);
 
 }  // namespace meso::app

@@ -39,7 +39,11 @@ std::string formatMib(double bytes) {
 
 void requireMemory(double bytes, const std::string& where, const std::string& key,
                    const std::string& what) {
-  const uint64_t limit = memoryLimitBytes();
+  requireMemoryWithin(memoryLimitBytes(), bytes, where, key, what);
+}
+
+void requireMemoryWithin(uint64_t limit, double bytes, const std::string& where,
+                         const std::string& key, const std::string& what) {
   if (bytes <= static_cast<double>(limit)) return;
   std::string message = where.empty() ? "" : where + ": ";
   message.append(key).append(": needs an estimated ").append(formatMib(bytes));

@@ -22,7 +22,11 @@ void setMemoryLimitBytes(uint64_t bytes);
 std::string formatMib(double bytes);
 
 // Throws meso::Error("WHERE: KEY: needs an estimated N MiB (WHAT), more than the memory limit of
-// M MiB (--memory-limit)") when bytes > memoryLimitBytes(). `where` may be empty.
+// M MiB (--memory-limit)") when bytes > limitBytes. `where` may be empty.
+void requireMemoryWithin(uint64_t limitBytes, double bytes, const std::string& where,
+                         const std::string& key, const std::string& what);
+
+// requireMemoryWithin the limit in force (memoryLimitBytes()).
 void requireMemory(double bytes, const std::string& where, const std::string& key,
                    const std::string& what);
 
