@@ -123,7 +123,7 @@ void EdgeRateTessellator::placeSplitLines(int f, const SplitPattern& p, int base
   const auto place = [&](int local, Vec2 uv) {
     scratch.linePoint[local] = base + local;
     scratch.lineSt[local] = impl_.bfrToChart(f, uv);
-    samples_[base + local] = {f, scratch.lineSt[local]};
+    samples_[base + local] = {.face = f, .st = scratch.lineSt[local]};
   };
   for (int j = 1; j < nv; ++j)
     for (int i = 1; i < nu; ++i) {

@@ -125,7 +125,7 @@ int RayScene::addMesh(const TessellatedMesh& mesh) {
     adviseHugePages(indices, numTriangles * 3 * sizeof(uint32_t));
     std::memcpy(indices, mesh.indices.data(), numTriangles * 3 * sizeof(uint32_t));
   }
-  impl_->attach(geometry, {index, false, {}, {}});
+  impl_->attach(geometry, {.mesh = index, .isGrid = false, .grids = {}, .singles = {}});
   numTriangles_ += numTriangles;
   return index;
 }
@@ -190,17 +190,25 @@ int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGri
     adviseHugePages(rtcGrids, (grids.size() + singles.size()) * sizeof(RTCGrid));
     std::memcpy(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
     for (size_t k = 0; k < grids.size(); ++k)
-      rtcGrids[k] = {grids[k].firstVertex, grids[k].width, grids[k].width, grids[k].height};
+      rtcGrids[k] = {.startVertexID = grids[k].firstVertex,
+                     .stride = grids[k].width,
+                     .width = grids[k].width,
+                     .height = grids[k].height};
     for (size_t k = 0; k < singles.size(); ++k) {
       const uint32_t* corner = &mesh.indices[3 * size_t(singles[k])];
       Vec3* v = vertices + numPositions + 4 * k;
       v[0] = mesh.positions[corner[0]];
       v[1] = mesh.positions[corner[1]];
       v[2] = v[3] = mesh.positions[corner[2]];
-      rtcGrids[grids.size() + k] = {static_cast<unsigned>(numPositions + 4 * k), 2, 2, 2};
+      rtcGrids[grids.size() + k] = {.startVertexID = static_cast<unsigned>(numPositions + 4 * k),
+                                    .stride = 2,
+                                    .width = 2,
+                                    .height = 2};
     }
   }
-  impl_->attach(geometry, {index, true, std::move(grids), std::move(singles)});
+  impl_->attach(
+      geometry,
+      {.mesh = index, .isGrid = true, .grids = std::move(grids), .singles = std::move(singles)});
   numTriangles_ += mesh.numMicropolygons();
   return index;
 }

@@ -39,8 +39,8 @@ EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
     const ConstIndexArray verts = base_.GetFaceVertices(f);
     const ConstIndexArray edges = base_.GetFaceEdges(f);
     for (int i = 0; i < verts.size(); ++i) {
-      if (vertexOwner_[verts[i]].face < 0) vertexOwner_[verts[i]] = {f, i};
-      if (edgeOwner_[edges[i]].face < 0) edgeOwner_[edges[i]] = {f, i};
+      if (vertexOwner_[verts[i]].face < 0) vertexOwner_[verts[i]] = {.face = f, .corner = i};
+      if (edgeOwner_[edges[i]].face < 0) edgeOwner_[edges[i]] = {.face = f, .corner = i};
     }
   }
   const size_t n = faces_.size();
@@ -141,7 +141,8 @@ void EdgeRateTessellator::placeBoundary(size_t k, const std::vector<int>& edgeRa
   int b = 0;
   for (int i = 0; i < verts.size(); ++i) {
     const Use& v = vertexOwner_[verts[i]];
-    if (v.face == f && v.corner == i) samples_[vertexPoint_[verts[i]]] = {f, scratch.st[b]};
+    if (v.face == f && v.corner == i)
+      samples_[vertexPoint_[verts[i]]] = {.face = f, .st = scratch.st[b]};
     scratch.point[b++] = vertexPoint_[verts[i]];
     const int n = edgeRates[edges[i]] - 1;
     const bool forward = verts[i] < verts[(i + 1) % verts.size()];
@@ -149,7 +150,7 @@ void EdgeRateTessellator::placeBoundary(size_t k, const std::vector<int>& edgeRa
     const Use& e = edgeOwner_[edges[i]];
     for (int j = 0; j < n; ++j) {
       const int point = first + (forward ? j : n - 1 - j);
-      if (e.face == f && e.corner == i) samples_[point] = {f, scratch.st[b]};
+      if (e.face == f && e.corner == i) samples_[point] = {.face = f, .st = scratch.st[b]};
       scratch.point[b++] = point;
     }
   }
@@ -264,7 +265,7 @@ size_t EdgeRateTessellator::emitPattern(int f, const Tessellation& tess, FaceScr
       scratch.gridCoord[slot] = j;
     }
     scratch.point[j] = interiorBase + slot;
-    samples_[scratch.point[j]] = {f, scratch.st[j]};
+    samples_[scratch.point[j]] = {.face = f, .st = scratch.st[j]};
   }
 
   scratch.facets.resize(3 * static_cast<size_t>(tess.GetNumFacets()));

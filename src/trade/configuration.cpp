@@ -16,13 +16,13 @@ std::vector<Configuration> configurations(const SweepGrid& grid, const Scene& sc
   const float sceneD = scene.render.transition.D, sceneRate = scene.render.dicingRate;
   const int sceneSpp = scene.camera.spp;
   const auto hybrid = [&](float D, float rate, int spp) {
-    return Configuration{
-        "hybrid_D" + formatNumber(D) + "_r" + formatNumber(rate) + "_spp" + std::to_string(spp),
-        Kind::Hybrid,
-        D,
-        spp,
-        rate,
-        D == sceneD && spp == sceneSpp && rate == sceneRate};
+    return Configuration{.name = "hybrid_D" + formatNumber(D) + "_r" + formatNumber(rate) + "_spp" +
+                                 std::to_string(spp),
+                         .kind = Kind::Hybrid,
+                         .D = D,
+                         .spp = spp,
+                         .dicingRate = rate,
+                         .defaultHybrid = D == sceneD && spp == sceneSpp && rate == sceneRate};
   };
   const auto add = [&](const Configuration& c) {
     for (const Configuration& other : list)
@@ -40,9 +40,13 @@ std::vector<Configuration> configurations(const SweepGrid& grid, const Scene& sc
     for (float samples : grid.reliefSamples)
       for (float rate : grid.dicingRates)
         for (int spp : grid.sppValues)
-          add({"displacement_r" + formatNumber(rate) + "_rs" + formatNumber(samples) + "_spp" +
-                   std::to_string(spp),
-               Kind::Displacement, 0.0f, spp, rate, false, samples});
+          add({.name = "displacement_r" + formatNumber(rate) + "_rs" + formatNumber(samples) +
+                       "_spp" + std::to_string(spp),
+               .kind = Kind::Displacement,
+               .D = 0.0f,
+               .spp = spp,
+               .dicingRate = rate,
+               .reliefSamples = samples});
   return list;
 }
 

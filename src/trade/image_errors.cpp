@@ -28,13 +28,15 @@ ImageErrors compareFrame(const RgbImage& image, const RgbImage& reference) {
   }
   const double n = static_cast<double>(image.rgb.size());
   const double mi = meanValue(image.rgb), mr = meanValue(reference.rgb);
-  return {n > 0.0 ? absSum / n : 0.0, n > 0.0 ? std::sqrt(squares / n) : 0.0,
-          mr > 0.0 ? 100.0 * std::abs(mi - mr) / mr : (mi == mr ? 0.0 : 100.0)};
+  return {
+      .meanAbsError = n > 0.0 ? absSum / n : 0.0,
+      .rmse = n > 0.0 ? std::sqrt(squares / n) : 0.0,
+      .intensityErrorPct = mr > 0.0 ? 100.0 * std::abs(mi - mr) / mr : (mi == mr ? 0.0 : 100.0)};
 }
 
 // The frame's luminance, and its second seed's when there is one.
 LuminanceImage luminanceOf(const RgbImage& image, const std::vector<RgbImage>& second, size_t f) {
-  LuminanceImage out{image.width, image.height, {}, {}};
+  LuminanceImage out{.width = image.width, .height = image.height, .y = {}, .ySecond = {}};
   const auto lum = [](const RgbImage& im) {
     std::vector<float> y(im.rgb.size() / 3);
     for (size_t i = 0; i < y.size(); ++i)

@@ -109,7 +109,8 @@ ReferenceLevel referenceLevel(const Scene& scene, float rate, int spp,
   ReferenceLevel level;
   level.dicingRate = rate, level.spp = spp;
   level.reliefSamples = scene.render.reliefSamples;
-  const Configuration c{"reference", Kind::Reference, 0.0f, spp, rate, false};
+  const Configuration c{
+      .name = "reference", .kind = Kind::Reference, .D = 0.0f, .spp = spp, .dicingRate = rate};
   const Scene reference = sceneFor(scene, c);
   Scene secondReference = reference;
   secondReference.render.seed = secondSeed(reference.render.seed);

@@ -154,7 +154,8 @@ std::optional<InterpolatedDisplacement> interpolatedAsAccurate(
     const double seconds = a.seconds + (b->seconds - a.seconds) * (spp - a.config.spp) /
                                            (b->config.spp - a.config.spp);
     if (!std::isfinite(seconds)) continue;
-    if (!best || seconds < best->seconds) best = InterpolatedDisplacement{&a, b, spp, seconds};
+    if (!best || seconds < best->seconds)
+      best = InterpolatedDisplacement{.fewer = &a, .more = b, .spp = spp, .seconds = seconds};
   }
   return best;
 }

@@ -31,16 +31,19 @@ std::vector<TradeResult> referenceRows(const ReferenceStudy& study) {
   for (size_t k = 0; k < study.levels.size(); ++k) {
     const ReferenceLevel& l = study.levels[k];
     const bool last = k + 1 == study.levels.size();
-    const Configuration c{last ? "reference" : "reference_l" + std::to_string(k),
-                          Kind::Reference,
-                          0.0f,
-                          l.spp,
-                          l.dicingRate,
-                          false,
-                          l.reliefSamples};
-    rows.push_back({c, l.render.seconds, l.render.peakRssMib, l.render.micropolygons,
-                    l.render.geometryMib, compareRenders(l.render, study.reference()),
-                    l.render.addedMib});
+    const Configuration c{.name = last ? "reference" : "reference_l" + std::to_string(k),
+                          .kind = Kind::Reference,
+                          .D = 0.0f,
+                          .spp = l.spp,
+                          .dicingRate = l.dicingRate,
+                          .reliefSamples = l.reliefSamples};
+    rows.push_back({.config = c,
+                    .seconds = l.render.seconds,
+                    .peakRssMib = l.render.peakRssMib,
+                    .micropolygons = l.render.micropolygons,
+                    .geometryMib = l.render.geometryMib,
+                    .errors = compareRenders(l.render, study.reference()),
+                    .addedMib = l.render.addedMib});
   }
   return rows;
 }
@@ -69,7 +72,7 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
   for (const Configuration& c : configs)
     sceneFor(scene, c);  // checks every D before rendering anything
   bool warnedRss = false;
-  MeasureOptions measure{false, cancel, &warnedRss};
+  MeasureOptions measure{.keepFilms = false, .cancel = cancel, .warnedRss = &warnedRss};
   TradeStudy study;
   study.reference =
       convergeReference(scene, settings.reference, cameras, cache, measure, settings.quiet);
@@ -81,13 +84,13 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
     const Configuration& c = configs[i];
     measure.keepFilms = settings.temporal && c.defaultHybrid;
     MeasuredRender r = renderMeasured(scene, c, cameras, measure);
-    const TradeResult result{c,
-                             r.seconds,
-                             r.peakRssMib,
-                             r.micropolygons,
-                             r.geometryMib,
-                             compareRenders(r, reference),
-                             r.addedMib};
+    const TradeResult result{.config = c,
+                             .seconds = r.seconds,
+                             .peakRssMib = r.peakRssMib,
+                             .micropolygons = r.micropolygons,
+                             .geometryMib = r.geometryMib,
+                             .errors = compareRenders(r, reference),
+                             .addedMib = r.addedMib};
     study.results.push_back(result);
     if (!settings.quiet) std::fputs(progressLine(result, i, configs.size()).c_str(), stderr);
     if (c.defaultHybrid) study.defaultHybrid = std::move(r);
