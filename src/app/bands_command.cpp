@@ -39,7 +39,7 @@ CLI::App* addBandsOptions(CLI::App& cli, BandsCommandOptions& o) {
   return b;
 }
 
-void runBands(const BandsCommandOptions& o) {
+void runBands(const BandsCommandOptions& o, const RunContext&) {
   if (o.levels < 1 || o.levels > 16)
     throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
   HeightTableOptions options;
@@ -88,22 +88,10 @@ void runBands(const BandsCommandOptions& o) {
                      .c_str());
 }
 
-class BandsCommand : public Command {
- public:
-  explicit BandsCommand(CLI::App& cli) {
-    app_ = addBandsOptions(cli, options_);
-    addMemoryLimit();
-  }
-
- private:
-  void execute(const RunContext&) override { runBands(options_); }
-  BandsCommandOptions options_;
-};
-
 }  // namespace
 
 std::unique_ptr<Command> makeBandsCommand(CLI::App& cli) {
-  return std::make_unique<BandsCommand>(cli);
+  return std::make_unique<OptionsCommand<BandsCommandOptions>>(cli, addBandsOptions, runBands);
 }
 
 }  // namespace meso::app

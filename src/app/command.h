@@ -41,6 +41,24 @@ class Command {
   uint64_t memoryLimitMib_ = 0;  // 0: not given
 };
 
+// A command whose options are one struct: `add` registers them (returning the subcommand) and `run`
+// runs the command with them.
+template <class Options>
+class OptionsCommand : public Command {
+ public:
+  using Add = CLI::App* (*)(CLI::App& cli, Options& options);
+  using Run = void (*)(const Options& options, const RunContext& context);
+  OptionsCommand(CLI::App& cli, Add add, Run run) : run_(run) {
+    app_ = add(cli, options_);
+    addMemoryLimit();
+  }
+
+ private:
+  void execute(const RunContext& context) override { run_(options_, context); }
+  Options options_;
+  Run run_;
+};
+
 // Every command of meso, registered on `cli` in the order --help lists them.
 std::vector<std::unique_ptr<Command>> registerCommands(CLI::App& cli);
 

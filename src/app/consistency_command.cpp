@@ -167,7 +167,7 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
         100.0 * report.referenceChange);
 }
 
-void runConsistency(const ConsistencyCommandOptions& o) {
+void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
   if (!o.scene.empty()) return runSceneConsistency(o);
   if (!o.set.empty())
     throw Error("--set: expected a SCENE (the patch without one has no scene keys)");
@@ -205,22 +205,11 @@ void runConsistency(const ConsistencyCommandOptions& o) {
   std::fputs(table.c_str(), stdout);
 }
 
-class ConsistencyCommand : public Command {
- public:
-  explicit ConsistencyCommand(CLI::App& cli) {
-    app_ = addConsistencyOptions(cli, options_);
-    addMemoryLimit();
-  }
-
- private:
-  void execute(const RunContext&) override { runConsistency(options_); }
-  ConsistencyCommandOptions options_;
-};
-
 }  // namespace
 
 std::unique_ptr<Command> makeConsistencyCommand(CLI::App& cli) {
-  return std::make_unique<ConsistencyCommand>(cli);
+  return std::make_unique<OptionsCommand<ConsistencyCommandOptions>>(cli, addConsistencyOptions,
+                                                                     runConsistency);
 }
 
 }  // namespace meso::app

@@ -8,6 +8,7 @@
 #include "render_stats.h"
 #include "scene_options.h"
 #include "video.h"
+#include "view_check.h"
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
@@ -79,6 +80,7 @@ class RenderRun {
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
     if (animated_) storeFrameSettings(output_, settings_);
     ctx_.emplace(prepareRenderContext(scene_, prep_, false));
+    warnObjectsOutOfView();
     if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
     reportWarnings();
     stats_.maxTriangles = ctx_->numTriangles();
@@ -128,6 +130,16 @@ class RenderRun {
       path_.emplace(scene_.path.keys);
     }
     stats_.parseSeconds = total_.seconds();
+  }
+
+  // Objects none of this run's frames shows (also with -q, like the other warnings).
+  void warnObjectsOutOfView() const {
+    std::vector<CameraSettings> cameras;
+    for (int f : frames_)
+      cameras.push_back(animated_ ? path_->frame(f, scene_.path.frames, scene_.camera)
+                                  : scene_.camera);
+    for (const std::string& w : objectsOutOfView(scene_, *ctx_, cameras))
+      std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   }
 
   // A frame of a path whose EXR and PNG exist: skipped unless --overwrite.
@@ -273,25 +285,15 @@ class RenderRun {
   StagedFiles lastFrame_;  // the last frame rendered, staged until the stats are written
 };
 
-class RenderCommand : public Command {
- public:
-  explicit RenderCommand(CLI::App& cli) {
-    app_ = addRenderOptions(cli, options_);
-    addMemoryLimit();
-  }
-
- private:
-  void execute(const RunContext& context) override {
-    setProgressAllowed(!options_.quiet);
-    RenderRun(options_, context).run();
-  }
-  RenderCommandOptions options_;
-};
+void runRender(const RenderCommandOptions& options, const RunContext& context) {
+  setProgressAllowed(!options.quiet);
+  RenderRun(options, context).run();
+}
 
 }  // namespace
 
 std::unique_ptr<Command> makeRenderCommand(CLI::App& cli) {
-  return std::make_unique<RenderCommand>(cli);
+  return std::make_unique<OptionsCommand<RenderCommandOptions>>(cli, addRenderOptions, runRender);
 }
 
 }  // namespace meso::app

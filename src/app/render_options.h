@@ -50,7 +50,7 @@ struct RenderCommandOptions {
   std::filesystem::path video;  // assemble the frames' PNGs with ffmpeg
 };
 
-// Adds the `render` subcommand and its options (writing into `o`); the caller sets its callback.
+// Adds the `render` subcommand and its options (writing into `o`).
 CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o);
 
 // The options the scene reader applies (SceneOverride): every --set in order, then

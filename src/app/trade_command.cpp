@@ -24,8 +24,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include <unistd.h>
-
 #ifndef MESO_PLOT_TRADE_SCRIPT
 #define MESO_PLOT_TRADE_SCRIPT "tools/plot_trade.py"
 #endif
@@ -148,19 +146,11 @@ std::vector<CameraSettings> cameras(const TradeCommandOptions& o, const Scene& s
   return result;
 }
 
-// Debian's python3 first: tools/install-deps installs matplotlib for it.
-std::string python() {
-  if (::access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
-  return findOnPath("python3");
-}
-
 // trade.png from trade.csv with tools/plot_trade.py (matplotlib); the CSV stays the source, so a
 // missing plotter costs the picture only, with a note on how to draw it.
 void plot(const fs::path& csv, const fs::path& png, bool quiet) {
-  const std::string script = MESO_PLOT_TRADE_SCRIPT, py = python();
-  const bool ran = !py.empty() && fs::exists(script) &&
-                   runProgram({py, script, csv.string(), png.string()}) == 0;
-  if (ran) {
+  const std::string script = MESO_PLOT_TRADE_SCRIPT;
+  if (runPythonScript(script, {csv.string(), png.string()})) {
     if (!quiet) std::fprintf(stderr, "meso: wrote %s\n", png.string().c_str());
     return;
   }
@@ -190,7 +180,8 @@ void writeTemporal(const TradeCommandOptions& o, const trade::TradeStudy& study,
     std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());
 }
 
-void runTrade(const TradeCommandOptions& options) {
+void runTrade(const TradeCommandOptions& options, const RunContext&) {
+  setProgressAllowed(!options.settings.quiet);
   TradeCommandOptions o = options;
   o.settings.temporal = o.settings.temporal || o.temporalOnly;
   o.settings.grid.temporalOnly = o.temporalOnly;
@@ -231,25 +222,10 @@ void runTrade(const TradeCommandOptions& options) {
   if (o.settings.temporal) writeTemporal(o, study, scene);
 }
 
-class TradeCommand : public Command {
- public:
-  explicit TradeCommand(CLI::App& cli) {
-    app_ = addTradeOptions(cli, options_);
-    addMemoryLimit();
-  }
-
- private:
-  void execute(const RunContext&) override {
-    setProgressAllowed(!options_.settings.quiet);
-    runTrade(options_);
-  }
-  TradeCommandOptions options_;
-};
-
 }  // namespace
 
 std::unique_ptr<Command> makeTradeCommand(CLI::App& cli) {
-  return std::make_unique<TradeCommand>(cli);
+  return std::make_unique<OptionsCommand<TradeCommandOptions>>(cli, addTradeOptions, runTrade);
 }
 
 }  // namespace meso::app

@@ -1,6 +1,6 @@
 // `meso render`'s options as a user meets them (src/app/render_options.cpp): --crop renders a
 // window of the image bit for bit, the camera options are the scene's camera keys, a scene without
-// lights is warned about, and --help gives every option's default.
+// lights and an object no frame shows are warned about, and --help gives every option's default.
 #include "support/run_meso.h"
 #include "support/temp_dir.h"
 
@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -82,6 +84,32 @@ TEST_F(RenderOptionsTest, BadCropsExitWithStatusTwoNamingTheOption) {
   const RunResult r = render("bad.exr", "--crop 0,0,41,10");
   EXPECT_NE(r.output.find("0 <= X0 < X1 <= 40 and 0 <= Y0 < Y1 <= 24"), std::string::npos)
       << r.output;
+}
+
+// An object no frame shows (here behind the camera, or beside the view) is named on stderr; the
+// same object moved into the view is not.
+TEST_F(RenderOptionsTest, AnObjectOutsideTheViewIsWarnedAbout) {
+  write("plane.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+  const auto withPlaneAt = [&](const std::string& translate) {
+    std::ifstream in(scene());
+    const std::string text = std::string(std::istreambuf_iterator<char>(in), {}) +
+                             "[[objects]]\nmesh = \"plane.obj\"\nscheme = " +
+                             "\"bilinear\"\nmaterial = \"m\"\ntranslate = " + translate + "\n";
+    return write("two.toml", text);
+  };
+  const std::string warning = "the object plane.obj lies outside the view of the camera";
+  for (const char* outside : {"[0, -6, 2]", "[30, 0, 0]"}) {
+    const RunResult r = run("render " + withPlaneAt(outside).string() + " -q -o " +
+                            (dir_ / "out/outside.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("two.toml:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(warning), std::string::npos) << outside << ": " << r.output;
+    EXPECT_EQ(r.output.find("quad.obj lies outside"), std::string::npos) << r.output;
+  }
+  const RunResult r = run("render " + withPlaneAt("[0.5, 0.5, 0]").string() + " -q -o " +
+                          (dir_ / "out/inside.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("lies outside the view"), std::string::npos) << r.output;
 }
 
 // Without lights only the ambient term is left: said on stderr (also with -q), once; a scene with
