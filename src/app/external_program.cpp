@@ -3,6 +3,8 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include <spawn.h>
 #include <sys/stat.h>
@@ -41,6 +43,19 @@ int runProgram(const std::vector<std::string>& args) {
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string python() {
+  if (::access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
+  return findOnPath("python3");
+}
+
+bool runPythonScript(const std::string& script, const std::vector<std::string>& args) {
+  const std::string py = python();
+  if (py.empty() || ::access(script.c_str(), R_OK) != 0) return false;
+  std::vector<std::string> command{py, script};
+  command.insert(command.end(), args.begin(), args.end());
+  return runProgram(command) == 0;
 }
 
 }  // namespace meso::app

@@ -2,18 +2,26 @@
 
 #include "cli_options.h"
 #include "command.h"
+#include "external_program.h"
 #include "memory_estimates.h"
 #include "scene_options.h"
 
 #include "meso/appearance/material_tables.h"
 #include "meso/appearance/table_plots.h"
 #include "meso/core/atomic_file.h"
-#include "meso/core/image_io.h"
 #include "meso/core/timer.h"
 #include "meso/render/render_context.h"
 #include "meso/scene/scene_parser.h"
 
 #include <cstdio>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#ifndef MESO_PLOT_TABLES_SCRIPT
+#define MESO_PLOT_TABLES_SCRIPT "tools/plot_tables.py"
+#endif
 
 namespace meso::app {
 namespace {
@@ -23,12 +31,33 @@ CLI::App* addTablesOptions(CLI::App& cli, TablesCommandOptions& o) {
       "tables",
       "Build (or load from the cache) the appearance tables of the scene's relief levels; print "
       "build time, "
-      "size and cache hit/miss per level as CSV; plot histograms and BRDF slices as PNG");
+      "size and cache hit/miss per level as CSV; plot histograms and BRDF slices (PNG, drawn with "
+      "matplotlib from CSVs beside them)");
   addOption(t, "scene", o.scene, "Scene file")->required();
   addSetOption(t, o.set);
-  addOption(t, "-o,--out-dir", o.outDir, "Folder for the plots")->capture_default_str();
+  addOption(t, "-o,--out-dir", o.outDir, "Folder for the plots and their CSVs")
+      ->capture_default_str();
   t->add_flag("--no-plots", o.noPlots, "Only build and report");
   return t;
+}
+
+// The PNGs of `plots` (CSV, PNG, CSV, PNG, ...) drawn by tools/plot_tables.py (matplotlib); the
+// CSVs stay the source, so a missing plotter costs the pictures only, with a note on how to draw
+// them.
+void plot(const std::vector<std::string>& plots, const std::filesystem::path& outDir) {
+  const std::string script = MESO_PLOT_TABLES_SCRIPT;
+  if (plots.empty() || runPythonScript(script, plots)) {
+    std::fprintf(stderr, "meso: plots in %s\n", outDir.string().c_str());
+    return;
+  }
+  for (size_t i = 1; i < plots.size(); i += 2) {
+    std::error_code ignored;
+    std::filesystem::remove(plots[i], ignored);  // an earlier run's plot would not match its CSV
+  }
+  std::fprintf(stderr,
+               "meso: warning: tables not plotted (needs python3 with matplotlib: apt-get install "
+               "python3-matplotlib); their CSVs are in %s; to plot them: python3 %s %s ...\n",
+               outDir.string().c_str(), script.c_str(), plots.front().c_str());
 }
 
 void runTables(const TablesCommandOptions& o, const RunContext& context) {
@@ -44,6 +73,7 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times, false, !o.noPlots);
   for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...
   std::printf(
       "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,bands,cache,seconds,"
       "bytes\n");
@@ -66,29 +96,22 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
         if (o.noPlots) continue;
         std::string stem = material.name + "_level" + std::to_string(i + 1);
         if (relief.metrics.size() > 1) stem += "_metric" + std::to_string(k + 1);
-        writePngPreview(o.outDir / (stem + "_histogram.png"), plotHistogram(t.distr));
-        writePngPreview(o.outDir / (stem + "_brdf.png"), plotBrdf(t.brdf));
+        for (const auto& [kind, csv] : {std::pair{"_histogram", histogramCsv(t.distr)},
+                                        std::pair{"_brdf", brdfCsv(t.brdf)}}) {
+          const std::filesystem::path file = o.outDir / (stem + kind + ".csv");
+          writeFileAtomically(file, csv);
+          plots.push_back(file.string());
+          plots.push_back((o.outDir / (stem + kind + ".png")).string());
+        }
       }
   }
-  if (!o.noPlots) std::fprintf(stderr, "meso: plots in %s\n", o.outDir.string().c_str());
+  if (!o.noPlots) plot(plots, o.outDir);
 }
-
-class TablesCommand : public Command {
- public:
-  explicit TablesCommand(CLI::App& cli) {
-    app_ = addTablesOptions(cli, options_);
-    addMemoryLimit();
-  }
-
- private:
-  void execute(const RunContext& context) override { runTables(options_, context); }
-  TablesCommandOptions options_;
-};
 
 }  // namespace
 
 std::unique_ptr<Command> makeTablesCommand(CLI::App& cli) {
-  return std::make_unique<TablesCommand>(cli);
+  return std::make_unique<OptionsCommand<TablesCommandOptions>>(cli, addTablesOptions, runTables);
 }
 
 }  // namespace meso::app

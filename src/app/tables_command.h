@@ -1,5 +1,6 @@
 // `meso tables SCENE`: builds the appearance tables of the relief levels the scene uses, reports
-// build time, size and cache hit or miss per level, and writes PNG plots of them.
+// build time, size and cache hit or miss per level, and writes their data as CSV and plots of them
+// (tools/plot_tables.py, when python3 with matplotlib is there).
 #pragma once
 
 #include "command.h"
@@ -14,8 +15,8 @@ namespace meso::app {
 struct TablesCommandOptions {
   std::filesystem::path scene;
   std::vector<std::string> set;  // --set KEY=VALUE, in order
-  std::filesystem::path outDir =
-      "out/tables";  // plots: <material>_level<i>_histogram.png, _brdf.png
+  // <material>_level<i>_histogram.csv and .png, _brdf.csv and .png
+  std::filesystem::path outDir = "out/tables";
   bool noPlots = false;
 };
 

@@ -1,18 +1,22 @@
-// Pictures of a level's tables for `meso tables`: heat maps laid out as panels, one per theta_V.
+// The data of `meso tables`' plots: a level's tables as CSV, one row per cell, which
+// tools/plot_tables.py draws with matplotlib (a panel per theta_V with axes, labels and a colour
+// bar). Angles in degrees.
 #pragma once
 
 #include "meso/appearance/brdf_table.h"
 #include "meso/appearance/visible_normal_histogram.h"
-#include "meso/core/image.h"
+
+#include <string>
 
 namespace meso {
 
-// One panel per theta_V slice: theta_N across (0 at the left, 90 degrees at the right), phi_{N-V}
-// down (-180 at the top), colour = probability density per solid angle, scaled per panel.
-Image plotHistogram(const VisibleNormalHistogram& distr, int cellPixels = 6);
+// "theta_v_deg,theta_n_deg,phi_deg,density": every theta_N and phi_{N-V} bin centre of every
+// theta_V slice (with view-azimuth slices, the phi_V slice nearest 0), density = the bin's mass
+// over its solid angle (per steradian).
+std::string histogramCsv(const VisibleNormalHistogram& distr);
 
-// One panel per theta_V slice: theta_L across, phi_{V-L} down; top row of panels diffuse, bottom
-// row specular, each on one colour scale shared by all its panels.
-Image plotBrdf(const BrdfTable& brdf, int cellPixels = 8);
+// "theta_v_deg,theta_l_deg,phi_deg,diffuse,specular": every theta_L node in [0, 90] and phi_{V-L}
+// node in [0, 180] of every theta_V slice (with view-azimuth slices, the phi_V slice nearest 0).
+std::string brdfCsv(const BrdfTable& brdf);
 
 }  // namespace meso
