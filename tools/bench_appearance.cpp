@@ -5,6 +5,8 @@
 #include "meso/appearance/material_tables.h"
 #include "meso/core/rng.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -148,4 +150,4 @@ BENCHMARK(BM_RedistributionLookupViewAzimuth);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

@@ -13,6 +13,8 @@
 #include "meso/render/render_context.h"
 #include "meso/scene/scene_parser.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -105,4 +107,4 @@ const bool kRegistered = [] {
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

@@ -9,6 +9,8 @@
 #include "meso/relief/level_frames.h"
 #include "meso/relief/slope_pyramid.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -150,4 +152,4 @@ BENCHMARK(BM_LoadTableSpectralFrequency512)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

@@ -11,6 +11,8 @@
 #include "meso/geometry/ray_scene.h"
 #include "meso/scene/camera.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -194,4 +196,4 @@ BENCHMARK(BM_CameraRaysByDicingRate)
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

@@ -6,6 +6,8 @@
 #include "meso/synthesis/synthesis_sampler.h"
 #include "meso/synthesis/synthesized_shading.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <vector>
@@ -94,4 +96,4 @@ BENCHMARK(BM_BuildTable)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

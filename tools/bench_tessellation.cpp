@@ -9,6 +9,8 @@
 #include "meso/geometry/ray_scene.h"
 #include "meso/scene/camera.h"
 
+#include "bench_main.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -158,4 +160,4 @@ BENCHMARK(BM_CameraRays)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseReal
 
 }  // namespace
 
-BENCHMARK_MAIN();
+MESO_BENCHMARK_MAIN()

@@ -4,6 +4,7 @@
 #include "interrupt.h"
 
 #include "meso/core/error.h"
+#include "meso/core/floating_point.h"
 
 #include <CLI/CLI.hpp>
 
@@ -11,6 +12,7 @@
 #include <exception>
 
 int main(int argc, char** argv) {
+  meso::useFlushToZero();  // before any parallel loop (core/floating_point.h)
   CLI::App cli{"meso: bumpy surfaces at every distance (Becker & Max 1993)"};
   cli.set_version_flag("--version", "meso " MESO_VERSION, "Print meso's version and exit");
   cli.require_subcommand(1);

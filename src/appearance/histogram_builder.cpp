@@ -15,12 +15,16 @@
 namespace meso {
 namespace {
 
+// The rays of view slice (k, j): the traced azimuths a with a * phiV / azimuths = j, in order (each
+// slice is written by one task, so its sums do not depend on the thread count).
 void traceSlice(const PeriodicRelief& relief, const PeriodicTile& tile, const HistogramSettings& s,
-                int k, VisibleNormalHistogram& h) {
+                int k, int j, VisibleNormalHistogram& h) {
   const float thetaV = h.thetaV(k);
   const int phiV = h.resolution().phiV;
-  for (int a = 0; a < s.azimuths; ++a) {
-    const int slice = h.sliceOf(k, a * phiV / s.azimuths);
+  const int slice = h.sliceOf(k, j);
+  const int first = (j * s.azimuths + phiV - 1) / phiV,
+            end = ((j + 1) * s.azimuths + phiV - 1) / phiV;
+  for (int a = first; a < end; ++a) {
     Rng rng(s.seed, static_cast<uint64_t>(k) * s.azimuths + a);
     const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
     const Vec3 towardEye(std::sin(thetaV) * std::cos(phiV), std::sin(thetaV) * std::sin(phiV),
@@ -48,7 +52,11 @@ VisibleNormalHistogram buildVisibleNormalHistogram(const PeriodicRelief& relief,
                                                    const HistogramSettings& s) {
   const PeriodicTile tile(relief, std::max(s.meshResolution, 1));
   VisibleNormalHistogram h(s.resolution);
-  tbb::parallel_for(0, h.resolution().thetaV, [&](int k) { traceSlice(relief, tile, s, k, h); });
+  // One task per view slice: grazing slices cost several times the others, so slices of one
+  // theta_V row would leave a core idle at the end.
+  const int phiV = h.resolution().phiV;
+  tbb::parallel_for(0, h.resolution().thetaV * phiV,
+                    [&](int t) { traceSlice(relief, tile, s, t / phiV, t % phiV, h); });
   h.normalize();
   return h;
 }

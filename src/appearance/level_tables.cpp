@@ -1,13 +1,17 @@
 #include "meso/appearance/level_tables.h"
 
 #include "meso/appearance/class_derivation.h"
+#include "meso/core/check.h"
 #include "meso/core/timer.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace meso {
 namespace {
 
 uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings& s,
-                  const LevelTables* finer, const SpecularLobe* lobe,
+                  const uint64_t* finerKey, const SpecularLobe* lobe,
                   const ClassDerivation* derivation) {
   const HistogramSettings& h = s.histogram;
   Hasher hash;
@@ -23,8 +27,8 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
     hash.string("phiV").value(h.resolution.phiV);  // isotropic keys as before
   if (!h.shape.identity()) hash.string("shape").value(h.shape.a).value(h.shape.b);
   // The finest BRDF depends on the Phong exponent; a coarser one on the finer tables instead.
-  if (finer)
-    hash.value(finer->key);
+  if (finerKey)
+    hash.value(*finerKey);
   else if (lobe)
     hash.string("lobe").value(lobe->fingerprint);
   else
@@ -35,8 +39,8 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
 }
 
 BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s,
-                  const LevelTables* finer, const SpecularLobe* lobe) {
-  if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, finer->brdf);
+                  const BrdfTable* finer, const SpecularLobe* lobe) {
+  if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, *finer);
   return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe)
               : BrdfTable::fromDistribution(distr, s.brdf, phong);
 }
@@ -82,72 +86,153 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   return table;
 }
 
-}  // namespace
-
-LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
-                             const TableSettings& settings, const LevelTables* finer,
-                             const TableCache& cache, std::vector<std::string>* warnings,
-                             const SpecularLobe* lobe, const ClassDerivation* derivation) {
-  Timer timer;
-  const uint64_t key = tableKey(relief, phong, settings, finer, lobe, derivation);
-  VisibleNormalHistogram distr(settings.histogram.resolution);
-  std::string warning;
-  TableCache::Lock buildLock;  // from a miss until the tables are stored: one build per key
-  std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
-  const size_t histogramSize = distr.numBins();  // the cache holds masses, then the BRDF
+// A level between the two phases of its build: its histogram (and self-shadowing factor) loaded or
+// traced, its BRDF not yet integrated.
+struct PendingLevel {
+  uint64_t key = 0;
+  VisibleNormalHistogram distr{HistogramResolution{}};
+  std::vector<float> brdfData;  // the cached BRDF, when the histogram came from the cache
   bool fromCache = false;
-  std::vector<float> brdfData;
+  size_t bytes = 0;
+  TableCache::Lock lock;  // from a miss until the tables are stored: one build per key
+  ShadowingTable shadowing;
+  double shadowingSeconds = 0.0, seconds = 0.0;
+  std::vector<std::string> warnings;
+};
+
+// Phase one, in job order: the cached tables, or the key's lock until they are stored. A chain
+// takes its locks finest first, one level after the other, as every chain that shares keys with
+// it does (a coarser level's key holds its finer level's): builders that share tables (processes,
+// or materials of one scene) never wait for each other's locks in a cycle.
+void loadOrLock(const LevelJob& job, const TableCache& cache, PendingLevel& p) {
+  Timer timer;
+  p.distr = VisibleNormalHistogram(job.settings.histogram.resolution);
+  std::string warning;
+  std::optional<std::vector<float>> cached = cache.loadOrLock(p.key, &warning, &p.lock);
+  if (!warning.empty()) p.warnings.push_back(warning);
+  const size_t histogramSize = p.distr.numBins();  // the cache holds masses, then the BRDF
   if (cached && cached->size() > histogramSize &&
-      distr.fromData(std::span<const float>(*cached).first(histogramSize))) {
-    brdfData.assign(cached->begin() + static_cast<std::ptrdiff_t>(histogramSize), cached->end());
-    fromCache = true;
+      p.distr.fromData(std::span<const float>(*cached).first(histogramSize))) {
+    p.brdfData.assign(cached->begin() + static_cast<std::ptrdiff_t>(histogramSize), cached->end());
+    p.fromCache = true;
   }
   // What the cache holds (or would): masses, then the BRDF.
-  size_t bytes = cached ? cached->size() * sizeof(float) : 0;
-  cached.reset();  // copied out: its memory goes to the tables built next
-  if (!fromCache)
-    distr = derivation ? deriveHistogram(derivation->tile().distr, derivation->map,
-                                         settings.histogram.resolution, settings.histogram.azimuths)
-                       : buildVisibleNormalHistogram(relief, settings.histogram);
+  p.bytes = cached ? cached->size() * sizeof(float) : 0;
+  p.seconds += timer.seconds();
+}
+
+// Phase two, every level at once: the histogram (unless cached) and the self-shadowing factor,
+// which need no other level's tables.
+void traceHistogram(const LevelJob& job, float phong, const TableCache& cache, PendingLevel& p) {
+  Timer timer;
+  const TableSettings& settings = job.settings;
+  const ClassDerivation* derivation = job.derivation;
+  if (!p.fromCache)
+    p.distr = derivation
+                  ? deriveHistogram(derivation->tile().distr, derivation->map,
+                                    settings.histogram.resolution, settings.histogram.azimuths)
+                  : buildVisibleNormalHistogram(*job.relief, settings.histogram);
+  if (settings.shadows) {
+    Timer shadowTimer;
+    const VisibleNormalHistogram layout(p.distr.resolution(), p.distr.thetaVMax(),
+                                        VisibleNormalHistogram::LayoutOnly{});
+    p.shadowing =
+        shadowingFor(*job.relief, layout, phong, settings, p.key, cache, &p.warnings, derivation);
+    p.shadowingSeconds = shadowTimer.seconds();
+  }
+  p.seconds += timer.seconds();
+}
+
+// Phase three, finest first: the BRDF (over the finer level's, eq. 1, or the local model), stored
+// with the histogram, and the redistribution maps.
+LevelTables finishLevel(const LevelJob& job, float phong, const BrdfTable* finer,
+                        const TableCache& cache, PendingLevel& p) {
+  Timer timer;
+  const TableSettings& settings = job.settings;
+  VisibleNormalHistogram& distr = p.distr;
   std::vector<float> thetaV(distr.resolution().thetaV);
   for (int k = 0; k < distr.resolution().thetaV; ++k) thetaV[k] = distr.thetaV(k);
   const int phiV = distr.resolution().phiV;
   const size_t brdfSize = BrdfTable::dataSize(settings.brdf, static_cast<int>(thetaV.size()), phiV);
-  BrdfTable brdf = fromCache && brdfData.size() == brdfSize
-                       ? BrdfTable::fromData(thetaV, settings.brdf, std::move(brdfData), phiV)
-                       : brdfFor(distr, phong, settings, finer, lobe);
-  fromCache = fromCache && brdf.data().size() == brdfSize;
+  BrdfTable brdf = p.fromCache && p.brdfData.size() == brdfSize
+                       ? BrdfTable::fromData(thetaV, settings.brdf, std::move(p.brdfData), phiV)
+                       : brdfFor(distr, phong, settings, finer, finer ? nullptr : job.lobe);
+  const bool fromCache = p.fromCache && brdf.data().size() == brdfSize;
   if (!fromCache) {  // assembled only to be stored
     std::vector<float> payload = distr.toData(false);
     payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());
-    bytes = payload.size() * sizeof(float);
-    warning.clear();
-    cache.store(key, payload, &warning);
-    if (!warning.empty() && warnings) warnings->push_back(warning);
+    p.bytes = payload.size() * sizeof(float);
+    std::string warning;
+    cache.store(p.key, payload, &warning);
+    if (!warning.empty()) p.warnings.push_back(warning);
   }
-  buildLock.unlock();
+  p.lock.unlock();
   Redistribution redistribution(distr, settings.variant);
   distr.dropMeanNormals();
-  ShadowingTable shadowing;
-  double shadowingSeconds = 0.0;
-  if (settings.shadows) {
-    Timer shadowTimer;
-    shadowing = shadowingFor(relief, distr, phong, settings, key, cache, warnings, derivation);
-    shadowingSeconds = shadowTimer.seconds();
-  }
   if (!settings.keepHistograms)
     distr = VisibleNormalHistogram(distr.resolution(), distr.thetaVMax(),
                                    VisibleNormalHistogram::LayoutOnly{});
   return LevelTables{std::move(distr),
                      std::move(redistribution),
                      std::move(brdf),
-                     std::move(shadowing),
-                     shadowingSeconds,
-                     key,
+                     std::move(p.shadowing),
+                     p.shadowingSeconds,
+                     p.key,
                      fromCache,
-                     timer.seconds(),
-                     bytes};
+                     p.seconds + timer.seconds(),
+                     p.bytes};
+}
+
+void appendWarnings(std::vector<std::string>& from, std::vector<std::string>* to) {
+  if (to) to->insert(to->end(), from.begin(), from.end());
+}
+
+}  // namespace
+
+LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
+                             const TableSettings& settings, const LevelTables* finer,
+                             const TableCache& cache, std::vector<std::string>* warnings,
+                             const SpecularLobe* lobe, const ClassDerivation* derivation) {
+  const LevelJob job{&relief, settings, -1, lobe, derivation};
+  PendingLevel p;
+  p.key = tableKey(relief, phong, settings, finer ? &finer->key : nullptr, lobe, derivation);
+  loadOrLock(job, cache, p);
+  traceHistogram(job, phong, cache, p);
+  LevelTables t = finishLevel(job, phong, finer ? &finer->brdf : nullptr, cache, p);
+  appendWarnings(p.warnings, warnings);
+  return t;
+}
+
+std::vector<LevelTables> buildLevelChain(std::span<const LevelJob> jobs, float phong,
+                                         const TableCache& cache,
+                                         std::vector<std::string>* warnings) {
+  const size_t n = jobs.size();
+  std::vector<PendingLevel> pending(n);
+  for (size_t i = 0; i < n; ++i) {
+    const LevelJob& job = jobs[i];
+    MESO_DCHECK(job.finer < static_cast<int>(i), "a level's finer level is built before it");
+    pending[i].key = tableKey(*job.relief, phong, job.settings,
+                              job.finer >= 0 ? &pending[job.finer].key : nullptr,
+                              job.finer >= 0 ? nullptr : job.lobe, job.derivation);
+  }
+  // Isolated: while its thread waits for its own inner loops it takes no task from outside the
+  // chain. It holds its levels' locks from the first phase to the store, and a task of another
+  // chain (another class or material) may need one of the same keys: that task would wait for a
+  // lock its own thread holds.
+  std::vector<LevelTables> out;
+  out.reserve(n);
+  tbb::this_task_arena::isolate([&] {
+    for (size_t i = 0; i < n; ++i) loadOrLock(jobs[i], cache, pending[i]);
+    tbb::parallel_for(size_t(0), n,
+                      [&](size_t i) { traceHistogram(jobs[i], phong, cache, pending[i]); });
+    for (size_t i = 0; i < n; ++i) {
+      const int f = jobs[i].finer;
+      out.push_back(
+          finishLevel(jobs[i], phong, f >= 0 ? &out[f].brdf : nullptr, cache, pending[i]));
+    }
+  });
+  for (PendingLevel& p : pending) appendWarnings(p.warnings, warnings);
+  return out;
 }
 
 uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& s) {

@@ -8,11 +8,15 @@
 #include "meso/relief/band_split.h"
 #include "meso/relief/height_table.h"
 
+#include <tbb/collaborative_call_once.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <tuple>
 
@@ -191,7 +195,11 @@ struct DerivationTiles {
   float length = 1.0f;                           // the tile's length per unit of u
   TableSettings settings;                        // the tile's
   std::vector<std::optional<TileTables>> tiles;  // per level, built when first needed
-  std::vector<uint64_t> keys;                    // per level
+  // Per level: its tile is built once, by the first class that needs it; classes that need it
+  // meanwhile join that build's parallel loops instead of waiting idle.
+  std::unique_ptr<tbb::collaborative_once_flag[]> once;
+  std::vector<std::vector<std::string>> warnings;  // per level: its tile's
+  std::vector<uint64_t> keys;                      // per level
   // The tile's settings for one level (its traced mesh follows the level: tableMeshResolution).
   TableSettings levelSettings(const ReliefLevel& level) const {
     TableSettings s = settings;
@@ -224,17 +232,25 @@ std::optional<DerivationTiles> planDerivation(const MaterialRelief& r,
     d.keys.push_back(tileTablesKey(TileRelief(tabulatedLevel(level), d.length),
                                    d.levelSettings(tabulatedLevel(level))));
   d.tiles.resize(r.levels.size());
+  d.once = std::make_unique<tbb::collaborative_once_flag[]>(r.levels.size());
+  d.warnings.resize(r.levels.size());
   return d;
 }
 
+// What building one class's tables counted.
+struct ClassCount {
+  int built = 0, loaded = 0;
+  double seconds = 0.0;
+  std::vector<std::string> warnings;
+};
+
 // The tables of every level for one metric class, finest first in the build (each coarser BRDF
 // integrates the finer one), stored coarsest first. With `derive`, the class's histograms and
-// shadowing factors derive from its tiles'.
+// shadowing factors derive from its tiles' (each built once, by the first class that needs it).
 MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
                                const MetricClass& metric, const TableCache& cache,
-                               std::vector<std::string>* warnings, const TableSettings& shapeless,
-                               const SpecularLobe* lobe, DerivationTiles* derive, int* built,
-                               int* loaded, double* seconds, ProgressBar& progress) {
+                               const TableSettings& shapeless, const SpecularLobe* lobe,
+                               DerivationTiles* derive, ClassCount& count, ProgressBar& progress) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -250,44 +266,49 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     q.phiV *= 2;
   }
   const size_t n = shapeless.build ? r.levels.size() : 0;
-  std::vector<LevelTables> reversed;
-  reversed.reserve(n);
-  for (size_t k = 0; k < n; ++k) {
+  std::vector<std::unique_ptr<TileRelief>> tiles(n);
+  std::vector<std::optional<ClassDerivation>> derivations(n);
+  std::vector<LevelJob> jobs(n);
+  for (size_t k = 0; k < n; ++k) {  // job k: level n - 1 - k (finest first)
     // A band that finer bands of its image continue is tabulated over the level after the image
     // (eq. 1) or as the finest level.
     const size_t index = n - 1 - k;
     const ReliefLevel& level = r.levels[index];
     const size_t finerLevel = level.partialSum ? level.partialSumEnd : n - k;
-    const LevelTables* finer = finerLevel < n ? &reversed[n - 1 - finerLevel] : nullptr;
     const ReliefLevel& traced = tabulatedLevel(level);
-    const TileRelief tile(traced, lengthPerU);
-    TableSettings levelSettings = settings;
-    levelSettings.histogram.meshResolution =
+    tiles[k] = std::make_unique<TileRelief>(traced, lengthPerU);
+    LevelJob& job = jobs[k];
+    job.relief = tiles[k].get();
+    job.settings = settings;
+    job.settings.histogram.meshResolution =
         tableMeshResolution(traced, settings.histogram.meshResolution);
-    std::optional<ClassDerivation> derivation;
-    if (derive && derive->derives(metric))
-      derivation =
-          ClassDerivation{ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
-                          [derive, index, &traced, &material, &shapeless, &cache, warnings]() {
-                            std::optional<TileTables>& t = derive->tiles[index];
-                            if (!t)
-                              t = buildTileTables(TileRelief(traced, derive->length),
-                                                  material.phong, derive->levelSettings(traced),
-                                                  shapeless.histogram.resolution, cache, warnings);
-                            return std::cref(*t);
-                          }};
-    reversed.push_back(buildLevelTables(tile, material.phong, levelSettings, finer, cache, warnings,
-                                        finer ? nullptr : lobe,
-                                        derivation ? &*derivation : nullptr));
-    const LevelTables& t = reversed.back();
-    (t.fromCache ? *loaded : *built) += 1;
-    *seconds += t.seconds;
-    progress.advance();
+    job.finer = finerLevel < n ? static_cast<int>(n - 1 - finerLevel) : -1;
+    job.lobe = job.finer < 0 ? lobe : nullptr;
+    if (derive && derive->derives(metric)) {
+      derivations[k] = ClassDerivation{
+          ClassMap{metric.shape, derive->length / lengthPerU}, derive->keys[index],
+          [derive, index, &traced, &material, &shapeless, &cache]() -> const TileTables& {
+            tbb::collaborative_call_once(derive->once[index], [&] {
+              derive->tiles[index] = buildTileTables(
+                  TileRelief(traced, derive->length), material.phong, derive->levelSettings(traced),
+                  shapeless.histogram.resolution, cache, &derive->warnings[index]);
+            });
+            return *derive->tiles[index];
+          }};
+      job.derivation = &*derivations[k];
+    }
   }
+  std::vector<LevelTables> built = buildLevelChain(jobs, material.phong, cache, &count.warnings);
   MetricTables m;
   m.lengthPerU = lengthPerU;
   m.shape = metric.shape;
-  for (size_t k = 0; k < n; ++k) m.levels.push_back(std::move(reversed[n - 1 - k]));
+  for (size_t k = 0; k < n; ++k) {
+    LevelTables& t = built[n - 1 - k];
+    (t.fromCache ? count.loaded : count.built) += 1;
+    count.seconds += t.seconds;
+    progress.advance();
+    m.levels.push_back(std::move(t));
+  }
   return m;
 }
 
@@ -383,11 +404,24 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                 std::chrono::milliseconds(1000));
   ProgressBar& progress = shared ? *shared : *own;
   std::optional<DerivationTiles> derive = planDerivation(r, classes, settings);
-  for (const MetricClass& m : classes)
-    r.metrics.push_back(buildMetricTables(r, material, m, cache, warnings, settings,
-                                          r.synthesis ? &lobe : nullptr,
-                                          derive ? &*derive : nullptr, &r.tablesBuilt,
-                                          &r.tablesFromCache, &r.tablesSeconds, progress));
+  // Classes at once (each builds its levels at once, then their BRDFs): the same tables, in the
+  // same order, whatever the thread count.
+  r.metrics.resize(classes.size());
+  std::vector<ClassCount> counts(classes.size());
+  tbb::parallel_for(size_t(0), classes.size(), [&](size_t c) {
+    r.metrics[c] =
+        buildMetricTables(r, material, classes[c], cache, settings, r.synthesis ? &lobe : nullptr,
+                          derive ? &*derive : nullptr, counts[c], progress);
+  });
+  if (derive && warnings)
+    for (const std::vector<std::string>& w : derive->warnings)
+      warnings->insert(warnings->end(), w.begin(), w.end());
+  for (const ClassCount& c : counts) {
+    if (warnings) warnings->insert(warnings->end(), c.warnings.begin(), c.warnings.end());
+    r.tablesBuilt += c.built;
+    r.tablesFromCache += c.loaded;
+    r.tablesSeconds += c.seconds;
+  }
   if (own) own->finish();
   return r;
 }

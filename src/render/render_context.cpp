@@ -6,6 +6,8 @@
 #include "meso/render/tile_map.h"
 #include "meso/scene/mesh_io.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -199,14 +201,20 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   // Shown only when building takes longer than a second (tables read from the cache do not).
   ProgressBar progress("tables (" + std::to_string(sets) + " sets)", sets, true,
                        std::chrono::milliseconds(1000));
-  for (Plan& plan : plans) {
-    const size_t m = plan.material;
-    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &ctx.warnings, settings,
-                                         std::move(plan.classes), &progress);
+  // Materials at once (the same tables whatever the thread count); warnings in material order.
+  std::vector<std::vector<std::string>> planWarnings(plans.size());
+  tbb::parallel_for(size_t(0), plans.size(), [&](size_t p) {
+    const size_t m = plans[p].material;
+    ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &planWarnings[p], settings,
+                                         std::move(plans[p].classes), &progress);
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
-    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], plan.curved);
-    times.tablesBuilt += ctx.reliefs[m].tablesBuilt;
-    times.tablesFromCache += ctx.reliefs[m].tablesFromCache;
+    if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], plans[p].curved);
+  });
+  for (size_t p = 0; p < plans.size(); ++p) {
+    const MaterialRelief& r = ctx.reliefs[plans[p].material];
+    ctx.warnings.insert(ctx.warnings.end(), planWarnings[p].begin(), planWarnings[p].end());
+    times.tablesBuilt += r.tablesBuilt;
+    times.tablesFromCache += r.tablesFromCache;
   }
   progress.finish();
   times.tables += tables.seconds();

@@ -10,6 +10,7 @@
 #include "meso/appearance/table_cache.h"
 
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,22 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                              const TableCache& cache, std::vector<std::string>* warnings,
                              const SpecularLobe* lobe = nullptr,
                              const ClassDerivation* derivation = nullptr);
+
+// One level of a chain that buildLevelChain builds, finest first.
+struct LevelJob {
+  const PeriodicRelief* relief = nullptr;  // as its tables trace it
+  TableSettings settings;
+  int finer = -1;  // the earlier job whose BRDF this level's integrates (eq. 1), or -1: the finest
+  const SpecularLobe* lobe = nullptr;           // as for buildLevelTables (finest level only)
+  const ClassDerivation* derivation = nullptr;  // as for buildLevelTables
+};
+
+// The tables of every job, as buildLevelTables would build each (the same bits): the histograms
+// and self-shadowing factors of all levels at once (no level's depends on another's), then the
+// BRDFs finest first, each over its finer level's. Warnings are appended in job order.
+std::vector<LevelTables> buildLevelChain(std::span<const LevelJob> jobs, float phong,
+                                         const TableCache& cache,
+                                         std::vector<std::string>* warnings);
 
 // The cache key of a traced tile's TileTables (relief as traced, settings' histogram and shadows).
 uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& settings);
