@@ -2,8 +2,9 @@
 
 #include "meso/core/error.h"
 
+#include <fmt/format.h>
+
 #include <atomic>
-#include <cstdio>
 
 #include <unistd.h>
 
@@ -31,11 +32,7 @@ uint64_t memoryLimitBytes() {
 
 void setMemoryLimitBytes(uint64_t bytes) { gLimit.store(bytes); }
 
-std::string formatMib(double bytes) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.1f MiB", bytes / (1024.0 * 1024.0));
-  return buf;
-}
+std::string formatMib(double bytes) { return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0)); }
 
 void requireMemory(double bytes, const std::string& where, const std::string& key,
                    const std::string& what) {

@@ -1,5 +1,7 @@
 #include "meso/core/progress.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -8,10 +10,8 @@
 namespace meso {
 
 std::string formatDuration(double s) {
-  char buf[32];
-  int total = static_cast<int>(s + 0.5);
-  std::snprintf(buf, sizeof buf, "%d:%02d", total / 60, total % 60);
-  return buf;
+  const int total = static_cast<int>(s + 0.5);
+  return fmt::format("{}:{:02d}", total / 60, total % 60);
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 
+#include <fmt/format.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/texture.h>
@@ -109,15 +110,12 @@ int TextureLookup::add(const std::filesystem::path& file, ColourSpace space,
   // The MIP-mapped copy, shared by every render of the same bytes and colour space.
   Hasher key;
   key.value(fileHash(file)).value(srgb);
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key.digest()));
-  const std::filesystem::path tx = folder / (std::string(hex) + ".tx");
+  const std::string hex = fmt::format("{:016x}", key.digest());
+  const std::filesystem::path tx = folder / (hex + ".tx");
   std::error_code ec;
   if (!std::filesystem::exists(tx, ec)) {
     std::filesystem::create_directories(folder, ec);
-    std::string tmpName = ".";  // appended piecewise: GCC 12 warns falsely on a + chain here
-    tmpName.append(hex).append(".").append(std::to_string(::getpid())).append(".tx");
-    const std::filesystem::path tmp = folder / tmpName;
+    const std::filesystem::path tmp = folder / fmt::format(".{}.{}.tx", hex, ::getpid());
     OIIO::ImageSpec config;
     config.attribute("wrapmodes", "periodic");
     config.attribute("maketx:filtername", "box");
