@@ -75,36 +75,55 @@ VisibleNormalHistogram deriveHistogram(const VisibleNormalHistogram& tile, const
   }
   const int perSlice = std::max(azimuths / r.phiV, 1);  // the traced azimuths of a slice
   const float massPerSample = 1.0f / static_cast<float>(sub.theta * sub.phi * perSlice);
-  tbb::parallel_for(0, h.numSlices(), [&](int k) {
+  // Where each sub-bin sample of the tile lands in the class's view-aligned frame depends on the
+  // view azimuth only (the tile's frame turns with phi_T, the class's with phi_V), not on theta_V:
+  // found once per azimuth for every theta_V slice of it. One task per view-azimuth slice, its
+  // theta_V slices in order, so every bin's sums run in the same order for any thread count.
+  const size_t samplesPerAzimuth = sinT.size() * static_cast<size_t>(tr.phi) * sub.phi;
+  tbb::parallel_for(0, r.phiV, [&](int m) {
     std::vector<float> masses(static_cast<size_t>(tr.thetaN) * tr.phi);
     std::vector<float> cosP(static_cast<size_t>(tr.phi) * sub.phi), sinP(cosP.size());
-    const float thetaV = h.sliceThetaV(k);
+    std::vector<size_t> bins(perSlice * samplesPerAzimuth);
+    std::vector<Vec3> normals(bins.size());
+    std::vector<float> phiV(perSlice), phiT(perSlice);
     for (int q = 0; q < perSlice; ++q) {
       // The azimuths traceSlice traces for this slice.
-      const int a = (k % r.phiV) * perSlice + q;
-      const float phiV =
-          2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(perSlice * r.phiV);
-      const Vec3 view = map.toTile(polarDirection(thetaV, phiV));
-      const float phiT = tileAzimuth(map, phiV);
-      interpolateSlices(tile, std::acos(std::clamp(view.z, -1.0f, 1.0f)), phiT, masses);
+      const int a = m * perSlice + q;
+      phiV[q] = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(perSlice * r.phiV);
+      phiT[q] = tileAzimuth(map, phiV[q]);
       for (size_t p = 0; p < cosP.size(); ++p) {
         const float phi =
             -kPi + (static_cast<float>(p) + 0.5f) / static_cast<float>(sub.phi) * tile.phiWidth();
-        cosP[p] = std::cos(phi + phiT), sinP[p] = std::sin(phi + phiT);
+        cosP[p] = std::cos(phi + phiT[q]), sinP[p] = std::sin(phi + phiT[q]);
       }
       // Back into the class's view-aligned frame: rotate by -phi_V about z.
-      const float c = std::cos(-phiV), s = std::sin(-phiV);
+      const float c = std::cos(-phiV[q]), s = std::sin(-phiV[q]);
+      size_t e = q * samplesPerAzimuth;
       for (int i = 0; i < tr.thetaN; ++i)
-        for (int j = 0; j < tr.phi; ++j) {
-          const float mass = masses[static_cast<size_t>(i) * tr.phi + j];
-          if (!(mass > 0.0f)) continue;
+        for (int j = 0; j < tr.phi; ++j)
           for (int si = i * sub.theta; si < (i + 1) * sub.theta; ++si)
-            for (int sj = j * sub.phi; sj < (j + 1) * sub.phi; ++sj) {
+            for (int sj = j * sub.phi; sj < (j + 1) * sub.phi; ++sj, ++e) {
               const Vec3 n =
                   map.normalFromTile(Vec3(sinT[si] * cosP[sj], sinT[si] * sinP[sj], cosT[si]));
-              h.add(k, Vec3(c * n.x - s * n.y, s * n.x + c * n.y, n.z), mass * massPerSample);
+              normals[e] = Vec3(c * n.x - s * n.y, s * n.x + c * n.y, n.z);
+              bins[e] = h.binInSlice(normals[e]);
             }
+    }
+    const size_t perBin = static_cast<size_t>(sub.theta) * sub.phi;
+    for (int kt = 0; kt < r.thetaV; ++kt) {
+      const int k = h.sliceOf(kt, m);
+      const float thetaV = h.sliceThetaV(k);
+      for (int q = 0; q < perSlice; ++q) {
+        const Vec3 view = map.toTile(polarDirection(thetaV, phiV[q]));
+        interpolateSlices(tile, std::acos(std::clamp(view.z, -1.0f, 1.0f)), phiT[q], masses);
+        size_t e = q * samplesPerAzimuth;
+        for (size_t b = 0; b < masses.size(); ++b, e += perBin) {
+          const float mass = masses[b];
+          if (!(mass > 0.0f)) continue;
+          for (size_t x = e; x < e + perBin; ++x)
+            h.addToBin(k, bins[x], normals[x], mass * massPerSample);
         }
+      }
     }
   });
   h.normalize();

@@ -89,6 +89,11 @@ std::span<const float> VisibleNormalHistogram::slice(int k) const {
   return {data_.data() + k * n, n};
 }
 
+size_t VisibleNormalHistogram::binInSlice(const Vec3& normal) const {
+  const NormalAngles a = anglesOf(normal);
+  return index(0, thetaNBin(a.thetaN), phiBin(a.phi));
+}
+
 void VisibleNormalHistogram::add(int k, const Vec3& normal, float weight) {
   const NormalAngles a = anglesOf(normal);
   const size_t b = index(k, thetaNBin(a.thetaN), phiBin(a.phi));

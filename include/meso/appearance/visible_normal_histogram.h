@@ -65,6 +65,14 @@ class VisibleNormalHistogram {
   // Counts one visible normal (weight = its share of projected area). `normal` is the unit normal
   // in the view-aligned frame (view azimuth along +x, macro normal +z); its angles pick the bin.
   void add(int k, const Vec3& normal, float weight = 1.0f);
+  // add() in two steps, for normals added to many slices: the bin of a normal within a slice,
+  // and adding to bin `bin` of slice k (the same sums as add(k, normal, weight)).
+  size_t binInSlice(const Vec3& normal) const;
+  void addToBin(int k, size_t bin, const Vec3& normal, float weight) {
+    const size_t b = static_cast<size_t>(k) * res_.thetaN * res_.phi + bin;
+    data_[b] += weight;
+    if (!normalSums_.empty()) normalSums_[b] += weight * normal;
+  }
   // Scales each slice to sum 1 and turns the normal sums into per-bin means; an empty slice gets
   // all its mass in the theta_N = 0 bins (flat).
   void normalize();
