@@ -53,6 +53,33 @@ std::string detailVerdict(const SceneConsistencyReport& report, float referenceD
              100.0 * report.referenceContrastChange, 2.0 * referenceDicing);
 }
 
+// A reference that moves less than this when its dicing is halved counts as converged.
+constexpr double kConvergedChange = 0.01;
+
+// The cap coarsened the reference farthest first: which regions lie wholly nearer than where it
+// began (diced as asked) and whether the reference converged in each of them.
+std::string coarsenedReferenceWarning(const SceneConsistencyReport& report, float dicing) {
+  std::string asAsked, beyond;
+  for (const ConsistencyRegion& r : report.regions) {
+    if (r.pixels == 0 || !(r.mean[0] > 0.0)) continue;
+    const double change = std::abs(r.mean[1] / r.mean[0] - 1.0);
+    if (r.farthest < report.referenceAsAskedWithin)
+      asAsked +=
+          fmt::format("{}{} ({}: moves {:.2f}%)", asAsked.empty() ? "" : ", ", r.name,
+                      change <= kConvergedChange ? "converged" : "not converged", 100.0 * change);
+    else
+      beyond +=
+          fmt::format("{}{} (to {:.3g} units)", beyond.empty() ? "" : ", ", r.name, r.farthest);
+  }
+  return fmt::format(
+      "WARNING: the micropolygon cap (render.max_micropolygons) coarsened the reference beyond "
+      "{:.3g} units from the eye (farthest geometry first). Diced as asked: {}. Reaching beyond "
+      "it, where the reference's change when diced at {:g} px says nothing about its "
+      "convergence: {}. Raise render.max_micropolygons in the scene or --reference-dicing",
+      report.referenceAsAskedWithin, asAsked.empty() ? "no region" : asAsked, 2.0 * dicing,
+      beyond.empty() ? "no region" : beyond);
+}
+
 // The patch's relief, light and tables (the options that apply without a SCENE too).
 void addPatchOptions(CLI::App* c, ConsistencyCommandOptions& o) {
   addOption(c, "--height", o.height,
@@ -153,13 +180,9 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
   for (const std::string& w : report.warnings)
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   if (report.referenceCoarsened)
-    std::fprintf(stderr,
-                 "meso: WARNING: the reference is not diced as asked: the micropolygon cap "
-                 "(render.max_micropolygons) coarsened it, so its change when diced at %g px says "
-                 "nothing about its convergence; raise render.max_micropolygons in the scene "
-                 "or --reference-dicing\n",
-                 2.0 * o.referenceDicing);
-  else if (report.referenceChange > 0.01)
+    std::fprintf(stderr, "meso: %s\n",
+                 coarsenedReferenceWarning(report, o.referenceDicing).c_str());
+  else if (report.referenceChange > kConvergedChange)
     std::fprintf(
         stderr,
         "meso: warning: the reference is not converged (%.2f%% change over one halving of dicing); "

@@ -3,6 +3,8 @@
 
 #include "meso/core/timer.h"
 
+#include <cmath>
+
 namespace meso::app {
 namespace {
 
@@ -65,6 +67,9 @@ nlohmann::json frameJson(int frame, const std::filesystem::path& exr, int64_t ra
           {"micropolygons_off_screen", geometry.offScreenMicropolygons},
           {"faces_diced", geometry.facesDiced},
           {"dicing_coarsened_by", geometry.coarsening},
+          {"dicing_coarsened_beyond", std::isfinite(geometry.coarsenedBeyond)
+                                          ? nlohmann::json(geometry.coarsenedBeyond)
+                                          : nlohmann::json(nullptr)},
           {"geometry_rebuilt", geometry.rebuilt},
           {"seconds",
            {{"tessellate", geometry.tessellateSeconds},

@@ -4,6 +4,7 @@
 // rates shared between neighbouring patches).
 #include "meso/geometry/adaptive_tessellation.h"
 
+#include "cap_coarsening.h"
 #include "face_split.h"
 #include "limit_surface_impl.h"
 #include "meso/core/error.h"
@@ -13,9 +14,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -35,6 +37,10 @@ struct EdgeMeasure {
   float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
   int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
   int floor = 0;                // least rate the diced neighbours ask for, 0 = none
+  // The nearest distance from the eye of the faces in view it bounds (their patch hulls grown by
+  // the displacement bound): the cap coarsens it by CapCoarsening::factor of this, so no edge of a
+  // face that reaches nearer than CapCoarsening::beyond is coarsened.
+  float distance = 0.0f;
 };
 
 void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDicing& faces) {
@@ -70,10 +76,13 @@ void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDi
 
 // A face is in view when the box of its patch points, grown by the displacement bound, is: the
 // limit patch lies in the convex hull of its patch points (B-spline and Gregory bases are
-// non-negative and sum to one), so the box is conservative.
-std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow) {
+// non-negative and sum to one), so the box is conservative. `distance`: from the eye to that box,
+// a lower bound of the distance of the face's displaced points.
+std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
+                              std::vector<float>& distance) {
   const LimitSurface::Impl& impl = surface.impl();
   std::vector<char> inView(surface.numFaces(), 0);
+  distance.assign(inView.size(), 0.0f);
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {
     const LimitSurface::Impl::Face& face = impl.faces[f];
     if (!face.surface.IsValid()) return;
@@ -84,6 +93,8 @@ std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& s
       hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
     }
     inView[f] = screen.boxInView(lo, hi, grow);
+    const float d = boxDistance(screen.eye, lo - Vec3(grow), hi + Vec3(grow));
+    distance[f] = std::isfinite(d) ? d : 0.0f;
   });
   return inView;
 }
@@ -155,13 +166,17 @@ void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDic
 std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
                                       const EdgeRateTessellator& engine, const ScreenMetric& screen,
                                       const DicingSettings& settings, const FaceDicing& faces,
-                                      const std::vector<char>& inView, float bound) {
+                                      const std::vector<char>& inView,
+                                      const std::vector<float>& faceDistance, float bound) {
   const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
   std::vector<EdgeMeasure> measures(engine.numEdges());
   tbb::parallel_for(0, engine.numEdges(), [&](int e) {
     EdgeMeasure& m = measures[e];
     const ConstIndexArray edgeFaces = base.GetEdgeFaces(e);
     if (std::none_of(edgeFaces.begin(), edgeFaces.end(), [&](int f) { return inView[f]; })) return;
+    m.distance = std::numeric_limits<float>::infinity();
+    for (int f : edgeFaces)
+      if (inView[f]) m.distance = std::min(m.distance, faceDistance[f]);
     Vec3 lo, hi;
     measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
                      settings.coarseTolerance, m, lo, hi);
@@ -190,9 +205,10 @@ int toRate(float x, int limit) {
   return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
 }
 
-// The rate of an edge when every rate is coarsened by `coarsening` (1: as asked).
-int edgeRate(const EdgeMeasure& m, const DicingSettings& s, float coarsening) {
+// The rate of an edge under the cap's coarsening (CapCoarsening{}: as asked).
+int edgeRate(const EdgeMeasure& m, const DicingSettings& s, const CapCoarsening& cap) {
   if (m.kind == EdgeMeasure::Culled) return 1;
+  const float coarsening = cap.factor(m.distance);
   int rate = toRate(m.coarseSegments / coarsening, s.maxEdgeRate);
   if (m.kind == EdgeMeasure::Diced) {
     const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
@@ -202,44 +218,94 @@ int edgeRate(const EdgeMeasure& m, const DicingSettings& s, float coarsening) {
   return rate;
 }
 
-std::string capWarning(size_t asked, const DicingSettings& s, float coarsening, size_t got) {
-  char text[320];
-  std::snprintf(text, sizeof text,
-                "adaptive tessellation: %zu micropolygons would exceed the cap of %zu; every edge "
-                "rate coarsened by %.3g (dicing rate %.3g px instead of %.3g), giving %zu%s",
-                asked, s.maxMicropolygons, coarsening, s.dicingRate * coarsening, s.dicingRate, got,
-                got > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
-  return text;
+// One choice of rates: edges, splits and the triangles they give.
+struct RateChoice {
+  CapCoarsening cap;
+  std::vector<int> rates;
+  std::vector<FaceSplit> splits;
+  int facesSplit = 0;
+  int maxRate = 1;
+  size_t count = 0;
+};
+
+RateChoice ratesFor(const LimitSurface& surface, EdgeRateTessellator& engine,
+                    const std::vector<EdgeMeasure>& measures, const SplitPlan& plan,
+                    const DicingSettings& s, const CapCoarsening& cap) {
+  RateChoice c;
+  c.cap = cap;
+  c.rates.resize(measures.size());
+  for (size_t e = 0; e < measures.size(); ++e) {
+    c.rates[e] = edgeRate(measures[e], s, cap);
+    c.maxRate = std::max(c.maxRate, c.rates[e]);
+  }
+  c.splits = splitsFor(surface, plan, c.rates, s, cap, c.facesSplit);
+  c.count = engine.countFacets(c.rates, c.splits);
+  return c;
 }
 
-// Rates for the measures, coarsened by one common factor until the triangles fit under the cap.
-// Triangles grow as the square of the rates, so the factor starts at sqrt(count / cap). The split
-// faces' sub-quads are coarsened with their edges and counted with them.
+// The farthest distance of a unit the cap may coarsen: an edge not culled or a split grid's cell.
+float farthestUnit(const std::vector<EdgeMeasure>& measures, const SplitPlan& plan) {
+  float farthest = farthestCell(plan);
+  for (const EdgeMeasure& m : measures)
+    if (m.kind != EdgeMeasure::Culled) farthest = std::max(farthest, m.distance);
+  return farthest;
+}
+
+std::string capWarning(size_t asked, const DicingSettings& s, const RateChoice& got,
+                       float farthest) {
+  const CapCoarsening& cap = got.cap;
+  const std::string where =
+      cap.beyond >= cap.floor
+          ? fmt::format(
+                "as asked nearer than {:.4g} units from the eye, coarsened by distance / "
+                "{:.4g} beyond ({:.3g}x at the farthest, {:.4g} units)",
+                cap.beyond, cap.beyond, cap.factor(farthest), farthest)
+          : fmt::format(
+                "every edge rate coarsened by at least {:.3g}x, by distance / {:.4g} "
+                "beyond {:.4g} units ({:.3g}x at the farthest, {:.4g} units)",
+                cap.factor(0.0f), cap.beyond, cap.floor, cap.factor(farthest), farthest);
+  return fmt::format(
+      "adaptive tessellation: {} micropolygons would exceed the cap of {}; dicing (rate {:.3g} "
+      "px) {}, giving {}{}",
+      asked, s.maxMicropolygons, s.dicingRate, where, got.count,
+      got.count > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
+}
+
+// Rates for the measures: as asked if the triangles fit under the cap, else coarsened farthest
+// first (CapCoarsening) with about the largest D that fits: D halves from the farthest unit's
+// distance until the count fits (or every rate is 1), then log D is bisected to 1/256 of an
+// octave. The split faces' sub-quads are coarsened with the edges and counted with them.
 std::vector<int> chooseRates(const LimitSurface& surface, EdgeRateTessellator& engine,
                              const std::vector<EdgeMeasure>& measures, const SplitPlan& plan,
-                             const DicingSettings& s, AdaptiveTessellation& result,
-                             std::vector<FaceSplit>& splits) {
-  std::vector<int> rates(measures.size());
-  float coarsening = 1.0f;
-  size_t asked = 0;
-  for (int iteration = 0;; ++iteration) {
-    int maxRate = 1;
-    for (size_t e = 0; e < measures.size(); ++e) {
-      rates[e] = edgeRate(measures[e], s, coarsening);
-      maxRate = std::max(maxRate, rates[e]);
+                             const ScreenMetric& screen, const DicingSettings& s,
+                             AdaptiveTessellation& result, std::vector<FaceSplit>& splits) {
+  RateChoice best = ratesFor(surface, engine, measures, plan, s, CapCoarsening{});
+  const size_t asked = best.count;
+  if (asked > s.maxMicropolygons && best.maxRate > 1) {
+    const float floor = std::max(screen.nearDistance, 1e-6f);
+    const float farthest = std::max(farthestUnit(measures, plan), floor);
+    float fails = farthest;  // D = farthest coarsens nothing
+    for (int k = 0; k < 128; ++k) {
+      best = ratesFor(surface, engine, measures, plan, s, {.beyond = 0.5f * fails, .floor = floor});
+      if (best.count <= s.maxMicropolygons || best.maxRate == 1) break;
+      fails = best.cap.beyond;
     }
-    splits = splitsFor(surface, plan, rates, s, coarsening, result.stats.facesSplit);
-    const size_t count = engine.countFacets(rates, splits);
-    if (iteration == 0) asked = count;
-    if (count <= s.maxMicropolygons || maxRate == 1 || iteration == 64) {
-      if (iteration > 0) result.warning = capWarning(asked, s, coarsening, count);
-      break;
+    for (int k = 0; k < 8 && best.count <= s.maxMicropolygons; ++k) {
+      const float mid = std::sqrt(best.cap.beyond * fails);
+      RateChoice trial =
+          ratesFor(surface, engine, measures, plan, s, {.beyond = mid, .floor = floor});
+      if (trial.count <= s.maxMicropolygons)
+        best = std::move(trial);
+      else
+        fails = mid;
     }
-    const double ratio = static_cast<double>(count) / static_cast<double>(s.maxMicropolygons);
-    coarsening *= static_cast<float>(std::max(1.02, 1.02 * std::sqrt(ratio)));
+    result.warning = capWarning(asked, s, best, farthest);
+    result.stats.coarsenedBeyond = best.cap.beyond;
+    result.stats.coarsening = best.cap.factor(farthest);
   }
-  result.stats.coarsening = coarsening;
-  return rates;
+  result.stats.facesSplit = best.facesSplit;
+  splits = std::move(best.splits);
+  return std::move(best.rates);
 }
 
 // Triangles none of whose corners is in view: the mesh's, and those only its grids hold.
@@ -299,16 +365,17 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
   AdaptiveTessellationStats& stats = result.stats;
   Timer timer;
   const float bound = displacement ? std::max(displacement->bound(), 0.0f) : 0.0f;
-  const std::vector<char> inView = facesInView(surface, screen, bound);
+  std::vector<float> faceDistance;
+  const std::vector<char> inView = facesInView(surface, screen, bound, faceDistance);
   EdgeRateTessellator engine(surface);
   engine.setGridsOnly(settings.gridsOnly);
   const std::vector<EdgeMeasure> measures =
-      measureEdges(surface, engine, screen, settings, faces, inView, bound);
+      measureEdges(surface, engine, screen, settings, faces, inView, faceDistance, bound);
   const SplitPlan plan = settings.splitFaces
                              ? planSplits(surface, screen, settings, faces, inView, bound)
                              : SplitPlan{};
   std::vector<FaceSplit> splits;
-  result.edgeRates = chooseRates(surface, engine, measures, plan, settings, result, splits);
+  result.edgeRates = chooseRates(surface, engine, measures, plan, screen, settings, result, splits);
   countFaces(surface, faces, inView, stats);
   stats.rateSeconds = timer.seconds();
 

@@ -67,6 +67,8 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
   }
   const float grow = bound + 2.0f * sag + 1e-3f * glm::length(hi - lo);
   cell.diced = screen.boxNearView(lo, hi, grow) && faces.raisesBox(f, screen.eye, lo, hi, grow);
+  cell.distance = boxDistance(screen.eye, lo - Vec3(grow), hi + Vec3(grow));
+  if (!std::isfinite(cell.distance)) cell.distance = 0.0f;
   density = seen > 0.0f ? seen : front;
   if (!std::isfinite(density)) density = 0.0f;
   for (int k = 0; k < 3; ++k) {
@@ -140,9 +142,10 @@ bool splittable(const LimitSurface& surface, const FaceDicing& faces,
 
 // The asks of the nu x nv sub-quads of a face planned with kMaxSplit^2 cells: a sub-quad's length
 // along u is the largest over its cell rows of the sum along them; texel caps and floors are per
-// whole edge, so a sub-quad gets its share.
+// whole edge, so a sub-quad gets its share. The cap coarsens a sub-quad as its nearest cell, so
+// one that reaches nearer than cap.beyond is diced as asked.
 void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettings& s,
-              float coarsening, FaceSplit& split) {
+              const CapCoarsening& cap, FaceSplit& split) {
   const int fu = kMaxSplit / split.nu, fv = kMaxSplit / split.nv;
   const int edgeLimit = face.cap > 0 ? std::min(face.cap, s.maxEdgeRate) : s.maxEdgeRate;
   const int limitU = (edgeLimit + split.nu - 1) / split.nu;
@@ -155,11 +158,13 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
     for (int i = 0; i < split.nu; ++i) {
       bool diced = false;
       float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
+      float nearest = std::numeric_limits<float>::infinity();
       std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
       for (int b = 0; b < fv; ++b)
         for (int a = 0; a < fu; ++a) {
           const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
           diced = diced || c.diced;
+          nearest = std::min(nearest, c.distance);
           rowU[b] += c.lengthU;
           rowCoarseU[b] += c.coarseU;
           colV[a] += c.lengthV;
@@ -169,6 +174,7 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
       for (int b = 0; b < fv; ++b) coarseU = std::max(coarseU, rowCoarseU[b]);
       for (int a = 0; a < fu; ++a) lengthV = std::max(lengthV, colV[a]);
       for (int a = 0; a < fu; ++a) coarseV = std::max(coarseV, colCoarseV[a]);
+      const float coarsening = cap.factor(nearest);
       // Not diced (out of view or too far to raise relief): only the coarse rate, as edges of faces
       // in view that need no dicing.
       int u = toRate(coarseU / coarsening, limitU), v = toRate(coarseV / coarsening, limitV);
@@ -193,7 +199,7 @@ void chooseSplit(const Cell* cells, SplitPlan::Face& face, const DicingSettings&
       FaceSplit trial;
       trial.nu = nu;
       trial.nv = nv;
-      askRates(cells, face, s, 1.0f, trial);
+      askRates(cells, face, s, CapCoarsening{}, trial);
       double cost = 0.0;
       for (size_t q = 0; q < trial.askU.size(); ++q)
         cost += 2.0 * trial.askU[q] * trial.askV[q] + 4.0 * (trial.askU[q] + trial.askV[q]);
@@ -280,9 +286,15 @@ int floorPow2(int x) {
 
 }  // namespace
 
+float farthestCell(const SplitPlan& plan) {
+  float farthest = 0.0f;
+  for (const Cell& c : plan.cells) farthest = std::max(farthest, c.distance);
+  return farthest;
+}
+
 std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& plan,
                                  const std::vector<int>& edgeRates, const DicingSettings& settings,
-                                 float coarsening, int& facesSplit) {
+                                 const CapCoarsening& cap, int& facesSplit) {
   facesSplit = 0;
   if (plan.cells.empty()) return {};
   const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
@@ -296,7 +308,7 @@ std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& p
     split.nu = std::min(face.nu, floorPow2(std::min(edgeRates[e[0]], edgeRates[e[2]])));
     split.nv = std::min(face.nv, floorPow2(std::min(edgeRates[e[1]], edgeRates[e[3]])));
     if (!split.split()) return;
-    askRates(&plan.cells[face.firstCell], face, settings, coarsening, split);
+    askRates(&plan.cells[face.firstCell], face, settings, cap, split);
     // Where every sub-quad asks at least its share of the rate Bfr would give the whole face's
     // interior (e.g. all capped by the texels), splitting would only add transition triangles.
     const int innerU = (edgeRates[e[0]] + edgeRates[e[2]]) / 2;

@@ -4,6 +4,7 @@
 // and their shared points, so splitting stays inside a face and cannot crack the mesh.
 #pragma once
 
+#include "cap_coarsening.h"
 #include "meso/geometry/adaptive_tessellation.h"
 
 #include <cstddef>
@@ -58,6 +59,9 @@ struct SplitPlan {
     bool diced = false;  // in view and near enough to raise relief (FaceDicing::raisesBox)
     float lengthU = 0.0f, lengthV = 0.0f;  // pixel lengths by DicingSettings::metric
     float coarseU = 0.0f, coarseV = 0.0f;  // segments following the limit surface to tolerance
+    // From the eye to the box of its samples grown as for `diced` (a lower bound of the distance
+    // of its displaced surface); a sub-quad is coarsened by the cap as its nearest cell.
+    float distance = 0.0f;
   };
   struct Face {
     int nu = 1, nv = 1;  // cells along u and v; 1 x 1: never split
@@ -75,10 +79,14 @@ SplitPlan planSplits(const LimitSurface& surface, const ScreenMetric& screen,
                      const DicingSettings& settings, const FaceDicing& faces,
                      const std::vector<char>& inView, float bound);
 
-// The splits for the given edge rates and coarsening (empty when no face splits); `facesSplit`
-// counts the faces split.
+// The largest distance of a cell (0 without cells).
+float farthestCell(const SplitPlan& plan);
+
+// The splits for the given edge rates and cap coarsening (empty when no face splits); each
+// sub-quad is coarsened by cap.factor of its nearest cell's distance. `facesSplit` counts the
+// faces split.
 std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& plan,
                                  const std::vector<int>& edgeRates, const DicingSettings& settings,
-                                 float coarsening, int& facesSplit);
+                                 const CapCoarsening& cap, int& facesSplit);
 
 }  // namespace meso

@@ -278,6 +278,7 @@ void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryS
   stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
   stats.facesDiced += t.stats.facesDiced;
   stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
+  stats.coarsenedBeyond = std::min(stats.coarsenedBeyond, t.stats.coarsenedBeyond);
   d.budget = d.budget > t.stats.micropolygons ? d.budget - t.stats.micropolygons : 1;
   stats.meshBytes += meshBytes(t.mesh);
   object.mesh = std::move(t.mesh);

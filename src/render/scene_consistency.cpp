@@ -30,9 +30,11 @@ std::vector<float> luminanceOf(const Image& film) {
 
 struct Rendered {
   Image image;
-  LuminanceImage lum;       // of image, and of the same frame rendered with secondSeed
-  std::vector<int> object;  // per pixel: the object its centre ray hits, -1 for none
-  float coarsening = 1.0f;  // > 1: the micropolygon cap coarsened dicing
+  LuminanceImage lum;           // of image, and of the same frame rendered with secondSeed
+  std::vector<int> object;      // per pixel: the object its centre ray hits, -1 for none
+  std::vector<float> distance;  // per pixel: how far from the eye it hits (with `object`)
+  float coarsening = 1.0f;      // > 1: the micropolygon cap coarsened dicing
+  float coarsenedBeyond = std::numeric_limits<float>::infinity();  // where, FrameGeometryStats
   std::vector<std::string> warnings;
 };
 
@@ -76,6 +78,7 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicin
   RenderCounters counters;
   Rendered r;
   r.coarsening = geometry.coarsening;
+  r.coarsenedBeyond = geometry.coarsenedBeyond;
   r.warnings = ctx.warnings;
   r.image = renderFrame(ctx, options, counters);
   RenderOptions second = options;
@@ -84,13 +87,16 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicin
            luminanceOf(renderFrame(ctx, second, counters))};
   if (objects) {
     r.object.assign(static_cast<size_t>(r.image.width) * r.image.height, -1);
+    r.distance.assign(r.object.size(), 0.0f);
     for (int y = 0; y < r.image.height; ++y)
       for (int x = 0; x < r.image.width; ++x) {
         RayHit hit;
         const Ray ray =
             ctx.camera.generateRay(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
-        if (ctx.rays && ctx.rays->intersect(ray, hit))
+        if (ctx.rays && ctx.rays->intersect(ray, hit)) {
           r.object[static_cast<size_t>(y) * r.image.width + x] = hit.mesh;
+          r.distance[static_cast<size_t>(y) * r.image.width + x] = hit.t;  // unit direction
+        }
       }
   }
   return r;
@@ -119,6 +125,8 @@ void accumulateRegions(const Scene& scene, const std::vector<Rendered>& images, 
                                        &report.regions[numObjects + y * bands / ref.height]};
       for (ConsistencyRegion* r : regions) {
         r->pixels += 1;
+        r->farthest = std::max(r->farthest,
+                               double(images[0].distance[static_cast<size_t>(y) * ref.width + x]));
         for (size_t i = 0; i < images.size(); ++i) r->mean[i] += luminance(images[i].image, x, y);
       }
     }
@@ -219,6 +227,7 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
     report.renderers.push_back(choiceName(a));
   }
   report.referenceCoarsened = images[0].coarsening > 1.0f || images[1].coarsening > 1.0f;
+  report.referenceAsAskedWithin = std::min(images[0].coarsenedBeyond, images[1].coarsenedBeyond);
   for (const Rendered& r : images)
     for (const std::string& w : r.warnings)
       if (std::find(report.warnings.begin(), report.warnings.end(), w) == report.warnings.end())

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -294,14 +295,105 @@ TEST(AdaptiveTessellation, CapCoarsensWithAWarning) {
   DicingSettings settings;
   settings.maxMicropolygons = 5000;
   const AdaptiveTessellation capped = tessellateAdaptive(surface, screen, settings, {}, nullptr);
-  std::printf("  uncapped %zu, capped %zu micropolygons (coarsening %.3f)\n  %s\n",
-              full.stats.micropolygons, capped.stats.micropolygons, capped.stats.coarsening,
-              capped.warning.c_str());
+  std::printf(
+      "  uncapped %zu, capped %zu micropolygons (cap %zu): as asked nearer than %.3g, "
+      "up to %.3gx\n  %s\n",
+      full.stats.micropolygons, capped.stats.micropolygons, settings.maxMicropolygons,
+      capped.stats.coarsenedBeyond, capped.stats.coarsening, capped.warning.c_str());
   ASSERT_GT(full.stats.micropolygons, 10 * settings.maxMicropolygons);
   EXPECT_LE(capped.stats.micropolygons, settings.maxMicropolygons);
   EXPECT_GT(capped.stats.micropolygons, settings.maxMicropolygons / 4);  // coarsened, not wiped out
   EXPECT_FALSE(capped.warning.empty());
   EXPECT_GT(capped.stats.coarsening, 1.0f);
+}
+
+// A w x l strip of unit quads in z = 0 (x in [-w/2, w/2], y in [0, l]), facing +z: a ground.
+ControlMesh strip(int w, int l) {
+  ControlMesh mesh;
+  for (int j = 0; j <= l; ++j)
+    for (int i = 0; i <= w; ++i) mesh.positions.emplace_back(i - 0.5f * w, j, 0.0f);
+  for (int j = 0; j < l; ++j)
+    for (int i = 0; i < w; ++i) {
+      const int a = j * (w + 1) + i;
+      test::addFace(mesh, {a, a + 1, a + w + 2, a + w + 1});
+    }
+  return mesh;
+}
+
+std::vector<int> trianglesPerFace(const LimitSurface& surface, const TessellatedMesh& mesh) {
+  std::vector<int> perFace(surface.numFaces(), 0);
+  for (int f : mesh.triangleFace) ++perFace[f];
+  return perFace;
+}
+
+// The triangles whose corners all lie nearer than `distance` to `eye`, each as its corners'
+// coordinates (corners sorted), sorted: equal when that part of two meshes is the same, bit for
+// bit.
+std::vector<std::array<float, 9>> trianglesNearerThan(const TessellatedMesh& mesh, Vec3 eye,
+                                                      float distance) {
+  std::vector<std::array<float, 9>> near;
+  for (size_t t = 0; t < mesh.numTriangles(); ++t) {
+    std::array<std::array<float, 3>, 3> corners;
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = mesh.positions[mesh.indices[3 * t + k]];
+      inside = inside && glm::length(p - eye) < distance;
+      corners[k] = {p.x, p.y, p.z};
+    }
+    if (!inside) continue;
+    std::sort(corners.begin(), corners.end());
+    near.push_back({corners[0][0], corners[0][1], corners[0][2], corners[1][0], corners[1][1],
+                    corners[1][2], corners[2][0], corners[2][1], corners[2][2]});
+  }
+  std::sort(near.begin(), near.end());
+  return near;
+}
+
+// A 4 x 128 ground seen from 0.6 above, 1.5 before its near end, looking along it, under a cap of
+// 2/3 of what it asks: its micropolygons nearer than where the cap began (beyond 2 units) are
+// those asked, bit for bit, faces 32 units away are coarsened, and the count fits. Coarsening every
+// rate by one factor until it fits (the control, by the dicing rate) changes them, so this test
+// fails for a uniform cap.
+TEST(AdaptiveTessellation, CapCoarsensTheFarthestGeometryFirst) {
+  const LimitSurface surface(strip(4, 128), SubdivisionScheme::Bilinear);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(0.0f, -1.5f, 0.6f), Vec3(0.0f, 10.0f, 0.0f),
+                                                   Vec3(0, 0, 1), 40.0f, 160, 90);
+  DicingSettings settings;
+  settings.maxEdgeRate = 4096;  // no rate clamped
+  const AdaptiveTessellation full = tessellateAdaptive(surface, screen, settings, {}, nullptr);
+  settings.maxMicropolygons = full.stats.micropolygons * 2 / 3;
+  const AdaptiveTessellation capped = tessellateAdaptive(surface, screen, settings, {}, nullptr);
+  std::printf(
+      "  uncapped %zu, capped %zu micropolygons (cap %zu): as asked nearer than %.3g, "
+      "up to %.3gx\n  %s\n",
+      full.stats.micropolygons, capped.stats.micropolygons, settings.maxMicropolygons,
+      capped.stats.coarsenedBeyond, capped.stats.coarsening, capped.warning.c_str());
+  EXPECT_LE(capped.stats.micropolygons, settings.maxMicropolygons);
+  EXPECT_GT(capped.stats.micropolygons, settings.maxMicropolygons * 9 / 10);
+  EXPECT_GT(capped.stats.coarsenedBeyond, 2.0f);
+  EXPECT_NE(capped.warning.find("as asked nearer than"), std::string::npos) << capped.warning;
+  const float near = capped.stats.coarsenedBeyond;
+  const auto askedNear = trianglesNearerThan(full.mesh, screen.eye, near);
+  EXPECT_GT(askedNear.size(), 10000u);
+  EXPECT_TRUE(trianglesNearerThan(capped.mesh, screen.eye, near) == askedNear);
+  const std::vector<int> asked = trianglesPerFace(surface, full.mesh);
+  const std::vector<int> got = trianglesPerFace(surface, capped.mesh);
+  EXPECT_LT(got[4 * 32], asked[4 * 32]);  // farther away, coarsened
+
+  // The control: one factor on every rate, raised until the count fits.
+  float factor = 1.0f;
+  AdaptiveTessellation uniform;
+  do {
+    factor *= 1.05f;
+    DicingSettings coarser = settings;
+    coarser.maxMicropolygons = 80'000'000;
+    coarser.dicingRate = factor;
+    uniform = tessellateAdaptive(surface, screen, coarser, {}, nullptr);
+  } while (uniform.stats.micropolygons > settings.maxMicropolygons);
+  const auto evenNear = trianglesNearerThan(uniform.mesh, screen.eye, near);
+  std::printf("  %zu micropolygons nearer than %.3g; coarsened uniformly by %.3g, %zu\n",
+              askedNear.size(), near, factor, evenNear.size());
+  EXPECT_LT(evenNear.size(), askedNear.size());
 }
 
 template <class T>
@@ -317,17 +409,25 @@ TEST(AdaptiveTessellation, SameBitsForOneAndTwoThreads) {
   FaceDicing faces;
   faces.needsDicing = {1, 0, 1, 1, 0, 1, 1, 0};
   faces.texelCap = {0, 0, 12, 0, 0, 40, 0, 0};
-  AdaptiveTessellation t[2];
-  for (int threads : {1, 2}) {
-    tbb::task_arena arena(threads);
-    arena.execute([&] { t[threads - 1] = tessellateAdaptive(surface, screen, {}, faces, &wave); });
+  // As asked, and under a cap that coarsens the far faces.
+  for (size_t cap : {size_t{80'000'000}, size_t{3000}}) {
+    DicingSettings settings;
+    settings.maxMicropolygons = cap;
+    AdaptiveTessellation t[2];
+    for (int threads : {1, 2}) {
+      tbb::task_arena arena(threads);
+      arena.execute(
+          [&] { t[threads - 1] = tessellateAdaptive(surface, screen, settings, faces, &wave); });
+    }
+    EXPECT_GT(t[0].stats.micropolygons, 1000u);
+    EXPECT_EQ(t[0].stats.coarsening > 1.0f, cap == 3000);
+    EXPECT_EQ(t[0].stats.coarsenedBeyond, t[1].stats.coarsenedBeyond);
+    EXPECT_TRUE(sameBits(t[0].edgeRates, t[1].edgeRates));
+    EXPECT_TRUE(sameBits(t[0].mesh.positions, t[1].mesh.positions));
+    EXPECT_TRUE(sameBits(t[0].mesh.indices, t[1].mesh.indices));
+    EXPECT_TRUE(sameBits(t[0].mesh.triangleFace, t[1].mesh.triangleFace));
+    EXPECT_TRUE(sameBits(t[0].mesh.cornerSt, t[1].mesh.cornerSt));
   }
-  EXPECT_GT(t[0].stats.micropolygons, 1000u);
-  EXPECT_TRUE(sameBits(t[0].edgeRates, t[1].edgeRates));
-  EXPECT_TRUE(sameBits(t[0].mesh.positions, t[1].mesh.positions));
-  EXPECT_TRUE(sameBits(t[0].mesh.indices, t[1].mesh.indices));
-  EXPECT_TRUE(sameBits(t[0].mesh.triangleFace, t[1].mesh.triangleFace));
-  EXPECT_TRUE(sameBits(t[0].mesh.cornerSt, t[1].mesh.cornerSt));
 }
 
 // Equal rates everywhere are the uniform tessellation, bit for bit.

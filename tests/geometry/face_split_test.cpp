@@ -94,6 +94,29 @@ TEST(FaceSplit, DisplacedClosedSurfacesWithSplitFacesAreWatertight) {
     }
 }
 
+// The same view under a cap of a third of what it asks: the cap coarsens the far faces and the far
+// sub-quads of split faces by their own distances, and the surface stays closed.
+TEST(FaceSplit, CappedSurfacesCoarsenedByDistanceAreWatertight) {
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(0.4f, 0.3f, 1.9f), Vec3(1.0f, 0.8f, 0.0f),
+                                                   Vec3(0, 1, 0), 40.0f, 320, 180);
+  const test::WaveDisplacement wave;
+  const LimitSurface surface(test::refinedCube(3), SubdivisionScheme::CatmullClark);
+  DicingSettings settings;
+  const size_t asked = tessellateAdaptive(surface, screen, settings, {}, &wave).stats.micropolygons;
+  settings.maxMicropolygons = asked / 3;
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, {}, &wave);
+  std::printf("  %zu asked, %zu capped, %d faces split; as asked nearer than %.3g, up to %.3gx\n",
+              asked, t.stats.micropolygons, t.stats.facesSplit, t.stats.coarsenedBeyond,
+              t.stats.coarsening);
+  EXPECT_GT(t.stats.facesSplit, 0);
+  EXPECT_GT(t.stats.coarsening, 1.0f);
+  EXPECT_LE(t.stats.micropolygons, settings.maxMicropolygons);
+  EXPECT_TRUE(finitePositions(t.mesh));
+  EXPECT_EQ(test::countOpenEdges(t.mesh), 0);
+  EXPECT_EQ(escapes(t, false, 20000), 0) << "triangles";
+  EXPECT_EQ(escapes(t, true, 20000), 0) << "grids";
+}
+
 // Edges of the plane [0, n]^2 (z = 0) not used exactly once in each direction, but for its border.
 int openInnerEdges(const TessellatedMesh& mesh, float n) {
   std::map<std::pair<uint32_t, uint32_t>, int> uses;  // +1 forward, +16 backward

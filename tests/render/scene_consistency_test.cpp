@@ -109,6 +109,10 @@ TEST(SceneConsistency, CoarsenedReferenceIsFlagged) {
   EXPECT_TRUE(r.referenceCoarsened);
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings[0].find("would exceed the cap of 1000"), std::string::npos) << r.warnings[0];
+  // Coarsened farthest first: where it began, and how far each region reaches.
+  EXPECT_TRUE(std::isfinite(r.referenceAsAskedWithin));
+  for (const ConsistencyRegion& region : r.regions)
+    EXPECT_TRUE(region.pixels == 0 || region.farthest > 0.0) << region.name;
 }
 
 // Relief of a few pixels per wavelength seen from above under a low light: the BRDF keeps each

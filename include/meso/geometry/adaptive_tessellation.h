@@ -11,6 +11,7 @@
 #include "meso/geometry/tessellation.h"
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace meso {
@@ -94,8 +95,12 @@ struct AdaptiveTessellationStats {
   int facesSplit = 0;
   int minEdgeRate = 0;
   int maxEdgeRate = 0;
-  // The factor by which the cap coarsened every rate (1: not capped); the effective dicing rate is
-  // DicingSettings::dicingRate times this.
+  // Where the cap (DicingSettings::maxMicropolygons) coarsened the dicing: every edge and sub-quad
+  // of a face that reaches nearer than coarsenedBeyond (world units from the eye; infinity: not
+  // capped) is diced as asked, and geometry at distance d beyond it by d / coarsenedBeyond.
+  float coarsenedBeyond = std::numeric_limits<float>::infinity();
+  // The largest factor the cap coarsened a rate by (1: not capped): the farthest geometry's; the
+  // dicing rate there is DicingSettings::dicingRate times this.
   float coarsening = 1.0f;
   double rateSeconds = 0.0;      // edge rates, culling, pattern counts and the cap
   double evaluateSeconds = 0.0;  // connectivity, limit evaluation and displacement
@@ -126,10 +131,13 @@ struct AdaptiveTessellation {
 // FaceDicing::raiseDistance or whose pixel density varies by more than 2x across it has its
 // interior split into up to 16 x 16 sub-quads, each diced at the rate of its own part (the coarse
 // rate where it needs no dicing) between the unchanged mesh edges (face_split.h in src/geometry).
-// If the triangles would exceed maxMicropolygons, every rate is coarsened by one factor until they
-// fit, and `warning` says so. displacement may be null (the undisplaced limit surface). Throws
-// meso::Error on invalid settings or per-face vectors of the wrong size. The output is the same,
-// bit for bit, whatever the number of threads.
+// If the triangles would exceed maxMicropolygons, the farthest geometry is coarsened first: each
+// mesh edge and sub-quad by max(1, d / D), d the distance from the eye to the nearest point of
+// the faces it belongs to (an edge: of every face in view it bounds, so both faces agree), with
+// about the largest D for which the triangles fit; every face that reaches nearer than D keeps
+// the rates asked, and `warning` and the stats say D and the worst factor. displacement may be null
+// (the undisplaced limit surface). Throws meso::Error on invalid settings or per-face vectors of
+// the wrong size. The output is the same, bit for bit, whatever the number of threads.
 AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
                                         const DicingSettings& settings, const FaceDicing& faces,
                                         const VertexDisplacement* displacement);

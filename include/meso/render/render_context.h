@@ -12,6 +12,7 @@
 #include "meso/scene/scene.h"
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,7 +51,10 @@ struct FrameGeometryStats {
   size_t micropolygons = 0;           // of that, displaced micropolygons
   size_t offScreenMicropolygons = 0;  // of those, none of whose vertices is in view
   int facesDiced = 0;
-  float coarsening = 1.0f;  // > 1 when the micropolygon cap coarsened dicing
+  float coarsening = 1.0f;  // > 1 when the micropolygon cap coarsened dicing (the worst factor)
+  // The nearest distance from the eye beyond which the cap coarsened some object's dicing
+  // (AdaptiveTessellationStats::coarsenedBeyond; infinity: nowhere).
+  float coarsenedBeyond = std::numeric_limits<float>::infinity();
   size_t embreePeakBytes = 0;
   size_t meshBytes = 0;  // meso's own copy of the displaced meshes (hit -> patch coordinates)
   bool rebuilt = false;  // false: the previous frame's geometry was reused

@@ -32,6 +32,9 @@ struct SceneConsistencyOptions {
 struct ConsistencyRegion {
   std::string name;
   int64_t pixels = 0;
+  // The largest distance from the eye at which the reference's pixel-centre rays hit it (0: no
+  // pixels): the region is diced as asked when this is below referenceAsAskedWithin.
+  double farthest = 0.0;
   std::vector<double> mean;
   std::vector<double> contrast;  // C, noise-corrected
   // contrast / the reference's where the reference shows relief (contrastRatio), else NaN.
@@ -49,8 +52,12 @@ struct SceneConsistencyReport {
   // The largest relative change of the reference when its dicing is halved: how converged it is.
   double referenceChange = 0.0;
   // The micropolygon cap (render.max_micropolygons) coarsened the reference or the coarse
-  // reference: then they are not diced as asked, and referenceChange says nothing.
+  // reference: then they are not diced as asked, and referenceChange says nothing about regions
+  // that reach beyond referenceAsAskedWithin (world units from the eye, the nearer of the two
+  // references' AdaptiveTessellationStats::coarsenedBeyond; infinity when not coarsened): the cap
+  // coarsens the farthest geometry first, and everything nearer than that is diced as asked.
   bool referenceCoarsened = false;
+  double referenceAsAskedWithin = std::numeric_limits<double>::infinity();
   // Detail: the renderers (not the coarse reference) whose contrast ratio leaves 1 -+
   // kContrastTolerance in some region, in the order of renderers; the ratio furthest from 1 of
   // those renderers over all regions (NaN when no region shows relief), and where; the coarse
