@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 
 namespace meso {
@@ -218,9 +219,37 @@ int edgeRate(const EdgeMeasure& m, const DicingSettings& s, const CapCoarsening&
   return rate;
 }
 
-// One choice of rates: edges, splits and the triangles they give.
+// What one surface measured once; its rates for any cap coarsening follow (ratesFor).
+struct SurfaceDicing {
+  const AdaptiveSurface* input = nullptr;
+  std::vector<char> inView;
+  std::unique_ptr<EdgeRateTessellator> engine;
+  std::vector<EdgeMeasure> measures;
+  SplitPlan plan;
+  float farthest = 0.0f;  // of a unit the cap may coarsen: an edge not culled or a split cell
+};
+
+SurfaceDicing measureSurface(const AdaptiveSurface& in, const ScreenMetric& screen,
+                             const DicingSettings& settings) {
+  SurfaceDicing d;
+  d.input = &in;
+  const float bound = in.displacement ? std::max(in.displacement->bound(), 0.0f) : 0.0f;
+  std::vector<float> faceDistance;
+  d.inView = facesInView(*in.surface, screen, bound, faceDistance);
+  d.engine = std::make_unique<EdgeRateTessellator>(*in.surface);
+  d.engine->setGridsOnly(settings.gridsOnly);
+  d.measures = measureEdges(*in.surface, *d.engine, screen, settings, in.faces, d.inView,
+                            faceDistance, bound);
+  if (settings.splitFaces)
+    d.plan = planSplits(*in.surface, screen, settings, in.faces, d.inView, bound);
+  d.farthest = farthestCell(d.plan);
+  for (const EdgeMeasure& m : d.measures)
+    if (m.kind != EdgeMeasure::Culled) d.farthest = std::max(d.farthest, m.distance);
+  return d;
+}
+
+// One surface's rates for a cap coarsening: edges, splits and the triangles they give.
 struct RateChoice {
-  CapCoarsening cap;
   std::vector<int> rates;
   std::vector<FaceSplit> splits;
   int facesSplit = 0;
@@ -228,84 +257,88 @@ struct RateChoice {
   size_t count = 0;
 };
 
-RateChoice ratesFor(const LimitSurface& surface, EdgeRateTessellator& engine,
-                    const std::vector<EdgeMeasure>& measures, const SplitPlan& plan,
-                    const DicingSettings& s, const CapCoarsening& cap) {
+RateChoice ratesFor(SurfaceDicing& d, const DicingSettings& s, const CapCoarsening& cap) {
   RateChoice c;
-  c.cap = cap;
-  c.rates.resize(measures.size());
-  for (size_t e = 0; e < measures.size(); ++e) {
-    c.rates[e] = edgeRate(measures[e], s, cap);
+  c.rates.resize(d.measures.size());
+  for (size_t e = 0; e < d.measures.size(); ++e) {
+    c.rates[e] = edgeRate(d.measures[e], s, cap);
     c.maxRate = std::max(c.maxRate, c.rates[e]);
   }
-  c.splits = splitsFor(surface, plan, c.rates, s, cap, c.facesSplit);
-  c.count = engine.countFacets(c.rates, c.splits);
+  c.splits = splitsFor(*d.input->surface, d.plan, c.rates, s, cap, c.facesSplit);
+  c.count = d.engine->countFacets(c.rates, c.splits);
   return c;
 }
 
-// The farthest distance of a unit the cap may coarsen: an edge not culled or a split grid's cell.
-float farthestUnit(const std::vector<EdgeMeasure>& measures, const SplitPlan& plan) {
-  float farthest = farthestCell(plan);
-  for (const EdgeMeasure& m : measures)
-    if (m.kind != EdgeMeasure::Culled) farthest = std::max(farthest, m.distance);
-  return farthest;
+// Every surface's rates for one cap coarsening, and their sums.
+struct FrameChoice {
+  CapCoarsening cap;
+  std::vector<RateChoice> surfaces;
+  size_t count = 0;
+  int maxRate = 1;
+  size_t asked = 0;  // the triangles without the cap (chooseRates)
+};
+
+FrameChoice ratesFor(std::vector<SurfaceDicing>& dicings, const DicingSettings& s,
+                     const CapCoarsening& cap) {
+  FrameChoice c;
+  c.cap = cap;
+  for (SurfaceDicing& d : dicings) {
+    c.surfaces.push_back(ratesFor(d, s, cap));
+    c.count += c.surfaces.back().count;
+    c.maxRate = std::max(c.maxRate, c.surfaces.back().maxRate);
+  }
+  return c;
 }
 
-std::string capWarning(size_t asked, const DicingSettings& s, const RateChoice& got,
+std::string capWarning(const DicingSettings& s, const FrameChoice& frame, size_t count,
                        float farthest) {
-  const CapCoarsening& cap = got.cap;
+  const CapCoarsening& cap = frame.cap;
   const std::string where =
       cap.beyond >= cap.floor
           ? fmt::format(
                 "as asked nearer than {:.4g} units from the eye, coarsened by distance / "
-                "{:.4g} beyond ({:.3g}x at the farthest, {:.4g} units)",
+                "{:.4g} beyond ({:.3g}x at its farthest, {:.4g} units)",
                 cap.beyond, cap.beyond, cap.factor(farthest), farthest)
           : fmt::format(
                 "every edge rate coarsened by at least {:.3g}x, by distance / {:.4g} "
-                "beyond {:.4g} units ({:.3g}x at the farthest, {:.4g} units)",
+                "beyond {:.4g} units ({:.3g}x at its farthest, {:.4g} units)",
                 cap.factor(0.0f), cap.beyond, cap.floor, cap.factor(farthest), farthest);
   return fmt::format(
       "adaptive tessellation: {} micropolygons would exceed the cap of {}; dicing (rate {:.3g} "
-      "px) {}, giving {}{}",
-      asked, s.maxMicropolygons, s.dicingRate, where, got.count,
-      got.count > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
+      "px) {}, giving {}{}{}",
+      frame.asked, s.maxMicropolygons, s.dicingRate, where, count,
+      frame.surfaces.size() > 1 ? fmt::format(" of the frame's {}", frame.count) : "",
+      frame.count > s.maxMicropolygons ? ", still over the cap at rate 1" : "");
 }
 
-// Rates for the measures: as asked if the triangles fit under the cap, else coarsened farthest
-// first (CapCoarsening) with about the largest D that fits: D halves from the farthest unit's
-// distance until the count fits (or every rate is 1), then log D is bisected to 1/256 of an
-// octave. The split faces' sub-quads are coarsened with the edges and counted with them.
-std::vector<int> chooseRates(const LimitSurface& surface, EdgeRateTessellator& engine,
-                             const std::vector<EdgeMeasure>& measures, const SplitPlan& plan,
-                             const ScreenMetric& screen, const DicingSettings& s,
-                             AdaptiveTessellation& result, std::vector<FaceSplit>& splits) {
-  RateChoice best = ratesFor(surface, engine, measures, plan, s, CapCoarsening{});
-  const size_t asked = best.count;
-  if (asked > s.maxMicropolygons && best.maxRate > 1) {
-    const float floor = std::max(screen.nearDistance, 1e-6f);
-    const float farthest = std::max(farthestUnit(measures, plan), floor);
-    float fails = farthest;  // D = farthest coarsens nothing
-    for (int k = 0; k < 128; ++k) {
-      best = ratesFor(surface, engine, measures, plan, s, {.beyond = 0.5f * fails, .floor = floor});
-      if (best.count <= s.maxMicropolygons || best.maxRate == 1) break;
-      fails = best.cap.beyond;
-    }
-    for (int k = 0; k < 8 && best.count <= s.maxMicropolygons; ++k) {
-      const float mid = std::sqrt(best.cap.beyond * fails);
-      RateChoice trial =
-          ratesFor(surface, engine, measures, plan, s, {.beyond = mid, .floor = floor});
-      if (trial.count <= s.maxMicropolygons)
-        best = std::move(trial);
-      else
-        fails = mid;
-    }
-    result.warning = capWarning(asked, s, best, farthest);
-    result.stats.coarsenedBeyond = best.cap.beyond;
-    result.stats.coarsening = best.cap.factor(farthest);
+// Rates for every surface: as asked if their triangles together fit under the cap, else
+// coarsened farthest first (CapCoarsening) with one D for all and about the largest that fits:
+// D halves from the farthest unit's distance until the count fits (or every rate is 1), then
+// log D is bisected to 1/256 of an octave. The split faces' sub-quads are coarsened with the edges
+// and counted with them.
+FrameChoice chooseRates(std::vector<SurfaceDicing>& dicings, const ScreenMetric& screen,
+                        const DicingSettings& s) {
+  FrameChoice best = ratesFor(dicings, s, CapCoarsening{});
+  const size_t asked = best.asked = best.count;
+  if (best.count <= s.maxMicropolygons || best.maxRate == 1) return best;
+  const float floor = std::max(screen.nearDistance, 1e-6f);
+  float fails = floor;  // D = the farthest unit's distance coarsens nothing
+  for (const SurfaceDicing& d : dicings) fails = std::max(fails, d.farthest);
+  for (int k = 0; k < 128; ++k) {
+    best = ratesFor(dicings, s, {.beyond = 0.5f * fails, .floor = floor});
+    if (best.count <= s.maxMicropolygons || best.maxRate == 1) break;
+    fails = best.cap.beyond;
   }
-  result.stats.facesSplit = best.facesSplit;
-  splits = std::move(best.splits);
-  return std::move(best.rates);
+  for (int k = 0; k < 8 && best.count <= s.maxMicropolygons; ++k) {
+    const float mid = std::sqrt(best.cap.beyond * fails);
+    FrameChoice trial = ratesFor(dicings, s, {.beyond = mid, .floor = floor});
+    if (trial.count <= s.maxMicropolygons)
+      best = std::move(trial);
+    else
+      fails = mid;
+  }
+  best.asked = asked;
+  return best;
 }
 
 // Triangles none of whose corners is in view: the mesh's, and those only its grids hold.
@@ -355,37 +388,23 @@ void countFaces(const LimitSurface& surface, const FaceDicing& faces,
   }
 }
 
-}  // namespace
-
-AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
-                                        const DicingSettings& settings, const FaceDicing& faces,
-                                        const VertexDisplacement* displacement) {
-  validate(surface, settings, faces);
-  AdaptiveTessellation result;
+// The mesh of one surface for its chosen rates, and its figures.
+void tessellateSurface(SurfaceDicing& d, RateChoice& choice, const ScreenMetric& screen,
+                       AdaptiveTessellation& result) {
   AdaptiveTessellationStats& stats = result.stats;
+  const AdaptiveSurface& in = *d.input;
+  countFaces(*in.surface, in.faces, d.inView, stats);
+  stats.facesSplit = choice.facesSplit;
+  result.edgeRates = std::move(choice.rates);
   Timer timer;
-  const float bound = displacement ? std::max(displacement->bound(), 0.0f) : 0.0f;
-  std::vector<float> faceDistance;
-  const std::vector<char> inView = facesInView(surface, screen, bound, faceDistance);
-  EdgeRateTessellator engine(surface);
-  engine.setGridsOnly(settings.gridsOnly);
-  const std::vector<EdgeMeasure> measures =
-      measureEdges(surface, engine, screen, settings, faces, inView, faceDistance, bound);
-  const SplitPlan plan = settings.splitFaces
-                             ? planSplits(surface, screen, settings, faces, inView, bound)
-                             : SplitPlan{};
-  std::vector<FaceSplit> splits;
-  result.edgeRates = chooseRates(surface, engine, measures, plan, screen, settings, result, splits);
-  countFaces(surface, faces, inView, stats);
-  stats.rateSeconds = timer.seconds();
-
-  timer.reset();
   try {
-    result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
+    result.mesh =
+        d.engine->tessellate(result.edgeRates, in.displacement, &result.grids, choice.splits);
   } catch (const EdgeRateTessellator::NotBilinearGrid&) {
     // A degenerate chart: hits in such a grid need the mesh's triangles, so store them all.
-    engine.setGridsOnly(false);
-    result.mesh = engine.tessellate(result.edgeRates, displacement, &result.grids, splits);
+    d.engine->setGridsOnly(false);
+    result.mesh =
+        d.engine->tessellate(result.edgeRates, in.displacement, &result.grids, choice.splits);
   }
   stats.evaluateSeconds = timer.seconds();
   stats.micropolygons = result.mesh.numMicropolygons();
@@ -396,7 +415,45 @@ AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const Scree
     stats.minEdgeRate = *lo;
     stats.maxEdgeRate = *hi;
   }
-  return result;
+}
+
+}  // namespace
+
+std::vector<AdaptiveTessellation> tessellateAdaptive(std::span<const AdaptiveSurface> surfaces,
+                                                     const ScreenMetric& screen,
+                                                     const DicingSettings& settings) {
+  for (const AdaptiveSurface& in : surfaces) {
+    if (!in.surface) throw Error("adaptive tessellation: a surface is missing");
+    validate(*in.surface, settings, in.faces);
+  }
+  Timer timer;
+  std::vector<SurfaceDicing> dicings;
+  for (const AdaptiveSurface& in : surfaces)
+    dicings.push_back(measureSurface(in, screen, settings));
+  FrameChoice frame = chooseRates(dicings, screen, settings);
+  const double rateSeconds = timer.seconds();
+  std::vector<AdaptiveTessellation> results(surfaces.size());
+  for (size_t k = 0; k < surfaces.size(); ++k) {
+    AdaptiveTessellation& result = results[k];
+    // The shared choice of rates is timed once, with the first surface.
+    result.stats.rateSeconds = k == 0 ? rateSeconds : 0.0;
+    const size_t count = frame.surfaces[k].count;
+    if (std::isfinite(frame.cap.beyond)) {
+      result.stats.coarsenedBeyond = frame.cap.beyond;
+      result.stats.coarsening = frame.cap.factor(dicings[k].farthest);
+      if (result.stats.coarsening > 1.0f)
+        result.warning = capWarning(settings, frame, count, dicings[k].farthest);
+    }
+    tessellateSurface(dicings[k], frame.surfaces[k], screen, result);
+  }
+  return results;
+}
+
+AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
+                                        const DicingSettings& settings, const FaceDicing& faces,
+                                        const VertexDisplacement* displacement) {
+  const AdaptiveSurface in{.surface = &surface, .faces = faces, .displacement = displacement};
+  return std::move(tessellateAdaptive(std::span(&in, 1), screen, settings)[0]);
 }
 
 }  // namespace meso

@@ -2,6 +2,7 @@
 
 #include "meso/core/progress.h"
 #include "meso/core/timer.h"
+#include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/flat_faces.h"
 #include "meso/render/tile_map.h"
 #include "meso/scene/mesh_io.h"
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -226,14 +228,13 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
 
 namespace {
 
-// What every displaced object of one frame shares: the view, the dicing settings and what is left
-// of the frame's micropolygon budget.
+// What every displaced object of one frame shares: the view and the dicing settings (the
+// micropolygon cap is the frame's, shared by its objects).
 struct FrameDicing {
   const CameraSettings& view;
   ScreenMetric screen;
   DisplacementMode mode;
   DicingSettings dicing;
-  size_t budget;
 };
 
 FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings) {
@@ -242,11 +243,11 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
                 ctx.camera.screen(),
                 ctx.algorithm == Algorithm::Displacement ? DisplacementMode::Full
                                                          : DisplacementMode::ByTransition,
-                {},
-                static_cast<size_t>(rs.maxMicropolygons)};
+                {}};
   d.dicing.dicingRate = rs.dicingRate;
   d.dicing.metric = rs.dicingMetric;
   d.dicing.maxEdgeRate = 4096;
+  d.dicing.maxMicropolygons = static_cast<size_t>(rs.maxMicropolygons);
   d.dicing.gridsOnly = true;  // hits in grids know their face and st (40 bytes a micropolygon)
   return d;
 }
@@ -256,33 +257,42 @@ size_t meshBytes(const TessellatedMesh& m) {
          m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
 }
 
-// Dices and displaces object k for this frame; its figures go to `stats`.
-void displaceObject(RenderContext& ctx, size_t k, FrameDicing& d, FrameGeometryStats& stats) {
+// Dices and displaces the displaced objects for this frame under one micropolygon cap (its
+// farthest geometry coarsened first, whichever object it belongs to); their figures go to `stats`.
+void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, const FrameDicing& d,
+                     FrameGeometryStats& stats) {
   const RenderSettings& rs = ctx.scene->render;
-  PreparedObject& object = ctx.objects[k];
-  object.mesh = {};
-  const MaterialRelief& relief = ctx.reliefs[object.material];
-  const ReliefDisplacement displacement(
-      relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
-      ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
-      &object.surface, object.solid);
-  d.dicing.maxMicropolygons = std::max<size_t>(d.budget, 1);
-  AdaptiveTessellation t = tessellateAdaptive(
-      object.surface, d.screen, d.dicing,
-      faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
-                 ctx.camera.pixelsPerRadian(), {rs.reliefSamples, rs.texelSamples}, object.solid),
-      &displacement);
-  if (!t.warning.empty())
-    ctx.warnings.push_back(ctx.scene->objects[k].mesh.string() + ": " + t.warning);
-  stats.micropolygons += t.stats.micropolygons;
-  stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
-  stats.facesDiced += t.stats.facesDiced;
-  stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
-  stats.coarsenedBeyond = std::min(stats.coarsenedBeyond, t.stats.coarsenedBeyond);
-  d.budget = d.budget > t.stats.micropolygons ? d.budget - t.stats.micropolygons : 1;
-  stats.meshBytes += meshBytes(t.mesh);
-  object.mesh = std::move(t.mesh);
-  object.grids = std::move(t.grids);
+  std::deque<ReliefDisplacement> displacements;  // not moved: the surfaces point to them
+  std::vector<AdaptiveSurface> surfaces;
+  for (size_t k : objects) {
+    PreparedObject& object = ctx.objects[k];
+    object.mesh = {};
+    const MaterialRelief& relief = ctx.reliefs[object.material];
+    displacements.emplace_back(
+        relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
+        ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
+        &object.surface, object.solid);
+    surfaces.push_back({.surface = &object.surface,
+                        .faces = faceDicing(object.surface, relief, d.mode, rs.transition,
+                                            d.view.position, ctx.camera.pixelsPerRadian(),
+                                            {rs.reliefSamples, rs.texelSamples}, object.solid),
+                        .displacement = &displacements.back()});
+  }
+  std::vector<AdaptiveTessellation> meshes = tessellateAdaptive(surfaces, d.screen, d.dicing);
+  for (size_t i = 0; i < objects.size(); ++i) {
+    AdaptiveTessellation& t = meshes[i];
+    PreparedObject& object = ctx.objects[objects[i]];
+    if (!t.warning.empty())
+      ctx.warnings.push_back(ctx.scene->objects[objects[i]].mesh.string() + ": " + t.warning);
+    stats.micropolygons += t.stats.micropolygons;
+    stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
+    stats.facesDiced += t.stats.facesDiced;
+    stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
+    stats.coarsenedBeyond = std::min(stats.coarsenedBeyond, t.stats.coarsenedBeyond);
+    stats.meshBytes += meshBytes(t.mesh);
+    object.mesh = std::move(t.mesh);
+    object.grids = std::move(t.grids);
+  }
 }
 
 }  // namespace
@@ -295,17 +305,19 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     stats.triangles = ctx.rays->numTriangles();
     return stats;
   }
-  FrameDicing d = frameDicing(ctx, settings);
+  const FrameDicing d = frameDicing(ctx, settings);
   Timer tess;
   ctx.rays.reset();  // the previous frame's scene goes before this one's is built (peak memory)
   auto rays = std::make_unique<RayScene>();
+  std::vector<size_t> displaced;
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
     if (object.displaced)
-      displaceObject(ctx, k, d, stats);
+      displaced.push_back(k);
     else if (object.mesh.numTriangles() == 0)
       object.mesh = tessellateSmooth(object.surface, ctx.scene->render.tessellationRate);
   }
+  if (!displaced.empty()) displaceObjects(ctx, displaced, d, stats);
   stats.tessellateSeconds = tess.seconds();
 
   Timer bvh;

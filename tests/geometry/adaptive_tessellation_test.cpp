@@ -396,6 +396,42 @@ TEST(AdaptiveTessellation, CapCoarsensTheFarthestGeometryFirst) {
   EXPECT_LT(evenNear.size(), askedNear.size());
 }
 
+// Two surfaces of one frame under one cap, the far one first: the cap coarsens the far one and
+// leaves the near one as asked (a cap spent surface by surface would give the first all it asks).
+TEST(AdaptiveTessellation, OneCapForSeveralSurfacesCoarsensTheFarthestFirst) {
+  ControlMesh farMesh = strip(4, 16);
+  for (Vec3& p : farMesh.positions) p.y += 40.0f;
+  const LimitSurface farGround(farMesh, SubdivisionScheme::Bilinear);
+  const LimitSurface nearGround(strip(4, 4), SubdivisionScheme::Bilinear);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(0.0f, -1.5f, 0.6f), Vec3(0.0f, 10.0f, 0.0f),
+                                                   Vec3(0, 0, 1), 40.0f, 160, 90);
+  const test::WaveDisplacement wave;
+  DicingSettings settings;
+  const AdaptiveSurface surfaces[2] = {
+      {.surface = &farGround, .faces = {}, .displacement = &wave},
+      {.surface = &nearGround, .faces = {}, .displacement = &wave}};
+  const std::vector<AdaptiveTessellation> full = tessellateAdaptive(surfaces, screen, settings);
+  const size_t asked = full[0].stats.micropolygons + full[1].stats.micropolygons;
+  settings.maxMicropolygons = full[1].stats.micropolygons + full[0].stats.micropolygons / 4;
+  const std::vector<AdaptiveTessellation> capped = tessellateAdaptive(surfaces, screen, settings);
+  std::printf("  asked %zu (far %zu, near %zu), cap %zu: far %zu, near %zu\n  %s\n", asked,
+              full[0].stats.micropolygons, full[1].stats.micropolygons, settings.maxMicropolygons,
+              capped[0].stats.micropolygons, capped[1].stats.micropolygons,
+              capped[0].warning.c_str());
+  EXPECT_LE(capped[0].stats.micropolygons + capped[1].stats.micropolygons,
+            settings.maxMicropolygons);
+  EXPECT_EQ(capped[1].stats.micropolygons, full[1].stats.micropolygons);
+  EXPECT_TRUE(capped[1].edgeRates == full[1].edgeRates);
+  EXPECT_LT(capped[0].stats.micropolygons, full[0].stats.micropolygons / 3);
+  EXPECT_EQ(capped[0].stats.coarsenedBeyond, capped[1].stats.coarsenedBeyond);
+  EXPECT_GT(capped[0].stats.coarsening, 1.0f);
+  EXPECT_EQ(capped[1].stats.coarsening, 1.0f);  // wholly nearer than D
+  EXPECT_FALSE(capped[0].warning.empty());
+  // The one-surface form is the same as a span of one.
+  const AdaptiveTessellation one = tessellateAdaptive(nearGround, screen, settings, {}, &wave);
+  EXPECT_TRUE(one.edgeRates == full[1].edgeRates);
+}
+
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace meso {
@@ -141,5 +142,20 @@ struct AdaptiveTessellation {
 AdaptiveTessellation tessellateAdaptive(const LimitSurface& surface, const ScreenMetric& screen,
                                         const DicingSettings& settings, const FaceDicing& faces,
                                         const VertexDisplacement* displacement);
+
+// One surface of a frame, for the form of tessellateAdaptive that dices several under one cap.
+struct AdaptiveSurface {
+  const LimitSurface* surface = nullptr;
+  FaceDicing faces;
+  const VertexDisplacement* displacement = nullptr;  // may be null
+};
+
+// The surfaces of one frame, each as tessellateAdaptive above, under one cap: maxMicropolygons
+// bounds their triangles together, and one D serves all of them, so the frame's farthest geometry
+// is coarsened first whichever surface it belongs to. Each result's stats and warning give the
+// shared D (coarsenedBeyond) and that surface's worst factor.
+std::vector<AdaptiveTessellation> tessellateAdaptive(std::span<const AdaptiveSurface> surfaces,
+                                                     const ScreenMetric& screen,
+                                                     const DicingSettings& settings);
 
 }  // namespace meso
