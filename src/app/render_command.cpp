@@ -95,7 +95,7 @@ class RenderRun {
     scene_ = loadScene(o_.scene, sceneOverrides(o_));
     applyRenderOptions(o_, scene_);
     window_ = cropWindow(o_, scene_.camera);
-    if (scene_.lights.empty())
+    if (scene_.lights.empty() && !scene_.environment)
       std::fprintf(stderr,
                    "meso: warning: %s has no lights: the image is black except for the "
                    "materials' ambient term ka\n",

@@ -53,6 +53,7 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"camera_position", {c.position.x, c.position.y, c.position.z}},
           {"camera_look_at", {c.lookAt.x, c.lookAt.y, c.lookAt.z}},
           {"lights", scene.lights.size()},
+          {"environment_light_samples", scene.environment ? scene.render.lightSamples : 0},
           {"objects", objects}};
 }
 

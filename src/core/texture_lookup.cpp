@@ -72,8 +72,8 @@ uint64_t fileHash(const std::filesystem::path& file) {
 
 }  // namespace
 
-int TextureLookup::add(const std::filesystem::path& file, ColourSpace space,
-                       const std::filesystem::path& folder) {
+ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space,
+                            const char* what) {
   const std::string name = file.string();
   OIIO::ImageBuf in(name);
   if (!in.read(0, 0, true, OIIO::TypeDesc::FLOAT))
@@ -82,28 +82,38 @@ int TextureLookup::add(const std::filesystem::path& file, ColourSpace space,
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error(name + ": the image has zero size (" + std::to_string(spec.width) + "x" +
                 std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
-  const bool srgb = isSrgb(spec, space);
-  // Linear RGB, checked texel by texel.
-  OIIO::ImageSpec rgbSpec(spec.width, spec.height, 3, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf rgb(rgbSpec);
+  ColourImage out{Image(spec.width, spec.height, {"R", "G", "B"}), isSrgb(spec, space)};
   const int c = spec.nchannels;
   std::vector<float> texel(static_cast<size_t>(c));
-  std::optional<Vec3> constant;
-  bool uniform = true;
   for (int y = 0; y < spec.height; ++y)
     for (int x = 0; x < spec.width; ++x) {
       in.getpixel(x + spec.x, y + spec.y, texel.data(), c);
-      float out[3];
       for (int k = 0; k < 3; ++k) {
         const float v = texel[static_cast<size_t>(c >= 3 ? k : 0)];
         if (!std::isfinite(v) || v < 0.0f)
           throw Error(name + ": texel (" + std::to_string(x) + ", " + std::to_string(y) + ") is " +
-                      (std::isfinite(v) ? "negative" : "NaN or infinite") +
-                      ": colour textures hold finite values >= 0");
-        out[k] = srgb ? srgbToLinear(v) : v;
+                      (std::isfinite(v) ? "negative" : "NaN or infinite") + ": " + what +
+                      " hold finite values >= 0");
+        out.rgb.at(x, y, k) = out.srgb ? srgbToLinear(v) : v;
       }
-      rgb.setpixel(x, y, out, 3);
-      const Vec3 value(out[0], out[1], out[2]);
+    }
+  return out;
+}
+
+int TextureLookup::add(const std::filesystem::path& file, ColourSpace space,
+                       const std::filesystem::path& folder) {
+  const std::string name = file.string();
+  const ColourImage read = readColourImage(file, space, "colour textures");
+  const Image& texels = read.rgb;
+  const bool srgb = read.srgb;
+  OIIO::ImageSpec rgbSpec(texels.width, texels.height, 3, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf rgb(rgbSpec);
+  std::optional<Vec3> constant;
+  bool uniform = true;
+  for (int y = 0; y < texels.height; ++y)
+    for (int x = 0; x < texels.width; ++x) {
+      const Vec3 value(texels.at(x, y, 0), texels.at(x, y, 1), texels.at(x, y, 2));
+      rgb.setpixel(x, y, &value.x, 3);
       if (!constant) constant = value;
       uniform = uniform && value == *constant;
     }

@@ -3,6 +3,7 @@
 #include "meso/core/error.h"
 #include "meso/core/progress.h"
 #include "meso/core/rng.h"
+#include "meso/render/environment_map.h"
 #include "meso/render/film_layout.h"
 #include "meso/render/shadow_rays.h"
 #include "meso/render/surface_shader.h"
@@ -120,8 +121,8 @@ ShadowOrigin shadowOriginOf(const Ray& ray, const RayHit& hit, const Vec3& facet
 // footprintScale: the bump filter's footprint (0: off); pixelScale: a sample's share of the pixel,
 // over which colour textures are filtered (0: point lookups).
 void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
-                 float pixelScale, const SampleHit& s, const LightShadows& shadows, PixelSum& sum,
-                 ShareCounts& shares) {
+                 float pixelScale, const SampleHit& s, std::span<const Light> lights,
+                 const LightShadows& shadows, PixelSum& sum, ShareCounts& shares) {
   if (!s.found) {
     sum.colour += ctx.scene->render.background;
     addShare(shares, SampleRenderer::Background, 1.0f);
@@ -139,9 +140,10 @@ void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
         pixelScale > 0.0f ? footprintAt(s.sp, ctx.camera.generateRay(fx + 1.0f, fy),
                                         ctx.camera.generateRay(fx, fy + 1.0f), pixelScale)
                           : Footprint{});
-  const ShadeResult r = shadeSurface(
-      ctx, object, s.sp, -ray.direction, ctx.facetNormals && object.displaced ? &s.facet : nullptr,
-      &footprint, &s.limitP, ctx.shadows ? &shadows : nullptr, textured ? &*textured : nullptr);
+  const ShadeResult r =
+      shadeSurface(ctx, object, s.sp, -ray.direction, lights,
+                   ctx.facetNormals && object.displaced ? &s.facet : nullptr, &footprint, &s.limitP,
+                   ctx.shadows ? &shadows : nullptr, textured ? &*textured : nullptr);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;
@@ -194,7 +196,33 @@ struct Chunk {
   std::vector<uint32_t> shadowOf;  // the sample of each shadow ray
   std::vector<uint8_t> occluded;
   std::vector<Vec3> starts;  // each hit's shadow-ray start
+  // With an environment: each sample's lights (the scene's, then the environment's samples),
+  // lightsPerSample of them per sample; empty without one (every sample has the scene's lights).
+  std::vector<Light> lights;
+  size_t lightsPerSample = 0;
+  std::span<const Light> lightsOf(const RenderContext& ctx, size_t s) const {
+    if (lights.empty()) return ctx.scene->lights;
+    return std::span<const Light>(lights).subspan(s * lightsPerSample, lightsPerSample);
+  }
 };
+
+// Each hit's lights when the scene has an environment: the scene's lights, then
+// render.light_samples directional lights drawn for the sample (environmentLights).
+void sampleChunkLights(const RenderContext& ctx, uint64_t seed, Chunk& chunk) {
+  chunk.lights.clear();
+  if (!ctx.environment) return;
+  const size_t n = chunk.rays.size(), m = ctx.lightsPerSample();
+  const size_t finite = ctx.scene->lights.size();
+  chunk.lightsPerSample = m;
+  chunk.lights.resize(n * m);
+  for (size_t s = 0; s < n; ++s) {
+    if (!chunk.hits[s].found) continue;
+    const std::span<Light> lights = std::span<Light>(chunk.lights).subspan(s * m, m);
+    std::copy(ctx.scene->lights.begin(), ctx.scene->lights.end(), lights.begin());
+    environmentLights(*ctx.environment, environmentSampleKey(chunk.film[s], seed),
+                      lights.subspan(finite));
+  }
+}
 
 // The camera rays of `pixels`, spp each, pixel by pixel, each pixel's jitter drawn by its own
 // generator (so the samples do not depend on how pixels are grouped into tiles and chunks).
@@ -224,7 +252,7 @@ void generateChunk(const RenderContext& ctx, const RenderOptions& options, int w
 void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
   const size_t n = chunk.rays.size();
   chunk.shadows.assign(n, LightShadows{});
-  const size_t lights = std::min(ctx.scene->lights.size(), static_cast<size_t>(kMaxShadowedLights));
+  const size_t lights = std::min(ctx.lightsPerSample(), static_cast<size_t>(kMaxShadowedLights));
   std::vector<Vec3>& starts = chunk.starts;
   starts.resize(n);
   for (size_t s = 0; s < n; ++s) {
@@ -240,7 +268,7 @@ void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
     for (size_t s = 0; s < n; ++s) {
       Ray ray;
       if (chunk.hits[s].found &&
-          shadowRay(ctx.scene->lights[k], starts[s], ray,
+          shadowRay(chunk.lightsOf(ctx, s)[k], starts[s], ray,
                     shadowSample(chunk.film[s], k, ctx.scene->render.seed))) {
         chunk.shadowRays.push_back(ray);
         chunk.shadowOf.push_back(static_cast<uint32_t>(s));
@@ -271,8 +299,9 @@ void traceChunk(const RenderContext& ctx, const RenderOptions& options, Chunk& c
     else
       evaluateHit(ctx, chunk.rays[s], h);
   }
+  sampleChunkLights(ctx, options.seed, chunk);
   const bool shadows =
-      ctx.shadows && !ctx.scene->lights.empty() && (!options.traceOnly || options.traceShadowRays);
+      ctx.shadows && ctx.lightsPerSample() > 0 && (!options.traceOnly || options.traceShadowRays);
   if (shadows) traceChunkShadows(ctx, chunk, !options.traceOnly);
 }
 
@@ -295,7 +324,7 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
         pixels.subspan(first, std::min(perChunk, pixels.size() - first));
     generateChunk(ctx, options, ctx.camera.settings().width, part, chunk);
     traceChunk(ctx, options, chunk);
-    const bool shadowed = ctx.shadows && !ctx.scene->lights.empty() && !options.traceOnly;
+    const bool shadowed = ctx.shadows && ctx.lightsPerSample() > 0 && !options.traceOnly;
     for (size_t p = 0; p < part.size(); ++p) {
       PixelSum sum;
       for (int i = 0; i < spp; ++i) {
@@ -306,7 +335,8 @@ void renderPixels(const RenderContext& ctx, const RenderOptions& options,
           continue;
         }
         shadeSample(ctx, chunk.rays[s], chunk.film[s].x, chunk.film[s].y, footprintScale,
-                    pixelScale, h, shadowed ? chunk.shadows[s] : lit, sum, shares);
+                    pixelScale, h, chunk.lightsOf(ctx, s), shadowed ? chunk.shadows[s] : lit, sum,
+                    shares);
       }
       rays += spp;
       writePixel(sum, spp, options.falseColour, part[p].x - origin.x, part[p].y - origin.y, film,

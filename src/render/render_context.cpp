@@ -119,7 +119,12 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                     scene.render.normals == ShadingNormals::Facet,
                     scene.render.shadows,
                     {},
-                    {}};
+                    {},
+                    nullptr};
+  if (scene.environment) {
+    auto env = std::make_shared<EnvironmentMap>(EnvironmentMap::load(*scene.environment));
+    if (!env->black()) ctx.environment = std::move(env);
+  }
   ctx.reliefs.resize(scene.materials.size());
   for (const Object& object : scene.objects) {
     Timer load;

@@ -23,7 +23,8 @@ struct LevelFrame {
 
 struct LevelContext {
   const RenderContext& ctx;
-  const Reflectance& material;  // the material's, or its colour textures' at the hit
+  std::span<const Light> lights;  // the sample's: the scene's, then the environment's samples
+  const Reflectance& material;    // the material's, or its colour textures' at the hit
   const MaterialRelief& relief;
   const SurfacePoint& sp;  // as reliefChart gives it, at the hit
   ReliefCoord coord;       // where the levels are evaluated (at the limit point)
@@ -75,8 +76,8 @@ ShadowingLevels shadowingLevels(const LevelContext& c, size_t first, size_t last
 // blocks are skipped.
 LightShadows levelShadowing(const LevelContext& c, size_t i, const LevelFrame& f,
                             const LightShadows* macro) {
-  return reliefShadowing(c.ctx.scene->lights, c.sp.P, brdfTileMap(c, f), c.V,
-                         shadowingLevels(c, i, i + 1), macro);
+  return reliefShadowing(c.lights, c.sp.P, brdfTileMap(c, f), c.V, shadowingLevels(c, i, i + 1),
+                         macro);
 }
 
 // The level's BRDF renderer on frame f, mixing the two metric classes around the surface's own.
@@ -89,8 +90,7 @@ Vec3 levelBrdf(const LevelContext& c, size_t i, const LevelFrame& shaped,
   const BrdfTable& t0 = c.relief.tables(i, c.metric.k0).brdf;
   const BrdfTable& t1 = c.relief.tables(i, c.metric.k1).brdf;
   return shadeBrdfShadowed(
-      c.material, c.ctx.scene->lights, c.sp.P, m, c.V, t0, t1, c.metric.w,
-      shadows ? *shadows : LightShadows{},
+      c.material, c.lights, c.sp.P, m, c.V, t0, t1, c.metric.w, shadows ? *shadows : LightShadows{},
       shadows ? shadowingLevels(c, i, c.relief.levels.size()) : ShadowingLevels{},
       shadows ? own : nullptr);
 }
@@ -132,7 +132,7 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
                         const LightShadows* shadows) {
   ShadeResult r;
   if (!c.relief.synthesis) {
-    r.colour = shadeLocal(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, shadows);
+    r.colour = shadeLocal(c.material, c.lights, c.sp.P, f.N, c.V, shadows);
     r.normal = f.N;
     r.algorithm = own;
     return r;
@@ -141,9 +141,8 @@ ShadeResult shadeBottom(const LevelContext& c, const LevelFrame& f, const Vec3& 
   const float cosV = std::max(glm::dot(f.N, c.V), 0.1f);
   const float pixelsPerUnit =
       c.distance > 0.0f ? c.ctx.camera.pixelsPerRadian() * lengthPerU * cosV / c.distance : 1e30f;
-  const SynthesisShade s =
-      shadeSynthesisLevel(*c.relief.synthesis, c.material, c.ctx.scene->lights, c.sp.P, f.Pu, f.N,
-                          c.V, c.sp.uv, pixelsPerUnit, shadows);
+  const SynthesisShade s = shadeSynthesisLevel(*c.relief.synthesis, c.material, c.lights, c.sp.P,
+                                               f.Pu, f.N, c.V, c.sp.uv, pixelsPerUnit, shadows);
   r.colour = s.colour;
   r.normal = s.normal;
   r.synthesis = s.weight;
@@ -265,8 +264,7 @@ ShadeResult shadeFilteredBump(const LevelContext& c, LevelFrame f) {
   for (size_t i = 0; i < n; ++i)
     roughness += tangentCovariance(K[i], frames[i].Pu, frames[i].Pv, e1, e2);
   ShadeResult r;
-  r.colour = shadeRoughened(c.material, c.ctx.scene->lights, c.sp.P, f.N, c.V, e1, e2, roughness,
-                            c.shadows);
+  r.colour = shadeRoughened(c.material, c.lights, c.sp.P, f.N, c.V, e1, e2, roughness, c.shadows);
   r.algorithm = algorithm_colour::kBump;
   r.normal = f.N;
   return r;
@@ -305,22 +303,23 @@ ShadeResult shadeFixed(const LevelContext& c, Algorithm algorithm, LevelFrame f)
 }
 
 // The local model at normal N: no relief, or --normals facet.
-ShadeResult shadeLocalAt(const RenderContext& ctx, const Reflectance& material, const Vec3& P,
+ShadeResult shadeLocalAt(std::span<const Light> lights, const Reflectance& material, const Vec3& P,
                          const Vec3& N, const Vec3& V, const LightShadows* shadows,
                          const Vec3& algorithm) {
   ShadeResult r;
   r.normal = N;
-  r.colour = shadeLocal(material, ctx.scene->lights, P, r.normal, V, shadows);
+  r.colour = shadeLocal(material, lights, P, r.normal, V, shadows);
   r.algorithm = algorithm;
   return r;
 }
 
-LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object,
-                          const Reflectance& material, const SurfacePoint& sp,
-                          const ReliefCoord& coord, const Vec3& V, const Footprint* footprint,
-                          const LevelTransitions* transitions, MetricPosition metric,
-                          const LightShadows* shadows) {
+LevelContext levelContext(const RenderContext& ctx, std::span<const Light> lights,
+                          const PreparedObject& object, const Reflectance& material,
+                          const SurfacePoint& sp, const ReliefCoord& coord, const Vec3& V,
+                          const Footprint* footprint, const LevelTransitions* transitions,
+                          MetricPosition metric, const LightShadows* shadows) {
   return {ctx,
+          lights,
           material,
           ctx.reliefs[object.material],
           sp,
@@ -337,8 +336,8 @@ LevelContext levelContext(const RenderContext& ctx, const PreparedObject& object
 }  // namespace
 
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
-                         const SurfacePoint& hit, const Vec3& V, const Vec3* facetNormal,
-                         const Footprint* footprint, const Vec3* limitP,
+                         const SurfacePoint& hit, const Vec3& V, std::span<const Light> lights,
+                         const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP,
                          const LightShadows* shadows, const Reflectance* reflectance) {
   // T, weights, disp and the levels' heights come from the limit point (hit.P is the limit surface
   // at the hit's patch coordinates, moved to the raised hit when displaced), exactly as the
@@ -355,16 +354,16 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
   const bool back = glm::dot(sp.N, V) < 0.0f;
   LevelFrame frame{sp.Pu, sp.Pv, back ? -sp.N : sp.N};
   if (relief.levels.empty() && !relief.synthesis)
-    return shadeLocalAt(ctx, material, sp.P, frame.N, V, shadows, algorithm_colour::kSmooth);
+    return shadeLocalAt(lights, material, sp.P, frame.N, V, shadows, algorithm_colour::kSmooth);
   if (facetNormal && ctx.algorithm == Algorithm::Displacement && object.displaced)
     // --normals facet: the micropolygon's own normal, for comparison with the Blinn normal.
-    return shadeLocalAt(ctx, material, sp.P,
+    return shadeLocalAt(lights, material, sp.P,
                         glm::dot(*facetNormal, V) < 0.0f ? -*facetNormal : *facetNormal, V, shadows,
                         algorithm_colour::kDisplacement);
   if (relief.levels.empty())  // an NDF alone
     return shadeBottom(
-        levelContext(ctx, object, material, sp, coord, V, footprint, nullptr, {}, shadows), frame,
-        algorithm_colour::kSmooth, shadows);
+        levelContext(ctx, lights, object, material, sp, coord, V, footprint, nullptr, {}, shadows),
+        frame, algorithm_colour::kSmooth, shadows);
   const LevelTransitions transitions =
       ctx.algorithm == Algorithm::Auto
           ? levelTransitions(
@@ -373,8 +372,8 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                 ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
                 TransitionsFor::Shading)
           : LevelTransitions{};
-  const LevelContext c = levelContext(ctx, object, material, sp, coord, V, footprint, &transitions,
-                                      relief.metricAt(sp.Pu, sp.Pv), shadows);
+  const LevelContext c = levelContext(ctx, lights, object, material, sp, coord, V, footprint,
+                                      &transitions, relief.metricAt(sp.Pu, sp.Pv), shadows);
   return ctx.algorithm == Algorithm::Auto ? shadeAuto(c, 0, frame, shadows, !back)
                                           : shadeFixed(c, ctx.algorithm, frame);
 }

@@ -80,6 +80,26 @@ Light readLight(TableReader& r) {
   return l;
 }
 
+// A [[lights]] table of type "environment": a map file or a uniform sky (docs/environment.md).
+EnvironmentDecl readEnvironment(TableReader& r, const std::filesystem::path& base) {
+  EnvironmentDecl e;
+  e.loc = r.tableLoc();
+  r.choice("type", LightType::Environment);
+  if (r.get("environment")) e.file = readablePath(r, "environment", base);
+  e.space = r.choice("colour_space", e.space);
+  e.colour = r.colour("colour", e.colour);
+  e.intensity = static_cast<float>(r.number("intensity", e.intensity, 0.0, 1e12));
+  e.rotation = static_cast<float>(r.number("rotation", e.rotation, -1e6, 1e6));
+  if (const toml::node* n = r.get("up")) {
+    e.up = r.vec3("up", e.up);
+    if (!(glm::length(e.up) > 1e-12f) || !isFinite(e.up))
+      r.fail(*n, "up", "expected a non-zero direction");
+    e.up = glm::normalize(e.up);
+  }
+  r.finish();
+  return e;
+}
+
 Mat4 readTransform(TableReader& r) {
   const Vec3 t = r.vec3("translate", Vec3(0.0f));
   const Vec3 rot = r.vec3("rotate", Vec3(0.0f), -1e6, 1e6);
@@ -149,6 +169,8 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);
   s.normals = r.choice("normals", s.normals);
   s.shadows = r.boolean("shadows", s.shadows);
+  s.lightSamples =
+      static_cast<int>(r.integer("light_samples", s.lightSamples, 1, kMaxLightSamples));
   if (const std::optional<std::string> c = r.string("cache_dir"))
     s.cacheDir = std::filesystem::path(*c).is_absolute() ? std::filesystem::path(*c) : base / *c;
   if (const toml::table* t = r.subtable("tables")) {
@@ -239,6 +261,24 @@ void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
   r.finish();
 }
 
+// Each camera sample is shaded with the scene's lights and the environment's light samples, each
+// with its own shadow factor: at most kMaxSampleLights of them.
+void checkSampleLights(TableReader& r, const Scene& scene) {
+  if (!scene.environment) return;
+  const size_t total = scene.lights.size() + static_cast<size_t>(scene.render.lightSamples);
+  if (total <= static_cast<size_t>(kMaxSampleLights)) return;
+  const std::string what =
+      "the environment's " + std::to_string(scene.render.lightSamples) + " light samples and " +
+      std::to_string(scene.lights.size()) + " other lights make " + std::to_string(total) +
+      " lights per camera sample; at most " + std::to_string(kMaxSampleLights) +
+      " are shaded with shadows: lower render.light_samples";
+  const toml::table* render = r.subtable("render");
+  if (render)
+    if (const toml::node* n = render->get("light_samples"))
+      throw Error(r.loc(*n), "render.light_samples", what);
+  throw Error(scene.environment->loc, "lights", what);
+}
+
 void readTop(const toml::table& top, Scene& scene) {
   const std::string file = scene.file.string();
   const std::filesystem::path base = scene.file.parent_path();
@@ -249,7 +289,16 @@ void readTop(const toml::table& top, Scene& scene) {
   }
   for (const toml::table* t : r.tableArray("lights")) {
     TableReader lr(*t, "lights.", file);
-    scene.lights.push_back(readLight(lr));
+    if (lr.choice("type", LightType::Directional) != LightType::Environment) {
+      scene.lights.push_back(readLight(lr));
+      continue;
+    }
+    EnvironmentDecl e = readEnvironment(lr, base);
+    if (scene.environment)
+      throw Error(e.loc, "lights.type",
+                  "at most one environment light per scene (the first is at line " +
+                      std::to_string(scene.environment->loc.line) + ")");
+    scene.environment = std::move(e);
   }
   for (const toml::table* t : r.tableArray("materials")) {
     TableReader mr(*t, "materials.", file);
@@ -278,6 +327,7 @@ void readTop(const toml::table& top, Scene& scene) {
     TableReader pr(*t, "path.", file);
     readPath(pr, scene.path, scene.camera);
   }
+  checkSampleLights(r, scene);
   r.finish();
 }
 

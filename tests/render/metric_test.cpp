@@ -371,8 +371,9 @@ TEST(Metric, GeometryAndShadingAgreeOnDispPerLevel) {
   for (int k = 0; k < 10000; ++k) {
     const SurfacePoint sp = object.surface.evaluate(0, Vec2(rng.uniform(), rng.uniform()));
     const LevelDisplacement d = geometry.levels(sp);
-    const ShadeResult r = shadeSurface(
-        ctx, object, sp, glm::normalize(ctx.camera.position() - sp.P), nullptr, nullptr, &sp.P);
+    const ShadeResult r =
+        shadeSurface(ctx, object, sp, glm::normalize(ctx.camera.position() - sp.P), s.lights,
+                     nullptr, nullptr, &sp.P);
     for (int i = 0; i < 2; ++i) {
       EXPECT_NEAR(r.disp[i], d.disp[i], 1e-6f) << "level " << i;
       partial += d.disp[i] > 0.0f && d.disp[i] < 1.0f;

@@ -273,6 +273,52 @@ TEST_F(SceneReaderTest, PointLightRadius) {
   EXPECT_NE(errorOf(light + "radius = -1\n" + kObject).find("lights.radius"), std::string::npos);
 }
 
+// Environment lights: a map file (relative to the scene) or a uniform sky, with their keys; at
+// most one per scene; light samples within what a sample shades with shadows.
+TEST_F(SceneReaderTest, EnvironmentLight) {
+  const std::string env = "[[lights]]\ntype = \"environment\"\n";
+  const Scene sky = parse(env + "colour = [0.2, 0.3, 0.4]\nintensity = 2\n" + kObject);
+  ASSERT_TRUE(sky.environment);
+  EXPECT_TRUE(sky.lights.empty());
+  EXPECT_TRUE(sky.environment->file.empty());
+  EXPECT_EQ(sky.environment->colour, Vec3(0.2f, 0.3f, 0.4f));
+  EXPECT_FLOAT_EQ(sky.environment->intensity, 2.0f);
+  EXPECT_EQ(sky.render.lightSamples, 16);
+  EXPECT_EQ(sky.environment->loc.line, 1);
+  const Scene map = parse("[[lights]]\ndirection = [0, -1, 0]\n" + env +
+                          "environment = \"bumps.exr\"\nrotation = 30\nup = [0, 0, 2]\n"
+                          "colour_space = \"linear\"\n" +
+                          kObject + "[render]\nlight_samples = 64\n");
+  ASSERT_TRUE(map.environment);
+  EXPECT_EQ(map.lights.size(), 1u);
+  EXPECT_EQ(map.environment->file, dir_ / "bumps.exr");
+  EXPECT_FLOAT_EQ(map.environment->rotation, 30.0f);
+  EXPECT_EQ(map.environment->up, Vec3(0.0f, 0.0f, 1.0f));
+  EXPECT_EQ(map.environment->space, ColourSpace::Linear);
+  EXPECT_EQ(map.render.lightSamples, 64);
+  EXPECT_NE(errorOf(env + "environment = \"none.exr\"\n" + kObject).find("file not found"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf(env + "direction = [0, 0, 1]\n" + kObject).find("lights.direction: unknown key"),
+      std::string::npos)
+      << errorOf(env + "direction = [0, 0, 1]\n" + kObject);
+  EXPECT_NE(errorOf(env + env + kObject)
+                .find("scene.toml:3:1: lights.type: at most one environment light per scene (the "
+                      "first is at line 1)"),
+            std::string::npos)
+      << errorOf(env + env + kObject);
+  EXPECT_NE(errorOf(env + kObject + "[render]\nlight_samples = 65\n").find("render.light_samples"),
+            std::string::npos);
+  std::string many;
+  for (int i = 0; i < 20; ++i) many += "[[lights]]\ndirection = [0, -1, 0]\n";
+  EXPECT_NE(
+      errorOf(many + env + kObject + "[render]\nlight_samples = 64\n")
+          .find("render.light_samples: the environment's 64 light samples and 20 other lights "
+                "make 84"),
+      std::string::npos);
+  EXPECT_FALSE(parse(many + kObject).environment);  // without one, any number of lights
+}
+
 TEST_F(SceneReaderTest, SolidReliefAndItsLimits) {
   const std::string head = "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n";
   const Scene s = parse(head +

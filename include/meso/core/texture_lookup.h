@@ -2,6 +2,7 @@
 // footprint), for kd and ks textures (docs/scene-format.md). OpenImageIO stays inside the .cpp.
 #pragma once
 
+#include "meso/core/image.h"
 #include "meso/core/math.h"
 
 #include <filesystem>
@@ -13,6 +14,19 @@ namespace meso {
 // oiio:ColorSpace), else sRGB for integer images and linear for float ones.
 enum class ColourSpace { Auto, Srgb, Linear };
 
+// A colour image's texels as linear RGB (channels R, G, B; top row first), and whether its values
+// were sRGB-encoded.
+struct ColourImage {
+  Image rgb;
+  bool srgb = false;
+};
+
+// Reads `file` (one channel: grey; two: grey and alpha, alpha ignored; more: the first three as
+// RGB) and checks it: a readable image of non-zero size whose texels are finite and >= 0. sRGB
+// values (as `space` says) are turned linear. Throws meso::Error naming the file; `what` names the
+// images in the message ("colour textures hold finite values >= 0").
+ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space, const char* what);
+
 class TextureLookup {
  public:
   TextureLookup();
@@ -20,11 +34,10 @@ class TextureLookup {
   TextureLookup(const TextureLookup&) = delete;
   TextureLookup& operator=(const TextureLookup&) = delete;
 
-  // Reads `file` (one channel: grey; two: grey and alpha, alpha ignored; more: the first three as
-  // RGB), checks it (a readable image of non-zero size whose texels are finite and >= 0), turns
-  // sRGB values linear and writes a MIP-mapped, tiled copy under `folder` (named by a hash of the
-  // file's bytes and the colour space; written to a temporary name, then renamed) that the
-  // TextureSystem reads. Throws meso::Error naming the file. Returns the texture's index.
+  // Reads and checks `file` (readColourImage) and writes a MIP-mapped, tiled copy under `folder`
+  // (named by a hash of the file's bytes and the colour space; written to a temporary name, then
+  // renamed) that the TextureSystem reads. Throws meso::Error naming the file. Returns the
+  // texture's index.
   int add(const std::filesystem::path& file, ColourSpace space,
           const std::filesystem::path& folder);
 

@@ -8,6 +8,7 @@
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
 #include "meso/render/displacement.h"
+#include "meso/render/environment_map.h"
 #include "meso/scene/camera.h"
 #include "meso/scene/scene.h"
 
@@ -81,6 +82,14 @@ struct RenderContext {
   bool textured(int material) const {
     return static_cast<size_t>(material) < materialTextures.size() &&
            (materialTextures[material].kd >= 0 || materialTextures[material].ks >= 0);
+  }
+  // The scene's environment, when it has one that emits (null otherwise): each camera sample adds
+  // render.light_samples directional lights drawn from it to the scene's lights.
+  std::shared_ptr<const EnvironmentMap> environment;
+  // How many lights shade each camera sample: the scene's, then the environment's samples.
+  size_t lightsPerSample() const {
+    return scene->lights.size() +
+           (environment ? static_cast<size_t>(scene->render.lightSamples) : size_t{0});
   }
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }

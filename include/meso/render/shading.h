@@ -28,10 +28,11 @@ struct LightShadow {
   float specular = 1.0f;
 };
 
-// Shadowing is tracked for this many lights of a scene; any further lights are unshadowed.
-inline constexpr int kMaxShadowedLights = 16;
+// Shadowing is tracked for this many lights of a camera sample (the scene's lights, then its
+// environment's light samples); any further lights are unshadowed.
+inline constexpr int kMaxShadowedLights = kMaxSampleLights;
 
-// One factor per light (index as in Scene::lights, the first kMaxShadowedLights of them).
+// One factor per light (index as in the sample's lights, the first kMaxShadowedLights of them).
 struct LightShadows {
   std::array<LightShadow, kMaxShadowedLights> light{};
   const LightShadow& operator[](size_t i) const {

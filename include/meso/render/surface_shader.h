@@ -6,6 +6,7 @@
 #include "meso/render/shading.h"
 
 #include <array>
+#include <span>
 
 namespace meso {
 
@@ -43,9 +44,11 @@ struct ShadeResult {
 };
 
 // sp is the limit surface at the hit's patch coordinates (never the facet), with P the hit point
-// itself on displaced geometry; V the unit direction to the eye. facetNormal (the hit triangle's
-// unit normal) is used instead of the Blinn normal when the context asks for facet normals and the
-// object is displaced by --algorithm displacement; it may be null otherwise.
+// itself on displaced geometry; V the unit direction to the eye; `lights` the sample's lights (the
+// scene's, then its environment's samples: RenderContext::lightsPerSample), indexed as `shadows`.
+// T's terminator term takes the scene's own lights only (docs/environment.md). facetNormal (the hit
+// triangle's unit normal) is used instead of the Blinn normal when the context asks for facet
+// normals and the object is displaced by --algorithm displacement; it may be null otherwise.
 // footprint (may be null) filters the bump renderer's slope lookups and widens its highlight by
 // the roughness filtering removed. limitP (may be null: sp.P) is the limit-surface point of the
 // hit, from which T and disp are evaluated as the tessellator did. shadows (may be null: no
@@ -54,9 +57,9 @@ struct ShadeResult {
 // reflectance (may be null: the material's constants) is what the colour textures give at the hit
 // (textureReflectance).
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
-                         const SurfacePoint& sp, const Vec3& V, const Vec3* facetNormal = nullptr,
-                         const Footprint* footprint = nullptr, const Vec3* limitP = nullptr,
-                         const LightShadows* shadows = nullptr,
+                         const SurfacePoint& sp, const Vec3& V, std::span<const Light> lights,
+                         const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr,
+                         const Vec3* limitP = nullptr, const LightShadows* shadows = nullptr,
                          const Reflectance* reflectance = nullptr);
 
 // The material's reflectance with its colour textures (kd, ks images) looked up at uv, filtered

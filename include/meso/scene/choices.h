@@ -41,8 +41,8 @@ enum class ReliefSource { Image, Noise, Solid };
 // materials.ndf.type: the finest level's NDF (docs/synthesis.md).
 enum class NdfType { Beckmann, BlinnPhong, Tabulated, Relief };
 
-// lights.type.
-enum class LightType { Directional, Point };
+// lights.type. An environment is light from every direction (Scene::environment).
+enum class LightType { Directional, Point, Environment };
 
 // `meso consistency --component`: the terms of the local model the patch is lit with (kd = 1,
 // ks = 1 or both; ka = 0).
@@ -101,8 +101,10 @@ struct Choices<NdfType> {
 };
 template <>
 struct Choices<LightType> {
-  static constexpr std::array<ChoiceName<LightType>, 2> names{
-      {{LightType::Directional, "directional"}, {LightType::Point, "point"}}};
+  static constexpr std::array<ChoiceName<LightType>, 3> names{
+      {{LightType::Directional, "directional"},
+       {LightType::Point, "point"},
+       {LightType::Environment, "environment"}}};
 };
 template <>
 struct Choices<DicingMetric> {

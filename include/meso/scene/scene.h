@@ -3,6 +3,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/math.h"
+#include "meso/core/texture_lookup.h"  // ColourSpace
 #include "meso/geometry/control_mesh.h"
 #include "meso/scene/choices.h"
 
@@ -34,6 +35,19 @@ struct Light {
   // its centre (a uniformly emitting sphere lights what it wholly sees as a point of the same
   // power); shadow rays aim at points of the sphere, so shadows are soft.
   float radius = 0.0f;
+};
+
+// A [[lights]] table of type "environment" (docs/environment.md): radiance from every direction,
+// a latitude-longitude map or a uniform sky. Shading integrates it by importance-sampled
+// directional lights, render.light_samples per camera sample (render/environment_map.h).
+struct EnvironmentDecl {
+  FileLoc loc;                 // the [[lights]] table
+  std::filesystem::path file;  // the map (resolved against the scene's folder); empty: uniform
+  ColourSpace space = ColourSpace::Auto;  // how the map's values are encoded
+  Vec3 colour{1.0f};       // the uniform sky's radiance; with a map, a tint of its texels
+  float intensity = 1.0f;  // scales the radiance
+  float rotation = 0.0f;   // degrees about `up` (right-handed: counter-clockwise seen from above)
+  Vec3 up{0.0f, 1.0f, 0.0f};  // the map's top row (unit)
 };
 
 // One relief level as declared in the scene (used by the relief and appearance work).
@@ -160,6 +174,12 @@ struct TableResolution {
   bool deriveClasses = true;
 };
 
+// render.light_samples: at most this many per camera sample.
+inline constexpr int kMaxLightSamples = 64;
+// The most lights one camera sample is shaded with, each with its own shadow factor (the scene's
+// directional and point lights and its environment's light samples together; render/shading.h).
+inline constexpr int kMaxSampleLights = 80;
+
 struct RenderSettings {
   Algorithm algorithm = Algorithm::Auto;
   uint64_t seed = 0;
@@ -181,6 +201,9 @@ struct RenderSettings {
   // Macro shadows (occlusion rays towards each light) and the relief's self-shadowing in the
   // tables and in T (DESIGN.md section 6, docs/shadows.md). false: exactly the unshadowed images.
   bool shadows = true;
+  // Directions sampled from the environment (Scene::environment) for each camera sample: each is a
+  // directional light of that sample (docs/environment.md).
+  int lightSamples = 16;
   std::filesystem::path cacheDir;  // table cache folder; empty: TableCache::defaultFolder()
   TableResolution tables;
 };
@@ -204,7 +227,8 @@ struct PathSettings {
 struct Scene {
   std::filesystem::path file;  // the scene file, for messages
   CameraSettings camera;
-  std::vector<Light> lights;
+  std::vector<Light> lights;                   // directional and point lights
+  std::optional<EnvironmentDecl> environment;  // at most one
   std::vector<Material> materials;
   std::vector<Object> objects;
   RenderSettings render;
