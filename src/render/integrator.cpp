@@ -123,8 +123,9 @@ ShadowOrigin shadowOriginOf(const Ray& ray, const RayHit& hit, const Vec3& facet
 void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, float footprintScale,
                  float pixelScale, const SampleHit& s, std::span<const Light> lights,
                  const LightShadows& shadows, PixelSum& sum, ShareCounts& shares) {
-  if (!s.found) {
-    sum.colour += ctx.scene->render.background;
+  if (!s.found) {  // the environment where there is one, else render.background
+    sum.colour +=
+        ctx.environment ? ctx.environment->radiance(ray.direction) : ctx.scene->render.background;
     addShare(shares, SampleRenderer::Background, 1.0f);
     return;
   }

@@ -141,6 +141,18 @@ TEST(EnvironmentRender, OneBrightTexelLightsLikeADirectionalLight) {
   }
 }
 
+// Camera rays that miss see the environment (render.background only without one).
+TEST(EnvironmentRender, RaysThatMissSeeTheEnvironment) {
+  Scene s = skyPlane(Material{}, "auto", Vec3(0.2f, 0.4f, 0.8f), 4);
+  s.render.background = Vec3(1.0f, 0.0f, 0.0f);
+  s.camera.lookAt = Vec3(0.0f, -2.0f, 10.0f);  // straight up: the plane is behind the camera
+  s.camera.up = Vec3(0.0f, 1.0f, 0.0f);
+  const Image img = render(s);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_FLOAT_EQ(img.at(7, 5, FilmLayout::R + c), s.environment->colour[c]);
+  EXPECT_EQ(img.at(7, 5, FilmLayout::DepthZ), 0.0f);
+}
+
 Image renderWithThreads(const Scene& scene, int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   return render(scene, 11);
