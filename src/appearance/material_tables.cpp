@@ -1,11 +1,8 @@
 // Becker & Max 1993, Figure 2: a material's table sets, finest level first (material_tables.h).
 #include "meso/appearance/material_tables.h"
 
-#include "meso/core/error.h"
-#include "meso/core/hash.h"
 #include "meso/core/math.h"
 #include "meso/core/progress.h"
-#include "meso/relief/band_split.h"
 #include "meso/relief/height_table.h"
 
 #include <tbb/collaborative_call_once.h>
@@ -22,76 +19,6 @@
 
 namespace meso {
 
-namespace {
-// The fBm parameters a noise or solid level declares (FractalNoiseOptions, SolidNoiseOptions).
-template <class Options>
-Options noiseOptions(const ReliefLevelDecl& d) {
-  Options o;
-  o.octaves = std::max(d.octaves, 1);
-  o.lacunarity = d.lacunarity;
-  o.gain = d.gain;
-  o.seed = d.seed;
-  o.firstOctave = d.firstOctave;
-  return o;
-}
-}  // namespace
-
-std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
-  if (d.source == ReliefSource::Solid)
-    return std::make_unique<SolidSlice>(noiseOptions<SolidNoiseOptions>(d));
-  if (d.source == ReliefSource::Noise)
-    return std::make_unique<FractalNoise>(noiseOptions<FractalNoiseOptions>(d));
-  try {
-    HeightTable table = HeightTable::load(d.height, d.periodic);
-    if (d.bandCount > 1)  // one band-limited level of the image (scene/relief_bands.h)
-      return std::make_unique<HeightTable>(
-          bandLevelTable(table, d.bandCount, d.bandFirst, d.bandLast));
-    return std::make_unique<HeightTable>(std::move(table));
-  } catch (const Error& e) {
-    if (d.loc.line > 0) throw Error(d.loc, "relief", e.what());
-    throw;
-  }
-}
-
-ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
-  ReliefLevel level;
-  level.source = makeHeightSource(d);
-  level.amplitude = d.amplitude;
-  level.scale = d.scale;
-  if (d.source == ReliefSource::Solid) {
-    // The tables trace the periodic slice, one tile every period of its lattice; the renderers
-    // evaluate the (non-repeating) noise itself at d.scale cells per unit of length.
-    level.solid = std::make_shared<SolidNoise>(noiseOptions<SolidNoiseOptions>(d));
-    level.solidCells = d.scale;
-    level.scale = d.scale / static_cast<const SolidSlice&>(*level.source).side();
-  }
-  level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * level.scale;
-  level.midlevel = d.midlevel ? *d.midlevel : level.source->meanHeight();
-  return level;
-}
-
-uint64_t TileRelief::fingerprint() const {
-  Hasher h;
-  h.value(level_.source->fingerprint()).value(level_.amplitude).value(level_.scale);
-  if (lengthPerU_ != 1.0f) h.value(lengthPerU_);  // unit-metric keys as before
-  return h.digest();
-}
-
-namespace {
-// Owns a level and shows it as a tile.
-class OwningTileRelief : public PeriodicRelief {
- public:
-  explicit OwningTileRelief(ReliefLevel level) : level_(std::move(level)), tile_(level_) {}
-  float height(float x, float y) const override { return tile_.height(x, y); }
-  Vec2 gradient(float x, float y) const override { return tile_.gradient(x, y); }
-  uint64_t fingerprint() const override { return tile_.fingerprint(); }
-
- private:
-  ReliefLevel level_;
-  TileRelief tile_;
-};
-}  // namespace
-
 void buildSlopePyramids(MaterialRelief& relief) {
   for (ReliefLevel& level : relief.levels) {
     // Solid relief has no (u, v) to filter over: bump draws its exact Blinn normals.
@@ -104,10 +31,6 @@ void buildSlopePyramids(MaterialRelief& relief) {
     while (n < 4.0f * level.source->highestFrequency() && n < 2048) n *= 2;
     level.pyramid = std::make_shared<SlopePyramid>(*level.source, n, n, true);
   }
-}
-
-std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
-  return std::make_unique<OwningTileRelief>(makeReliefLevel(decl));
 }
 
 TableSettings tableSettings(const TableResolution& q) {
@@ -156,23 +79,6 @@ MetricPosition MaterialRelief::metricAt(const MetricClass& m) const {
   p.w = std::clamp(p.w, 0.0f, 1.0f);
   p.nearest = p.w < 0.5f ? p.k0 : p.k1;
   return p;
-}
-
-void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels) {
-  for (size_t i = 0; i < levels.size() && i < decls.size(); ++i) {
-    const ReliefLevelDecl& d = decls[i];
-    if (d.source != ReliefSource::Image || d.bandCount <= 1 || d.bandLast >= d.bandCount - 1)
-      continue;
-    size_t end = i + 1;  // past the image's finest band
-    while (end < decls.size() && decls[end].source == ReliefSource::Image &&
-           decls[end].height == d.height && decls[end].bandCount == d.bandCount &&
-           decls[end].bandFirst == decls[end - 1].bandLast + 1)
-      ++end;
-    ReliefLevelDecl sum = d;
-    sum.bandLast = d.bandCount - 1;
-    levels[i].partialSum = std::make_shared<const ReliefLevel>(makeReliefLevel(sum));
-    levels[i].partialSumEnd = end;
-  }
 }
 
 namespace {

@@ -7,6 +7,7 @@
 #include "cap_coarsening.h"
 #include "face_split.h"
 #include "limit_surface_impl.h"
+#include "edge_measure.h"
 #include "meso/core/error.h"
 #include "meso/core/timer.h"
 
@@ -25,24 +26,6 @@
 namespace meso {
 
 namespace {
-
-using OpenSubdiv::Far::ConstIndexArray;
-
-// What the rate of one mesh edge depends on, measured once; rates for any coarsening follow.
-struct EdgeMeasure {
-  enum Kind : char { Culled, Coarse, Diced };
-  Kind kind = Culled;
-  float lengthPx = 0.0f;        // pixel length of the limit edge, by DicingSettings::metric
-  float worldLength = 0.0f;     // isotropic metric: world length of the limit edge
-  float density = 0.0f;         // isotropic metric: largest pixelDensity of its points in view
-  float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
-  int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
-  int floor = 0;                // least rate the diced neighbours ask for, 0 = none
-  // The nearest distance from the eye of the faces in view it bounds (their patch hulls grown by
-  // the displacement bound): the cap coarsens it by CapCoarsening::factor of this, so no edge of a
-  // face that reaches nearer than CapCoarsening::beyond is coarsened.
-  float distance = 0.0f;
-};
 
 void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDicing& faces) {
   if (!(s.dicingRate > 0.0f) || !std::isfinite(s.dicingRate))
@@ -73,150 +56,6 @@ void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDi
     if (cap < 0) throw Error("texel caps must be 0 (none) or positive rates");
   for (int floor : faces.texelFloor)
     if (floor < 0) throw Error("texel floors must be 0 (none) or positive rates");
-}
-
-// A face is in view when the box of its patch points, grown by the displacement bound, is: the
-// limit patch lies in the convex hull of its patch points (B-spline and Gregory bases are
-// non-negative and sum to one), so the box is conservative. `distance`: from the eye to that box,
-// a lower bound of the distance of the face's displaced points.
-std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
-                              std::vector<float>& distance) {
-  const LimitSurface::Impl& impl = surface.impl();
-  std::vector<char> inView(surface.numFaces(), 0);
-  distance.assign(inView.size(), 0.0f);
-  tbb::parallel_for(0, surface.numFaces(), [&](int f) {
-    const LimitSurface::Impl::Face& face = impl.faces[f];
-    if (!face.surface.IsValid()) return;
-    Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
-    const float* p = &impl.patchPoints[face.patchOffset];
-    for (int i = 0; i < face.surface.GetNumPatchPoints(); ++i, p += 3) {
-      lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
-      hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
-    }
-    inView[f] = screen.boxInView(lo, hi, grow);
-    const float d = boxDistance(screen.eye, lo - Vec3(grow), hi + Vec3(grow));
-    distance[f] = std::isfinite(d) ? d : 0.0f;
-  });
-  return inView;
-}
-
-// Pixel length of the limit edge from a few points along it, and the segments a polyline needs to
-// stay within `tolerance` pixels of it: a chord's deviation from a smooth curve falls as 1/n^2 with
-// n segments. Deviations are scaled by the pixels per unit at their depth, which is conservative
-// (it ignores foreshortening).
-// `lo`, `hi`: the box of those points.
-void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
-                      EdgeRateTessellator::Use owner, DicingMetric metric, float tolerance,
-                      EdgeMeasure& m, Vec3& lo, Vec3& hi) {
-  constexpr int kSegments = 4;
-  const LimitSurface::Impl& impl = surface.impl();
-  const int n = surface.faceSize(owner.face);
-  const Vec2 s0 = impl.cornerSt(owner.face, owner.corner);
-  const Vec2 s1 = impl.cornerSt(owner.face, (owner.corner + 1) % n);
-  Vec3 P[kSegments + 1];
-  lo = Vec3(std::numeric_limits<float>::infinity()), hi = -lo;
-  for (int k = 0; k <= kSegments; ++k) {
-    P[k] = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments)).P;
-    lo = glm::min(lo, P[k]);
-    hi = glm::max(hi, P[k]);
-  }
-  float length = 0.0f, deviationPx = 0.0f;
-  for (int k = 0; k < kSegments; ++k)
-    length += metric == DicingMetric::Projected ? screen.projectedLength(P[k], P[k + 1])
-                                                : screen.footprintLength(P[k], P[k + 1]);
-  if (metric == DicingMetric::Isotropic) {
-    for (int k = 0; k < kSegments; ++k) m.worldLength += glm::length(P[k + 1] - P[k]);
-    for (int k = 0; k <= kSegments; ++k)
-      if (screen.pointInView(P[k])) m.density = std::max(m.density, screen.pixelDensity(P[k]));
-    if (!std::isfinite(m.worldLength * m.density)) m.worldLength = m.density = 0.0f;
-  }
-  for (int k = 1; k < kSegments; ++k) {
-    const float z = screen.depth(P[k]);
-    if (!(z >= screen.nearDistance)) continue;
-    const Vec3 chord = glm::mix(P[0], P[kSegments], float(k) / kSegments);
-    deviationPx = std::max(deviationPx, glm::length(P[k] - chord) * screen.pixelsPerUnit(z));
-  }
-  m.lengthPx = std::isfinite(length) ? length : 0.0f;
-  m.coarseSegments = std::isfinite(deviationPx) ? std::sqrt(deviationPx / tolerance) : 0.0f;
-}
-
-// Bfr spaces a quad's interior points evenly, with the mean rate of opposite edges, so the rate
-// an edge's own points ask for leaves the near part of a face that recedes in depth too coarse.
-// With the isotropic metric a diced edge is therefore sized by the densest point in view on any
-// diced face it bounds: its world length times that face's largest pixelDensity (sampled on the
-// face's edges). This over-dices the far part of deep faces, which are few: the ones near the eye.
-void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDicing& faces,
-                       const std::vector<char>& inView, std::vector<EdgeMeasure>& measures) {
-  std::vector<float> faceDensity(inView.size(), 0.0f);
-  for (size_t f = 0; f < inView.size(); ++f) {
-    if (!inView[f] || (!faces.needsDicing.empty() && !faces.needsDicing[f])) continue;
-    for (int e : base.GetFaceEdges(static_cast<int>(f)))
-      faceDensity[f] = std::max(faceDensity[f], measures[e].density);
-  }
-  for (size_t e = 0; e < measures.size(); ++e) {
-    EdgeMeasure& m = measures[e];
-    if (m.kind != EdgeMeasure::Diced) continue;
-    for (int f : base.GetEdgeFaces(static_cast<int>(e)))
-      m.lengthPx = std::max(m.lengthPx, m.worldLength * faceDensity[f]);
-  }
-}
-
-// An edge is diced for the faces in view that need dicing and may raise relief near it: its
-// points' box grown by the displacement bound plus half its diagonal (the limit edge between the
-// points sags by far less).
-std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
-                                      const EdgeRateTessellator& engine, const ScreenMetric& screen,
-                                      const DicingSettings& settings, const FaceDicing& faces,
-                                      const std::vector<char>& inView,
-                                      const std::vector<float>& faceDistance, float bound) {
-  const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
-  std::vector<EdgeMeasure> measures(engine.numEdges());
-  tbb::parallel_for(0, engine.numEdges(), [&](int e) {
-    EdgeMeasure& m = measures[e];
-    const ConstIndexArray edgeFaces = base.GetEdgeFaces(e);
-    if (std::none_of(edgeFaces.begin(), edgeFaces.end(), [&](int f) { return inView[f]; })) return;
-    m.distance = std::numeric_limits<float>::infinity();
-    for (int f : edgeFaces)
-      if (inView[f]) m.distance = std::min(m.distance, faceDistance[f]);
-    Vec3 lo, hi;
-    measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
-                     settings.coarseTolerance, m, lo, hi);
-    const float grow = bound + 0.5f * glm::length(hi - lo);
-    m.kind = EdgeMeasure::Coarse;
-    bool uncapped = false;
-    for (int f : edgeFaces) {
-      if (!inView[f]) continue;
-      if (!faces.needsDicing.empty() && !faces.needsDicing[f]) continue;
-      if (!faces.raisesBox(f, screen.eye, lo, hi, grow)) continue;
-      m.kind = EdgeMeasure::Diced;
-      const int cap = faces.texelCap.empty() ? 0 : faces.texelCap[f];
-      uncapped = uncapped || cap == 0;
-      m.cap = std::max(m.cap, cap);
-      if (!faces.texelFloor.empty()) m.floor = std::max(m.floor, faces.texelFloor[f]);
-    }
-    if (uncapped) m.cap = 0;
-  });
-  if (settings.metric == DicingMetric::Isotropic) spreadFaceDensity(base, faces, inView, measures);
-  return measures;
-}
-
-// ceil(x) clamped to [1, limit]; NaN gives 1.
-int toRate(float x, int limit) {
-  if (!(x > 1.0f)) return 1;
-  return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
-}
-
-// The rate of an edge under the cap's coarsening (CapCoarsening{}: as asked).
-int edgeRate(const EdgeMeasure& m, const DicingSettings& s, const CapCoarsening& cap) {
-  if (m.kind == EdgeMeasure::Culled) return 1;
-  const float coarsening = cap.factor(m.distance);
-  int rate = toRate(m.coarseSegments / coarsening, s.maxEdgeRate);
-  if (m.kind == EdgeMeasure::Diced) {
-    const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
-    rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), limit));
-    rate = std::max(rate, toRate(static_cast<float>(m.floor) / coarsening, limit));
-  }
-  return rate;
 }
 
 // What one surface measured once; its rates for any cap coarsening follow (ratesFor).

@@ -1,8 +1,9 @@
-// The tables a material gets (DESIGN.md section 1): its relief levels made from the scene's
-// declarations, their appearance tables per metric class (coarser over finer as in Figure 2), the
-// synthesis level below the finest, slope pyramids and visible heights.
+// The tables a material gets (DESIGN.md section 1): its relief levels (declared_levels.h), their
+// appearance tables per metric class (coarser over finer as in Figure 2), the synthesis level below
+// the finest, slope pyramids and visible heights.
 #pragma once
 
+#include "meso/appearance/declared_levels.h"
 #include "meso/appearance/level_tables.h"
 #include "meso/appearance/metric_classes.h"
 #include "meso/appearance/synthesis_level.h"
@@ -18,38 +19,6 @@
 #include <vector>
 
 namespace meso {
-
-// Throws meso::Error naming the level's file and line for unreadable height images.
-std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
-ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
-// Sets partialSum and partialSumEnd of every band of a height image that finer bands of the same
-// image continue (levels[i] made from decls[i]).
-void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels);
-
-// One period of a level as the table builders see it (histogram_builder.h), on a surface whose
-// unit of u and of v is `lengthPerU` world units long (an isotropic metric, docs/metric.md): the
-// tile is 1/S of u wide, that is lengthPerU / S world units, so in tile units heights are
-// S * amplitude * h / lengthPerU and slopes are the level's true world slopes.
-class TileRelief : public PeriodicRelief {
- public:
-  explicit TileRelief(const ReliefLevel& level, float lengthPerU = 1.0f)
-      : level_(level),
-        factor_(level.scale * level.amplitude / lengthPerU),
-        lengthPerU_(lengthPerU) {}
-  float height(float x, float y) const override { return factor_ * level_.source->height({x, y}); }
-  Vec2 gradient(float x, float y) const override {
-    return factor_ * level_.source->gradient({x, y});
-  }
-  uint64_t fingerprint() const override;
-
- private:
-  const ReliefLevel& level_;
-  float factor_;
-  float lengthPerU_;
-};
-
-// A level together with the tile view of it (keeps the level alive for the tile's lifetime).
-std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
 
 // The tables of every level for one isotropic metric class (docs/metric.md): the relief as seen on
 // a surface whose unit of u is lengthPerU world units long.
