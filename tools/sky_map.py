@@ -6,10 +6,13 @@ facing -z (the map convention of docs/environment.md, up = +y).
   sky   radiance blue at the zenith, paler towards the horizon and around the sun
   sun   a disc of `--sun-radius` degrees whose texels together give `--sun-irradiance` at normal
         incidence (the disc is a few texels wide: a small, very bright source)
-  ground below the horizon, a dim uniform brown (the light a ground would bounce)
+  ground below the horizon, uniform: a brown ground of albedo `--ground-albedo` lit by the sky and
+         the sun above it (radiance albedo E / pi, E the irradiance of a horizontal plane), so a
+         camera that sees past a scene's floor sees a plausible distant ground
 
   tools/sky_map.py OUT.hdr [--width 512] [--sun-elevation 35] [--sun-azimuth 40]
                            [--sun-irradiance 3] [--sun-radius 1.5] [--sky 0.25]
+                           [--ground-albedo 0.3]
 
 --sun-azimuth is degrees about the up axis from -z towards +x (the image's centre towards its
 right). --sky scales the sky's radiance. Writes flat RGBE scanlines; plain Python 3, no modules
@@ -44,8 +47,8 @@ def sky(args):
             cos_sun = max(-1.0, min(1.0, sum(a * b for a, b in zip(d, sun))))
             if cos_sun >= cos_disc:
                 disc.append((x, y))
-            if d[1] < 0:  # the ground's dim bounce
-                row.append([c * args.sky * 0.3 for c in (0.25, 0.2, 0.15)])
+            if d[1] < 0:  # the ground, filled in below
+                row.append(None)
                 continue
             t = (1.0 - d[1]) ** 3  # paler towards the horizon
             glow = 0.8 * math.exp((cos_sun - 1.0) / 0.04) + 0.25 * (1 + cos_sun) ** 2 / 4
@@ -61,7 +64,16 @@ def sky(args):
     solid = sum(row_solid_angle(y, w, h) for _, y in disc)
     for x, y in disc:
         rows[y][x] = [c * args.sun_irradiance / solid for c in (1.0, 0.95, 0.85)]
-    return rows
+    # The ground: a diffuse plane of the given albedo under the sky and sun above it.
+    irradiance = [0.0, 0.0, 0.0]
+    for y in range(h):
+        for x in range(w):
+            up = texel_direction(x, y, w, h)[1]
+            if rows[y][x] is not None and up > 0:
+                for c in range(3):
+                    irradiance[c] += rows[y][x][c] * up * row_solid_angle(y, w, h)
+    ground = [args.ground_albedo * e / math.pi * t for e, t in zip(irradiance, (1.0, 0.8, 0.6))]
+    return [[texel if texel is not None else ground for texel in row] for row in rows]
 
 
 def rgbe(rgb):
@@ -91,6 +103,7 @@ def main():
     p.add_argument("--sun-irradiance", type=float, default=3.0)
     p.add_argument("--sun-radius", type=float, default=1.5)
     p.add_argument("--sky", type=float, default=0.25)
+    p.add_argument("--ground-albedo", type=float, default=0.3)
     args = p.parse_args()
     write_hdr(args.out, sky(args))
 

@@ -9,6 +9,7 @@
 #include "meso/core/error.h"
 #include "meso/core/math.h"
 #include "meso/render/consistency.h"
+#include "meso/render/environment_map.h"
 #include "meso/render/integrator.h"
 #include "meso/appearance/material_tables.h"
 #include "meso/render/local_contrast.h"
@@ -19,6 +20,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace meso::app {
@@ -125,6 +127,34 @@ void addPatchOptions(CLI::App* c, ConsistencyCommandOptions& o) {
   addOption(c, "--shadow-rays", o.shadowRays,
             "--shadows: visible hits per view slice of the shadowing table (0: the renderer's)",
             CLI::Range(0, 1 << 22));
+  addOption(c, "--environment", o.environment,
+            "Light the patch by an environment instead of --theta-l/--phi: a latitude-longitude "
+            "map (any format OpenImageIO reads, its top row towards the patch's normal) or "
+            "'uniform' (a uniform white sky; ./uniform for a file of that name)");
+  addOption(c, "--environment-rotation", o.environmentRotation,
+            "--environment: turn of the map about the patch's normal, degrees",
+            CLI::Range(-360.0f, 360.0f))
+      ->capture_default_str();
+  addOption(c, "--light-samples", o.lightSamples,
+            "--environment: directions per sample point, shared by the four renderers",
+            CLI::Range(1, kMaxSampleLights))
+      ->capture_default_str();
+  addOption(c, "--phi-v-bins", o.phiVBins,
+            "View-azimuth slices of the tables (0: 1, the paper's average over azimuths, which "
+            "suits a light turning with the view; with --environment 16, the renderer's, since a "
+            "fixed environment sees the relief's own azimuths)",
+            CLI::Range(0, 64))
+      ->capture_default_str();
+}
+
+// The environment of --environment, its up axis the patch's normal +z.
+EnvironmentMap patchEnvironment(const ConsistencyCommandOptions& o) {
+  EnvironmentDecl decl;
+  decl.loc.file = "--environment";
+  if (o.environment != "uniform") decl.file = o.environment;
+  decl.rotation = o.environmentRotation;
+  decl.up = Vec3(0.0f, 0.0f, 1.0f);
+  return EnvironmentMap::load(decl);
 }
 
 CLI::App* addConsistencyOptions(CLI::App& cli, ConsistencyCommandOptions& o) {
@@ -154,6 +184,10 @@ CLI::App* addConsistencyOptions(CLI::App& cli, ConsistencyCommandOptions& o) {
 }
 
 void runSceneConsistency(const ConsistencyCommandOptions& o) {
+  if (!o.environment.empty())
+    throw Error(
+        "--environment: the patch's light; a SCENE is lit by its own [[lights]] (an environment "
+        "there is a light of type \"environment\")");
   const Scene scene = loadScene(o.scene, setOverrides(o.set));
   SceneConsistencyOptions so;
   so.algorithms = o.algorithms;
@@ -194,6 +228,8 @@ void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
   if (!o.scene.empty()) return runSceneConsistency(o);
   if (!o.set.empty())
     throw Error("--set: expected a SCENE (the patch without one has no scene keys)");
+  const std::optional<EnvironmentMap> environment =
+      o.environment.empty() ? std::nullopt : std::optional(patchEnvironment(o));
   for (float t : o.thetaV)
     if (!(t >= 0.0f && t < 90.0f))
       throw Error(
@@ -205,6 +241,10 @@ void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
   TableSettings settings;
   settings.variant = o.variant;
   settings.shadows = o.shadows;
+  const int phiV = o.phiVBins > 0 ? o.phiVBins : (environment ? TableResolution{}.phiVBins : 1);
+  settings.histogram.resolution.phiV = phiV;
+  // Every view-azimuth slice gets the same number of traced azimuths.
+  settings.histogram.azimuths = (settings.histogram.azimuths + phiV - 1) / phiV * phiV;
   if (o.shadowRays > 0) settings.shadowing.raysPerSlice = o.shadowRays;
   const TableCache cache(o.noCache
                              ? std::filesystem::path()
@@ -222,6 +262,8 @@ void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
   s.samplesPerAzimuth = o.samples;
   s.azimuths = o.azimuths;
   s.shadows = o.shadows;
+  s.environment = environment ? &*environment : nullptr;
+  s.lightSamples = o.lightSamples;
   std::vector<ConsistencyRow> rows;
   for (float t : o.thetaV) rows.push_back(measureConsistency(*relief, tile, tables, radians(t), s));
   const std::string table = formatConsistency(rows, o.format, o.normalize);

@@ -42,6 +42,13 @@ struct ConsistencyCommandOptions {
   bool noCache = false;
   bool shadows = false;  // relief self-shadowing in every renderer but bump
   int shadowRays = 0;    // visible hits per slice of the shadowing table; 0: the renderer's default
+  // The patch lit by an environment instead of the directional light: a latitude-longitude map,
+  // or "uniform" for a uniform white sky; its up axis is the patch's normal.
+  std::string environment;
+  float environmentRotation = 0.0f;  // degrees about the patch's normal
+  int lightSamples = 16;             // environment directions per sample point
+  int phiVBins =
+      0;  // view-azimuth slices of the tables; 0: 1 (the paper's), 16 with an environment
 };
 
 // The `consistency` command, registered on `cli` with its options.

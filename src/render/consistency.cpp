@@ -3,11 +3,13 @@
 
 #include "meso/core/rng.h"
 #include "meso/render/level_shading.h"
+#include "meso/render/relief_shadowing.h"
 #include "meso/render/shading.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -33,35 +35,52 @@ Vec3 blinnNormal(const PeriodicRelief& relief, Vec2 xy) {
   return glm::normalize(Vec3(-g.x, -g.y, 1.0f));
 }
 
-// The BRDF renderer with the level's self-shadowing: each of its terms scaled by its own factor.
-double shadowedBrdf(const Material& material, const Light& light, const ViewFrame& frame,
-                    const BrdfTable& brdf, const ShadowingTable::Value& S) {
-  Material diffuse = material, specular = material;
-  diffuse.ks = Vec3(0.0f);
-  specular.kd = Vec3(0.0f);
-  const Light lights[] = {light};
-  return S.diffuse * shadeBrdf(diffuse, lights, Vec3(0.0f), frame, brdf).x +
-         S.specular * shadeBrdf(specular, lights, Vec3(0.0f), frame, brdf).x;
-}
+// The lights of one sample point: the directional light at (thetaL, phiV - phi), the same for
+// every point, or s.lightSamples directions of the environment drawn for the point
+// (environmentLights), shared by the four renderers there so that their differences carry little
+// sampling noise. An environment's directions below the patch's plane light nothing: the relief
+// lies on an opaque surface.
+class PatchLights {
+ public:
+  PatchLights(const ConsistencySettings& s, float phiV)
+      : s_(s),
+        n_(s.environment ? static_cast<size_t>(std::clamp(s.lightSamples, 1, kMaxSampleLights))
+                         : 1) {
+    storage_[0].direction = -polar(s.thetaL, phiV - s.phi);
+  }
+  std::span<const Light> at(uint64_t key) {
+    const std::span<Light> lights(storage_.data(), n_);
+    if (!s_.environment) return lights;
+    environmentLights(*s_.environment, key, lights);
+    for (Light& l : lights)
+      if (!(l.direction.z < 0.0f)) l.colour = Vec3(0.0f);
+    return lights;
+  }
 
-// One azimuth of measureConsistency: the view at phiV, the light at phiV - phi.
+ private:
+  const ConsistencySettings& s_;
+  size_t n_;
+  std::array<Light, kMaxSampleLights> storage_{};
+};
+
+// One azimuth of measureConsistency, every renderer by the renderer's own functions on the unit
+// tile (an identity TileMap): the view at phiV.
 ConsistencyRow measureAzimuth(const PeriodicRelief& relief, const PeriodicTile& tile,
                               const LevelTables& tables, float thetaV, const ConsistencySettings& s,
                               const Material& material, int a) {
   Rng rng(s.seed, static_cast<uint64_t>(a));
   const float phiV = 2.0f * kPi * (static_cast<float>(a) + 0.5f) / static_cast<float>(s.azimuths);
-  const Vec3 V = polar(thetaV, phiV);
-  Light light;
-  light.direction = -polar(s.thetaL, phiV - s.phi);
-  const Light lights[] = {light};
-  const ViewFrame frame = makeViewFrame(Vec3(0.0f, 0.0f, 1.0f), V, Vec3(1.0f, 0.0f, 0.0f));
-  // The tabulated self-shadowing at this view and light, for redistribution and the BRDF.
-  LightShadows S;
-  const ShadowingTable::Value sv =
-      s.shadows ? tables.shadowing.lookup(thetaV, phiV, s.thetaL, s.phi) : ShadowingTable::Value{};
-  S.light[0] = {sv.diffuse, sv.specular};
-  const LightShadows* redistributionShadows = s.shadows ? &S : nullptr;
-  const Vec3 L = -light.direction;
+  // theta_V = 0 as the limit of near-normal views, which keep their azimuth phiV: the tables'
+  // view-azimuth slices are then looked up at it, as in an image, not all at the tangent hint's
+  // azimuth (docs/environment.md measures the difference).
+  const Vec3 V = polar(std::max(thetaV, 1e-3f), phiV);
+  const TileMap m;
+  ShadowingLevels levels;
+  if (s.shadows) levels.add(tables.shadowing, tables.shadowing);
+  const LightShadows lit;
+  // A white light's intensity is any channel; an environment's colours count by their luminance.
+  const auto value = [&](const Vec3& c) -> double { return s.environment ? luminance(c) : c.x; };
+  PatchLights patchLights(s, phiV);
   const int side =
       std::max(1, static_cast<int>(std::sqrt(static_cast<double>(s.samplesPerAzimuth))));
   ConsistencyRow row;
@@ -70,31 +89,40 @@ ConsistencyRow measureAzimuth(const PeriodicRelief& relief, const PeriodicTile& 
     // Jittered strata over the tile: the area average of the smooth renderers.
     const Vec2 xy((static_cast<float>(i % side) + rng.uniform()) / side,
                   (static_cast<float>(i / side) + rng.uniform()) / side);
+    const std::span<const Light> lights =
+        patchLights.at(mix64(s.seed ^ mix64(static_cast<uint64_t>(a) << 32 | i)));
     const Vec3 P(xy, 0.0f);
     const Vec3 n = blinnNormal(relief, xy);
-    row.bump += shadeLocal(material, lights, P, n, V).x;
+    // The tabulated self-shadowing at this view and each light, for redistribution and the BRDF.
+    const LightShadows S = reliefShadowing(lights, P, m, V, levels);
+    row.bump += value(shadeLocal(material, lights, P, n, V));
     row.redistribution +=
-        shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, frame, 0.0f, n),
-                   V, redistributionShadows)
-            .x;
+        value(shadeLocal(material, lights, P, redistributeNormal(tables.redistribution, m, V, 0, n),
+                         V, s.shadows ? &S : nullptr));
+    // The BRDF does not depend on the point: one lookup serves a directional light.
+    if (s.environment || i == 0)
+      row.brdf += value(shadeBrdfShadowed(material, lights, P, m, V, tables.brdf, tables.brdf, 0.0f,
+                                          lit, levels));
     // The displaced relief, projected-area weighted: uniform origins above it along -V; with
-    // shadows a real shadow ray from each hit, lifted off the relief along its normal.
+    // shadows a real shadow ray from each hit to each light, lifted off the relief along its
+    // normal.
     Vec3 hit;
     if (tile.traceHit(Vec3(xy, tile.zMax() + 1e-3f), -V, hit)) {
       const Vec3 nHit = blinnNormal(relief, Vec2(hit));
       LightShadows visible;
-      if (s.shadows && tile.occluded(hit + 1e-4f * nHit, L)) visible.light[0] = {0.0f, 0.0f};
-      row.displacement += shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V,
-                                     s.shadows ? &visible : nullptr)
-                              .x;
+      for (size_t k = 0; s.shadows && k < lights.size(); ++k)
+        if (lights[k].colour != Vec3(0.0f) &&
+            tile.occluded(hit + 1e-4f * nHit, -lights[k].direction))
+          visible.light[k] = {0.0f, 0.0f};
+      row.displacement += value(shadeLocal(material, lights, Vec3(Vec2(hit), 0.0f), nHit, V,
+                                           s.shadows ? &visible : nullptr));
       ++hits;
     }
   }
   row.bump /= side * side;
   row.redistribution /= side * side;
+  if (s.environment) row.brdf /= side * side;
   row.displacement /= std::max(hits, 1);
-  row.brdf = s.shadows ? shadowedBrdf(material, light, frame, tables.brdf, sv)
-                       : shadeBrdf(material, lights, Vec3(0.0f), frame, tables.brdf).x;
   return row;
 }
 

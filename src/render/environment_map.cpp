@@ -16,8 +16,6 @@
 namespace meso {
 namespace {
 
-float luminance(const Vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
-
 // The shortest rotation taking +y to `up` (unit), after a turn of `degrees` about +y.
 Mat3 mapToWorld(const Vec3& up, float degrees) {
   const Mat3 turn(glm::rotate(Mat4(1.0f), radians(degrees), Vec3(0.0f, 1.0f, 0.0f)));

@@ -29,7 +29,7 @@ using Pixel = glm::ivec2;
 // The paper's Figure 4 look: the algorithm colours, shaded by the beauty's brightness so the shapes
 // stay readable.
 Vec3 falseColour(const Vec3& beauty, const Vec3& algorithm) {
-  const float lum = std::min(1.0f, 0.2126f * beauty.r + 0.7152f * beauty.g + 0.0722f * beauty.b);
+  const float lum = std::min(1.0f, luminance(beauty));
   return algorithm * (0.25f + 0.75f * lum);
 }
 
@@ -209,7 +209,7 @@ struct Chunk {
 
 // Each hit's lights when the scene has an environment: the scene's lights, then
 // render.light_samples directional lights drawn for the sample (environmentLights).
-void sampleChunkLights(const RenderContext& ctx, uint64_t seed, Chunk& chunk) {
+void sampleChunkLights(const RenderContext& ctx, uint64_t seed, bool traceOnly, Chunk& chunk) {
   chunk.lights.clear();
   if (!ctx.environment) return;
   const size_t n = chunk.rays.size(), m = ctx.lightsPerSample();
@@ -222,6 +222,13 @@ void sampleChunkLights(const RenderContext& ctx, uint64_t seed, Chunk& chunk) {
     std::copy(ctx.scene->lights.begin(), ctx.scene->lights.end(), lights.begin());
     environmentLights(*ctx.environment, environmentSampleKey(chunk.film[s], seed),
                       lights.subspan(finite));
+    // The surface is opaque: a direction below the macro surface's horizon (its limit normal on
+    // the viewer's side) lights nothing there, relief or not, and needs no shadow ray.
+    if (traceOnly) continue;
+    Vec3 n = chunk.hits[s].sp.N;
+    if (glm::dot(n, chunk.rays[s].direction) > 0.0f) n = -n;
+    for (Light& l : lights.subspan(finite))
+      if (!(glm::dot(l.direction, n) < 0.0f)) l.colour = Vec3(0.0f);
   }
 }
 
@@ -268,8 +275,9 @@ void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
     chunk.shadowOf.clear();
     for (size_t s = 0; s < n; ++s) {
       Ray ray;
-      if (chunk.hits[s].found &&
-          shadowRay(chunk.lightsOf(ctx, s)[k], starts[s], ray,
+      const Light& light = chunk.lightsOf(ctx, s)[k];
+      if (chunk.hits[s].found && (light.colour != Vec3(0.0f) && light.intensity != 0.0f) &&
+          shadowRay(light, starts[s], ray,
                     shadowSample(chunk.film[s], k, ctx.scene->render.seed))) {
         chunk.shadowRays.push_back(ray);
         chunk.shadowOf.push_back(static_cast<uint32_t>(s));
@@ -300,7 +308,7 @@ void traceChunk(const RenderContext& ctx, const RenderOptions& options, Chunk& c
     else
       evaluateHit(ctx, chunk.rays[s], h);
   }
-  sampleChunkLights(ctx, options.seed, chunk);
+  sampleChunkLights(ctx, options.seed, options.traceOnly, chunk);
   const bool shadows =
       ctx.shadows && ctx.lightsPerSample() > 0 && (!options.traceOnly || options.traceShadowRays);
   if (shadows) traceChunkShadows(ctx, chunk, !options.traceOnly);

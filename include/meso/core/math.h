@@ -20,6 +20,9 @@ inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline float degrees(float radians) { return radians * (180.0f / kPi); }
 
 // True when every component is finite (no NaN, no Inf).
+// Rec. 709 luminance of linear RGB.
+inline float luminance(const Vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
 inline bool isFinite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -1,10 +1,11 @@
 // Becker & Max 1993, section 5.1 and Figure 6: the area-averaged intensity of a flat periodic
-// patch, seen orthographically at theta_V and lit by a directional light at theta_L, for each
-// renderer.
+// patch, seen orthographically at theta_V and lit by a directional light at theta_L (or an
+// environment), for each renderer.
 #pragma once
 
 #include "meso/appearance/level_tables.h"
 #include "meso/appearance/periodic_tile.h"
+#include "meso/render/environment_map.h"
 #include "meso/scene/choices.h"  // Component, TableFormat
 
 #include <cstdint>
@@ -25,6 +26,12 @@ struct ConsistencySettings {
   // every visible hit, redistribution and brdf are scaled by the level's ShadowingTable (which the
   // tables must then hold); bump, the inconsistent baseline, stays unshadowed.
   bool shadows = false;
+  // Light from an environment instead of the directional light (thetaL and phi unused): each
+  // sample point is lit by lightSamples importance-sampled directions (environmentLights), shared
+  // by the four renderers there; directions below the patch's plane light nothing. The map's up
+  // axis should be the patch's normal +z. Each renderer's value is then the luminance.
+  const EnvironmentMap* environment = nullptr;
+  int lightSamples = 16;
 };
 
 struct ConsistencyRow {
