@@ -249,10 +249,11 @@ void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
   const TableCache cache(o.noCache
                              ? std::filesystem::path()
                              : (o.cacheDir.empty() ? TableCache::defaultFolder() : o.cacheDir));
-  std::vector<std::string> warnings;
+  Warnings warnings;
   const LevelTables tables =
       buildLevelTables(*relief, o.phong, settings, nullptr, cache, &warnings);
-  for (const std::string& w : warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  for (const std::string& w : warnings.list())
+    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   const PeriodicTile tile(*relief, settings.histogram.meshResolution);
   ConsistencySettings s;
   s.thetaL = radians(o.thetaL);

@@ -26,8 +26,7 @@ double levelTablesBytes(const TableResolution& r, std::string* key) {
   return histograms + brdf + relief;
 }
 
-void checkRenderMemory(Scene& scene, uint64_t limitBytes, std::vector<std::string>& warnings,
-                       bool withFilm) {
+void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bool withFilm) {
   const std::string file = scene.file.string();
   const double film = withFilm ? filmBytes(scene.camera.width, scene.camera.height) : 0.0;
   requireMemoryWithin(limitBytes, film, file, "camera.resolution",
@@ -46,11 +45,11 @@ void checkRenderMemory(Scene& scene, uint64_t limitBytes, std::vector<std::strin
   const int64_t fits = static_cast<int64_t>(std::max(0.0, left) / kBytesPerMicropolygon);
   if (fits < scene.render.maxMicropolygons) {
     if (levels > 0)  // only a scene with relief displaces anything
-      warnings.push_back("render.max_micropolygons: lowered from " +
-                         std::to_string(scene.render.maxMicropolygons) + " to " +
-                         std::to_string(std::max<int64_t>(fits, 1000)) +
-                         " so that the micropolygons fit in the memory limit of " +
-                         formatMib(static_cast<double>(limitBytes)) + " (--memory-limit)");
+      warnings.add("render.max_micropolygons: lowered from " +
+                   std::to_string(scene.render.maxMicropolygons) + " to " +
+                   std::to_string(std::max<int64_t>(fits, 1000)) +
+                   " so that the micropolygons fit in the memory limit of " +
+                   formatMib(static_cast<double>(limitBytes)) + " (--memory-limit)");
     scene.render.maxMicropolygons = std::max<int64_t>(fits, 1000);
   }
 }

@@ -2,6 +2,7 @@
 // appearance tables, micropolygons); checked against the limit of core/memory_budget.h.
 #pragma once
 
+#include "meso/core/warnings.h"
 #include "meso/scene/scene.h"
 
 #include <cstdint>
@@ -22,8 +23,7 @@ double levelTablesBytes(const TableResolution& r, std::string* key);
 // (--memory-limit), and lowers render.max_micropolygons to what fits beside them (the cap becomes
 // a memory cap), adding a warning when it does. withFilm false: only the tables (meso tables
 // renders nothing).
-void checkRenderMemory(Scene& scene, uint64_t limitBytes, std::vector<std::string>& warnings,
-                       bool withFilm = true);
+void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bool withFilm = true);
 
 // Measured: about 70 MiB of geometry per million displaced micropolygons; with margin.
 inline constexpr double kBytesPerMicropolygon = 96.0;

@@ -100,9 +100,9 @@ class RenderRun {
                    "meso: warning: %s has no lights: the image is black except for the "
                    "materials' ambient term ka\n",
                    o_.scene.string().c_str());
-    std::vector<std::string> memoryWarnings;
+    Warnings memoryWarnings;
     checkRenderMemory(scene_, context_.memoryLimitBytes, memoryWarnings);
-    for (const std::string& w : memoryWarnings)
+    for (const std::string& w : memoryWarnings.list())
       std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
     output_ = o_.output.empty() ? defaultOutput(o_.scene) : o_.output;
     if (!hasExrExtension(output_))
@@ -149,8 +149,9 @@ class RenderRun {
   }
 
   void reportWarnings() {
-    for (; reportedWarnings_ < ctx_->warnings.size(); ++reportedWarnings_)
-      std::fprintf(stderr, "meso: warning: %s\n", ctx_->warnings[reportedWarnings_].c_str());
+    const std::vector<std::string> warnings = ctx_->warnings.list();
+    for (; reportedWarnings_ < warnings.size(); ++reportedWarnings_)
+      std::fprintf(stderr, "meso: warning: %s\n", warnings[reportedWarnings_].c_str());
   }
 
   void noteFrameGeometry(const FrameGeometryStats& geometry) {
@@ -247,7 +248,7 @@ class RenderRun {
     if (!o_.statsFile.empty()) {
       stats_.totalSeconds = total_.seconds();
       const nlohmann::json stats =
-          statsJson(scene_, output_, stats_, prep_, counters_, ctx_->warnings);
+          statsJson(scene_, output_, stats_, prep_, counters_, ctx_->warnings.list());
       StagedFiles statsFile;
       statsFile.stage(o_.statsFile, stats.dump(2) + "\n");
       lastFrame_.commit();

@@ -65,14 +65,15 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
   // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
   scene.render.algorithm = Algorithm::Auto;
-  std::vector<std::string> memoryWarnings;
+  Warnings memoryWarnings;
   checkRenderMemory(scene, context.memoryLimitBytes, memoryWarnings, false);
   if (!o.noPlots) createOutputFolder(o.outDir, "-o");
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
   PrepareTimes times;
   const RenderContext ctx = prepareRenderContext(scene, times, false, !o.noPlots);
-  for (const std::string& w : ctx.warnings) std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+  for (const std::string& w : ctx.warnings.list())
+    std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...
   std::printf(
       "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,bands,cache,seconds,"

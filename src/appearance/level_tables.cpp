@@ -48,7 +48,7 @@ BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableS
 // The self-shadowing factor of a level, from the cache or traced in the periodic tile.
 ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHistogram& layout,
                             float phong, const TableSettings& s, uint64_t levelKey,
-                            const TableCache& cache, std::vector<std::string>* warnings,
+                            const TableCache& cache, Warnings* warnings,
                             const ClassDerivation* derivation) {
   const ShadowingResolution& r = s.shadowing;
   Hasher hash;
@@ -66,7 +66,7 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   std::string warning;
   TableCache::Lock buildLock;  // from a miss until the table is stored: one build per key
   std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (warnings) warnings->add(warning);
   ShadowingTable table;
   if (cached && ShadowingTable::fromData(*cached, r, table) &&
       table.numPhiV() == layout.resolution().phiV &&
@@ -82,7 +82,7 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   }
   warning.clear();
   cache.store(key, table.toData(), &warning);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (warnings) warnings->add(warning);
   return table;
 }
 
@@ -97,7 +97,7 @@ struct PendingLevel {
   TableCache::Lock lock;  // from a miss until the tables are stored: one build per key
   ShadowingTable shadowing;
   double shadowingSeconds = 0.0, seconds = 0.0;
-  std::vector<std::string> warnings;
+  Warnings warnings;
 };
 
 // Phase one, in job order: the cached tables, or the key's lock until they are stored. A chain
@@ -109,7 +109,7 @@ void loadOrLock(const LevelJob& job, const TableCache& cache, PendingLevel& p) {
   p.distr = VisibleNormalHistogram(job.settings.histogram.resolution);
   std::string warning;
   std::optional<std::vector<float>> cached = cache.loadOrLock(p.key, &warning, &p.lock);
-  if (!warning.empty()) p.warnings.push_back(warning);
+  p.warnings.add(warning);
   const size_t histogramSize = p.distr.numBins();  // the cache holds masses, then the BRDF
   if (cached && cached->size() > histogramSize &&
       p.distr.fromData(std::span<const float>(*cached).first(histogramSize))) {
@@ -164,7 +164,7 @@ LevelTables finishLevel(const LevelJob& job, float phong, const BrdfTable* finer
     p.bytes = payload.size() * sizeof(float);
     std::string warning;
     cache.store(p.key, payload, &warning);
-    if (!warning.empty()) p.warnings.push_back(warning);
+    p.warnings.add(warning);
   }
   p.lock.unlock();
   Redistribution redistribution(distr, settings.variant);
@@ -183,16 +183,16 @@ LevelTables finishLevel(const LevelJob& job, float phong, const BrdfTable* finer
                      p.bytes};
 }
 
-void appendWarnings(std::vector<std::string>& from, std::vector<std::string>* to) {
-  if (to) to->insert(to->end(), from.begin(), from.end());
+void appendWarnings(Warnings& from, Warnings* to) {
+  if (to) to->append(std::move(from));
 }
 
 }  // namespace
 
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                              const TableSettings& settings, const LevelTables* finer,
-                             const TableCache& cache, std::vector<std::string>* warnings,
-                             const SpecularLobe* lobe, const ClassDerivation* derivation) {
+                             const TableCache& cache, Warnings* warnings, const SpecularLobe* lobe,
+                             const ClassDerivation* derivation) {
   const LevelJob job{&relief, settings, -1, lobe, derivation};
   PendingLevel p;
   p.key = tableKey(relief, phong, settings, finer ? &finer->key : nullptr, lobe, derivation);
@@ -204,8 +204,7 @@ LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
 }
 
 std::vector<LevelTables> buildLevelChain(std::span<const LevelJob> jobs, float phong,
-                                         const TableCache& cache,
-                                         std::vector<std::string>* warnings) {
+                                         const TableCache& cache, Warnings* warnings) {
   const size_t n = jobs.size();
   std::vector<PendingLevel> pending(n);
   for (size_t i = 0; i < n; ++i) {
@@ -247,18 +246,18 @@ uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& s) {
 
 TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& s,
                            const HistogramResolution& shadowingLayout, const TableCache& cache,
-                           std::vector<std::string>* warnings) {
+                           Warnings* warnings) {
   const uint64_t key = tileTablesKey(relief, s);
   TileTables t{VisibleNormalHistogram(s.histogram.resolution), {}};
   std::string warning;
   TableCache::Lock buildLock;
   std::optional<std::vector<float>> cached = cache.loadOrLock(key, &warning, &buildLock);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (warnings) warnings->add(warning);
   if (!cached || cached->size() != t.distr.numBins() || !t.distr.fromData(*cached)) {
     t.distr = buildVisibleNormalHistogram(relief, s.histogram);
     warning.clear();
     cache.store(key, t.distr.toData(false), &warning);
-    if (!warning.empty() && warnings) warnings->push_back(warning);
+    if (warnings) warnings->add(warning);
   }
   buildLock.unlock();
   t.distr.dropMeanNormals();  // derivation reads masses, as from the cache

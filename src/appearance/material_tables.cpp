@@ -104,8 +104,8 @@ struct DerivationTiles {
   // Per level: its tile is built once, by the first class that needs it; classes that need it
   // meanwhile join that build's parallel loops instead of waiting idle.
   std::unique_ptr<tbb::collaborative_once_flag[]> once;
-  std::vector<std::vector<std::string>> warnings;  // per level: its tile's
-  std::vector<uint64_t> keys;                      // per level
+  std::vector<Warnings> warnings;  // per level: its tile's
+  std::vector<uint64_t> keys;      // per level
   // The tile's settings for one level (its traced mesh follows the level: tableMeshResolution).
   TableSettings levelSettings(const ReliefLevel& level) const {
     TableSettings s = settings;
@@ -147,7 +147,7 @@ std::optional<DerivationTiles> planDerivation(const MaterialRelief& r,
 struct ClassCount {
   int built = 0, loaded = 0;
   double seconds = 0.0;
-  std::vector<std::string> warnings;
+  Warnings warnings;
 };
 
 // The tables of every level for one metric class, finest first in the build (each coarser BRDF
@@ -230,7 +230,7 @@ float steepestSlopePerU(const MaterialRelief& r) {
 // Raises the length of every class on which the relief's tile would be steeper than
 // kMaxTableSlope (through the class's stretch and shear), with a warning naming the material.
 void clampTableSlopes(const MaterialRelief& r, const std::string& name,
-                      std::vector<MetricClass>& classes, std::vector<std::string>* warnings) {
+                      std::vector<MetricClass>& classes, Warnings* warnings) {
   const float slopePerU = steepestSlopePerU(r);
   if (!(slopePerU > 0.0f)) return;
   float steepest = 0.0f, shortest = std::numeric_limits<float>::infinity();
@@ -251,23 +251,22 @@ void clampTableSlopes(const MaterialRelief& r, const std::string& name,
                 "origin, or its uv degenerate?)",
                 name.c_str(), shortest, steepest, kMaxTableSlope,
                 std::atan(kMaxTableSlope) * 180.0f / kPi);
-  warnings->push_back(text);
+  warnings->add(text);
 }
 
 }  // namespace
 
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings,
-                                   const TableSettings& settings, std::vector<MetricClass> classes,
-                                   ProgressBar* shared) {
+                                   Warnings* warnings, const TableSettings& settings,
+                                   std::vector<MetricClass> classes, ProgressBar* shared) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) {
     r.levels.push_back(makeReliefLevel(d));
     const auto* table = dynamic_cast<const HeightTable*>(r.levels.back().source.get());
     if (warnings && table && table->ignoredAlpha() && d.bandFirst == 0)
-      warnings->push_back(d.height.string() +
-                          ": its alpha channel is ignored (heights are the luminance of its "
-                          "colour channels)");
+      warnings->add(d.height.string() +
+                    ": its alpha channel is ignored (heights are the luminance of its colour "
+                    "channels)");
   }
   const size_t n = r.levels.size();
   linkImageBands(material.relief, r.levels);
@@ -320,10 +319,9 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                           derive ? &*derive : nullptr, counts[c], progress);
   });
   if (derive && warnings)
-    for (const std::vector<std::string>& w : derive->warnings)
-      warnings->insert(warnings->end(), w.begin(), w.end());
-  for (const ClassCount& c : counts) {
-    if (warnings) warnings->insert(warnings->end(), c.warnings.begin(), c.warnings.end());
+    for (Warnings& w : derive->warnings) warnings->append(std::move(w));
+  for (ClassCount& c : counts) {
+    if (warnings) warnings->append(std::move(c.warnings));
     r.tablesBuilt += c.built;
     r.tablesFromCache += c.loaded;
     r.tablesSeconds += c.seconds;

@@ -266,17 +266,17 @@ std::optional<std::vector<float>> TableCache::loadOrLock(uint64_t key, std::stri
 
 std::vector<float> TableCache::loadOrBuild(uint64_t key,
                                            const std::function<std::vector<float>()>& build,
-                                           std::vector<std::string>* warnings, bool* built) const {
+                                           Warnings* warnings, bool* built) const {
   Lock held;
   std::string warning;
   std::optional<std::vector<float>> data = loadOrLock(key, &warning, &held);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (warnings) warnings->add(warning);
   if (built) *built = !data;
   if (data) return std::move(*data);
   std::vector<float> fresh = build();
   warning.clear();
   store(key, fresh, &warning);
-  if (!warning.empty() && warnings) warnings->push_back(warning);
+  if (warnings) warnings->add(warning);
   return fresh;
 }
 

@@ -131,17 +131,17 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     ControlMesh mesh = loadControlMesh(object.mesh);
     transformControlMesh(mesh, object.transform);
     if (std::optional<std::string> w = precisionWarning(mesh, object.mesh.string()))
-      ctx.warnings.push_back(*w);
+      ctx.warnings.add(*w);
     times.load += load.seconds();
     Timer tess;
     const Material& material = scene.materials[object.material];
     std::string scaleWarning;
     const SolidSpace solid = solidSpace(material, object.transform, &scaleWarning);
-    if (!scaleWarning.empty()) ctx.warnings.push_back(object.mesh.string() + ": " + scaleWarning);
+    if (!scaleWarning.empty()) ctx.warnings.add(object.mesh.string() + ": " + scaleWarning);
     if (!mesh.hasUvs() && hasRelief(material) && !solid.active)
-      ctx.warnings.push_back(object.mesh.string() +
-                             ": the mesh has no texture coordinates (vt): its relief follows each "
-                             "face's own (s, t) chart and does not continue across faces");
+      ctx.warnings.add(object.mesh.string() +
+                       ": the mesh has no texture coordinates (vt): its relief follows each "
+                       "face's own (s, t) chart and does not continue across faces");
     LimitSurface surface = [&] {
       try {
         return LimitSurface(mesh, object.scheme);
@@ -198,7 +198,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
                     "origin, or its uv degenerate?)",
                     scene.materials[m].name.c_str(), kMaxMetricClasses,
                     scene.render.tables.metricStep, step, classes.size());
-      ctx.warnings.push_back(text);
+      ctx.warnings.add(text);
     }
     if (settings.build)
       sets += static_cast<int64_t>(std::max<size_t>(classes.size(), 1) *
@@ -209,7 +209,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   ProgressBar progress("tables (" + std::to_string(sets) + " sets)", sets, true,
                        std::chrono::milliseconds(1000));
   // Materials at once (the same tables whatever the thread count); warnings in material order.
-  std::vector<std::vector<std::string>> planWarnings(plans.size());
+  std::vector<Warnings> planWarnings(plans.size());
   tbb::parallel_for(size_t(0), plans.size(), [&](size_t p) {
     const size_t m = plans[p].material;
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &planWarnings[p], settings,
@@ -219,7 +219,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   });
   for (size_t p = 0; p < plans.size(); ++p) {
     const MaterialRelief& r = ctx.reliefs[plans[p].material];
-    ctx.warnings.insert(ctx.warnings.end(), planWarnings[p].begin(), planWarnings[p].end());
+    ctx.warnings.append(std::move(planWarnings[p]));
     times.tablesBuilt += r.tablesBuilt;
     times.tablesFromCache += r.tablesFromCache;
   }
@@ -288,7 +288,7 @@ void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, con
     AdaptiveTessellation& t = meshes[i];
     PreparedObject& object = ctx.objects[objects[i]];
     if (!t.warning.empty())
-      ctx.warnings.push_back(ctx.scene->objects[objects[i]].mesh.string() + ": " + t.warning);
+      ctx.warnings.add(ctx.scene->objects[objects[i]].mesh.string() + ": " + t.warning);
     stats.micropolygons += t.stats.micropolygons;
     stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
     stats.facesDiced += t.stats.facesDiced;

@@ -79,7 +79,7 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicin
   Rendered r;
   r.coarsening = geometry.coarsening;
   r.coarsenedBeyond = geometry.coarsenedBeyond;
-  r.warnings = ctx.warnings;
+  r.warnings = ctx.warnings.list();
   r.image = renderFrame(ctx, options, counters);
   RenderOptions second = options;
   second.seed = secondSeed(options.seed);

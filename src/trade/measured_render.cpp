@@ -84,7 +84,7 @@ MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
     resetPeakRss();  // what the second render needed is not the configuration's
   }
   out.addedMib = std::max(0.0, out.peakRssMib - before);
-  for (const std::string& w : ctx.warnings)
+  for (const std::string& w : ctx.warnings.list())
     std::fprintf(stderr, "meso: warning: %s: %s\n", c.name.c_str(), w.c_str());
   return out;
 }

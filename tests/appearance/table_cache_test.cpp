@@ -105,7 +105,7 @@ TEST_F(TableCacheTest, TwoBuildersOfOneKeyBuildItOnce) {
   };
   std::vector<float> results[2];
   bool built[2] = {false, false};
-  std::vector<std::string> warnings[2];
+  Warnings warnings[2];
   std::atomic<int> ready{0};
   const auto builder = [&](int i) {
     const TableCache cache(dir_);
@@ -154,7 +154,7 @@ TEST_F(TableCacheTest, LockIsANoOpWhenTheCacheIsDisabledOrUnwritable) {
   const TableCache unwritable(notAFolder / "cache");
   EXPECT_FALSE(unwritable.lock(1).held());
   // Both still build, every time.
-  std::vector<std::string> warnings;
+  Warnings warnings;
   bool built = false;
   EXPECT_EQ(unwritable.loadOrBuild(
                 1, [&] { return data_; }, &warnings, &built),
@@ -172,7 +172,7 @@ TEST_F(TableCacheTest, LoadOrBuildRebuildsCorruptTruncatedAndForeignFiles) {
   const TableCache cache(dir_);
   const fs::path file = cache.fileFor(5);
   const auto rebuilds = [&](const char* why) {
-    std::vector<std::string> warnings;
+    Warnings warnings;
     bool built = false;
     EXPECT_EQ(cache.loadOrBuild(
                   5, [&] { return data_; }, &warnings, &built),
@@ -180,7 +180,8 @@ TEST_F(TableCacheTest, LoadOrBuildRebuildsCorruptTruncatedAndForeignFiles) {
         << why;
     EXPECT_TRUE(built) << why;
     ASSERT_EQ(warnings.size(), 1u) << why;
-    EXPECT_NE(warnings[0].find(why), std::string::npos) << warnings[0];
+    const std::string warning0 = warnings.list()[0];
+    EXPECT_NE(warning0.find(why), std::string::npos) << warning0;
     std::string warning;
     EXPECT_EQ(cache.load(5, &warning), data_) << why;  // stored again, whole
   };

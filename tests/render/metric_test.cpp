@@ -227,7 +227,7 @@ TEST(Metric, ReliefSteeperThanTheTableCapIsTabulatedAtTheCap) {
     lengths.push_back(ctx.reliefs[0].metrics[0].lengthPerU);
     const bool steep = amplitude > 1.0f;
     bool warned = false;
-    for (const std::string& w : ctx.warnings)
+    for (const std::string& w : ctx.warnings.list())
       warned = warned || (w.find("at most 100 is tabulated") != std::string::npos &&
                           w.find("world units per unit of u") != std::string::npos);
     EXPECT_EQ(warned, steep) << amplitude;
@@ -251,7 +251,7 @@ TEST(Metric, AMeshFarFromTheOriginIsWarnedAbout) {
         s.objects[0].mesh.string() +
         ": it lies 1e+07 units from the origin, where positions (32-bit floats) are 1.1921 "
         "apart, 2.98% of its size (40)";
-    for (const std::string& w : ctx.warnings)
+    for (const std::string& w : ctx.warnings.list())
       warned = warned || w.find(expected) != std::string::npos;
     EXPECT_EQ(warned, offset > 1e6f) << offset;
   }

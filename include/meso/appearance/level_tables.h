@@ -8,6 +8,7 @@
 #include "meso/appearance/redistribution.h"
 #include "meso/appearance/shadowing_table.h"
 #include "meso/appearance/table_cache.h"
+#include "meso/core/warnings.h"
 
 #include <functional>
 #include <span>
@@ -77,7 +78,7 @@ struct LevelTables {
 // tile's (the relief and settings' shape then only name the class).
 LevelTables buildLevelTables(const PeriodicRelief& relief, float phong,
                              const TableSettings& settings, const LevelTables* finer,
-                             const TableCache& cache, std::vector<std::string>* warnings,
+                             const TableCache& cache, Warnings* warnings,
                              const SpecularLobe* lobe = nullptr,
                              const ClassDerivation* derivation = nullptr);
 
@@ -94,8 +95,7 @@ struct LevelJob {
 // and self-shadowing factors of all levels at once (no level's depends on another's), then the
 // BRDFs finest first, each over its finer level's. Warnings are appended in job order.
 std::vector<LevelTables> buildLevelChain(std::span<const LevelJob> jobs, float phong,
-                                         const TableCache& cache,
-                                         std::vector<std::string>* warnings);
+                                         const TableCache& cache, Warnings* warnings);
 
 // The cache key of a traced tile's TileTables (relief as traced, settings' histogram and shadows).
 uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& settings);
@@ -103,6 +103,6 @@ uint64_t tileTablesKey(const PeriodicRelief& relief, const TableSettings& settin
 // tile, for the classes that derive from it; the factor on the slices of `shadowingLayout`.
 TileTables buildTileTables(const PeriodicRelief& relief, float phong, const TableSettings& settings,
                            const HistogramResolution& shadowingLayout, const TableCache& cache,
-                           std::vector<std::string>* warnings);
+                           Warnings* warnings);
 
 }  // namespace meso

@@ -9,6 +9,7 @@
 #include "meso/appearance/synthesis_level.h"
 #include "meso/appearance/visible_height.h"
 #include "meso/core/progress.h"
+#include "meso/core/warnings.h"
 #include "meso/relief/height_source.h"
 #include "meso/relief/relief_level.h"
 #include "meso/scene/scene.h"
@@ -66,8 +67,7 @@ TableSettings tableSettings(const TableResolution& resolution);
 // here). Empty means the unit metric only. `progress` (may be null: a bar of the material's own)
 // advances by one per table set.
 MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   std::vector<std::string>* warnings,
-                                   const TableSettings& settings = {},
+                                   Warnings* warnings, const TableSettings& settings = {},
                                    std::vector<MetricClass> classes = {},
                                    ProgressBar* progress = nullptr);
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "meso/core/hash.h"
+#include "meso/core/warnings.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -102,9 +103,9 @@ class TableCache {
   std::optional<std::vector<float>> loadOrLock(uint64_t key, std::string* warning,
                                                Lock* lock) const;
   // loadOrLock(), then on a miss build() and store() under the lock. *built says whether build()
-  // ran; problems (a rejected file, a failed write) are appended to *warnings.
+  // ran; problems (a rejected file, a failed write) are added to *warnings (may be null).
   std::vector<float> loadOrBuild(uint64_t key, const std::function<std::vector<float>()>& build,
-                                 std::vector<std::string>* warnings, bool* built = nullptr) const;
+                                 Warnings* warnings, bool* built = nullptr) const;
 
   // The tables in the folder (files named <16 hex digits>.tbl; subfolders such as references/ and
   // temporaries are not tables), least recently used first. Throws meso::Error when the folder

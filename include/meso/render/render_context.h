@@ -4,6 +4,7 @@
 
 #include "meso/appearance/material_tables.h"
 #include "meso/core/texture_lookup.h"
+#include "meso/core/warnings.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
@@ -68,7 +69,7 @@ struct RenderContext {
   std::vector<PreparedObject> objects;  // index == RayScene mesh index
   std::unique_ptr<RayScene> rays;
   std::vector<MaterialRelief> reliefs;  // per material; empty levels for materials no object uses
-  std::vector<std::string> warnings;    // e.g. a corrupt table cache file that was rebuilt
+  Warnings warnings;                    // e.g. a corrupt table cache file that was rebuilt
   Algorithm algorithm = Algorithm::Auto;
   bool facetNormals = false;  // render.normals = facet
   bool shadows = false;       // render.shadows: shadow rays and tabulated self-shadowing
@@ -108,7 +109,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
 // into displaced micropolygons where the algorithm raises relief in this view (everywhere for
 // displacement, where T can exceed e3 for auto); the others keep the uniform tessellation of
 // render.tessellation_rate, built on the first call and reused after. Warnings (a micropolygon cap
-// that coarsened dicing) are appended to ctx.warnings.
+// that coarsened dicing) are added to ctx.warnings.
 FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& camera,
                                 PrepareTimes& times);
 
