@@ -44,6 +44,7 @@ TableSettings tableSettings(const TableResolution& q) {
   t.brdf.phi = q.brdfPhi;
   t.variant = q.variant;
   t.deriveClasses = q.deriveClasses;
+  t.shadowing.raysPerSlice = q.shadowRays;
   return t;
 }
 

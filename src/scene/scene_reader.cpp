@@ -182,6 +182,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.phiVBins = static_cast<int>(tr.integer("phi_v_bins", q.phiVBins, 1, 64));
     q.azimuths = static_cast<int>(tr.integer("azimuths", q.azimuths, 1, 1024));
     q.raysPerView = static_cast<int>(tr.integer("rays_per_view", q.raysPerView, 16, 1 << 22));
+    q.shadowRays = static_cast<int>(tr.integer("shadow_rays", q.shadowRays, 16, 1 << 22));
     q.meshResolution = static_cast<int>(tr.integer("mesh_resolution", q.meshResolution, 8, 4096));
     q.brdfThetaL = static_cast<int>(tr.integer("brdf_theta_l", q.brdfThetaL, 2, 512));
     q.brdfPhi = static_cast<int>(tr.integer("brdf_phi", q.brdfPhi, 2, 512));

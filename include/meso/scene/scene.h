@@ -163,6 +163,7 @@ struct TableResolution {
   int phiVBins = 16;         // view azimuth slices (1: isotropic tables, the paper's)
   int azimuths = 32;         // view azimuths traced per slice
   int raysPerView = 2048;    // rays per (theta_V, phi_V)
+  int shadowRays = 128;      // visible hits per slice of the self-shadowing table
   int meshResolution = 192;  // quads per tile side of the traced relief
   int brdfThetaL = 16;       // BRDF nodes over theta_L
   int brdfPhi = 16;          // BRDF nodes over |phi_{V-L}|
