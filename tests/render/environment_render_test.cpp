@@ -141,6 +141,42 @@ TEST(EnvironmentRender, OneBrightTexelLightsLikeADirectionalLight) {
   }
 }
 
+// The surface is opaque: light from below the macro surface's horizon reaches nothing, whatever
+// the renderer's normals face (a tilted bump normal would otherwise catch it from under an open
+// plane). A sky lit only below the horizon leaves the relief plane black with shadows off; the
+// same map turned over lights it.
+TEST(EnvironmentRender, LightFromBelowTheHorizonLightsNothing) {
+  Image map(32, 16, {"R", "G", "B"});
+  for (int y = 8; y < 16; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int k = 0; k < 3; ++k) map.at(x, y, k) = 1.0f;
+  const fs::path file = testing::ProcessTemporaries::add(
+      fs::temp_directory_path() / ("meso_env_below_" + std::to_string(::getpid()) + ".exr"));
+  writeExr(file, map);
+  Material m;
+  m.ka = Vec3(0.0f);
+  m.kd = Vec3(0.7f);
+  m.ks = Vec3(0.3f);
+  m.relief = {testing::noiseLevel(0.05f, 3.0f)};
+  for (const char* algorithm : {"bump", "redistribution", "brdf", "auto"}) {
+    Scene s = skyPlane(m, algorithm, Vec3(1.0f), 8);
+    s.environment->file = file;
+    s.render.shadows = false;
+    const Image below = render(s);
+    s.environment->up = Vec3(0.0f, 0.0f, -1.0f);
+    const Image above = render(s);
+    double sumBelow = 0.0, sumAbove = 0.0;
+    for (int y = 0; y < below.height; ++y)
+      for (int x = 0; x < below.width; ++x) {
+        if (!(below.at(x, y, FilmLayout::DepthZ) > 0.0f)) continue;
+        sumBelow += below.at(x, y, FilmLayout::G);
+        sumAbove += above.at(x, y, FilmLayout::G);
+      }
+    EXPECT_EQ(sumBelow, 0.0) << algorithm;
+    EXPECT_GT(sumAbove, 100.0) << algorithm;
+  }
+}
+
 // Camera rays that miss see the environment (render.background only without one).
 TEST(EnvironmentRender, RaysThatMissSeeTheEnvironment) {
   Scene s = skyPlane(Material{}, "auto", Vec3(0.2f, 0.4f, 0.8f), 4);
