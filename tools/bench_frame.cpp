@@ -37,7 +37,7 @@ struct Case {
     scene.camera.width = width;
     scene.camera.height = height;
     scene.render.algorithm = algorithm;
-    ctx.emplace(prepareRenderContext(scene, times, false));
+    ctx.emplace(prepareRenderContext(scene, times, {.buildFrame = false}));
   }
   Scene scene;
   PrepareTimes times;

@@ -14,7 +14,6 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
 #include "meso/core/input_file.h"
-#include "meso/core/progress.h"
 #include "meso/core/timer.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
@@ -79,7 +78,7 @@ class RenderRun {
     createOutputFolder(output_.parent_path(), "-o");
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
     if (animated_) storeFrameSettings(output_, settings_);
-    ctx_.emplace(prepareRenderContext(scene_, prep_, false));
+    ctx_.emplace(prepareRenderContext(scene_, prep_, {.buildFrame = false, .progress = !o_.quiet}));
     warnObjectsOutOfView();
     if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
     reportWarnings();
@@ -287,7 +286,6 @@ class RenderRun {
 };
 
 void runRender(const RenderCommandOptions& options, const RunContext& context) {
-  setProgressAllowed(!options.quiet);
   RenderRun(options, context).run();
 }
 

@@ -71,7 +71,8 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(scene, times, false, !o.noPlots);
+  const RenderContext ctx =
+      prepareRenderContext(scene, times, {.buildFrame = false, .keepHistograms = !o.noPlots});
   for (const std::string& w : ctx.warnings.list())
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...

@@ -11,7 +11,6 @@
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
-#include "meso/core/progress.h"
 #include "meso/render/integrator.h"
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
@@ -181,7 +180,6 @@ void writeTemporal(const TradeCommandOptions& o, const trade::TradeStudy& study,
 }
 
 void runTrade(const TradeCommandOptions& options, const RunContext&) {
-  setProgressAllowed(!options.settings.quiet);
   TradeCommandOptions o = options;
   o.settings.temporal = o.settings.temporal || o.temporalOnly;
   o.settings.grid.temporalOnly = o.temporalOnly;

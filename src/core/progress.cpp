@@ -14,17 +14,11 @@ std::string formatDuration(double s) {
   return fmt::format("{}:{:02d}", total / 60, total % 60);
 }
 
-namespace {
-std::atomic<bool> gProgressAllowed{true};
-}  // namespace
-
-void setProgressAllowed(bool allowed) { gProgressAllowed.store(allowed); }
-
 ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled,
                          std::chrono::milliseconds delay)
     : label_(std::move(label)),
       total_(std::max<int64_t>(total, 1)),
-      active_(enabled && gProgressAllowed.load() && ::isatty(STDERR_FILENO)),
+      active_(enabled && ::isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()),
       delay_(delay) {
   shown_ = delay_.count() <= 0;  // undelayed bars always draw their final state

@@ -107,8 +107,8 @@ bool RenderContext::viewDependent() const {
   return false;
 }
 
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame,
-                                   bool keepHistograms) {
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
+                                   const PrepareOptions& options) {
   RenderContext ctx{&scene,
                     Camera(scene.camera),
                     {},
@@ -164,7 +164,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   settings.shadows = scene.render.shadows && ctx.algorithm != Algorithm::Bump &&
                      ctx.algorithm != Algorithm::Displacement;
   settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
-  settings.keepHistograms = keepHistograms;
+  settings.keepHistograms = options.keepHistograms;
   // The metric classes of every material first, so that one progress line counts every table set
   // of the scene (with its ETA) instead of one line per material.
   struct Plan {
@@ -206,7 +206,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
     plans.push_back({m, std::move(classes), curved});
   }
   // Shown only when building takes longer than a second (tables read from the cache do not).
-  ProgressBar progress("tables (" + std::to_string(sets) + " sets)", sets, true,
+  ProgressBar progress("tables (" + std::to_string(sets) + " sets)", sets, options.progress,
                        std::chrono::milliseconds(1000));
   // Materials at once (the same tables whatever the thread count); warnings in material order.
   std::vector<Warnings> planWarnings(plans.size());
@@ -227,7 +227,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool
   times.tables += tables.seconds();
   for (PreparedObject& o : ctx.objects)
     o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();
-  if (buildFrame) prepareFrame(ctx, scene.camera, times);
+  if (options.buildFrame) prepareFrame(ctx, scene.camera, times);
   return ctx;
 }
 

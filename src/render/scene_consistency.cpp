@@ -68,7 +68,7 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicin
   if (d.texelSamples > 0.0f) scene.render.texelSamples = d.texelSamples;
   if (spp > 0) scene.camera.spp = spp;
   PrepareTimes times;
-  RenderContext ctx = prepareRenderContext(scene, times, false);
+  RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
   const FrameGeometryStats geometry = prepareFrame(ctx, scene.camera, times);
   RenderOptions options;
   options.spp = scene.camera.spp;

@@ -58,7 +58,7 @@ struct Rendered {
 
 Rendered render(const Scene& scene) {
   PrepareTimes times;
-  RenderContext ctx = prepareRenderContext(scene, times, false);
+  RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
   Rendered out;
   out.geometry = prepareFrame(ctx, scene.camera, times);
   RenderCounters counters;
@@ -201,7 +201,7 @@ TEST(Displacement, ReliefSlopeRmsScalesWithAmplitudeAndFrequency) {
 TEST(Displacement, PartialDisplacementHasExactLimits) {
   Scene s = planeScene("redistribution");
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(s, times, false);
+  const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
   const Redistribution& r = ctx.reliefs[0].tables(0).redistribution;
   Rng rng(4);
   for (int k = 0; k < 200; ++k) {
@@ -259,7 +259,7 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
   for (float rate : {4.0f, 1.0f, 0.25f}) {
     s.render.dicingRate = rate;
     PrepareTimes times;
-    RenderContext ctx = prepareRenderContext(s, times, false);
+    RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
     prepareFrame(ctx, s.camera, times);
     const PreparedObject& o = ctx.objects[0];
     const ReliefLevel& level = ctx.reliefs[0].levels[0];

@@ -105,8 +105,10 @@ TEST(Metric, TablesFollowTheLengthPerU) {
   Scene a = metricScene("brdf", "unit", unit, 2.0f, 0.03f);
   Scene b = metricScene("brdf", "one", one, 80.0f, 0.03f);
   PrepareTimes times;
-  const RenderContext ca = prepareRenderContext(a, times, false, true),
-                      cb = prepareRenderContext(b, times, false, true);
+  const RenderContext ca = prepareRenderContext(a, times,
+                                                {.buildFrame = false, .keepHistograms = true}),
+                      cb = prepareRenderContext(b, times,
+                                                {.buildFrame = false, .keepHistograms = true});
   ASSERT_EQ(ca.reliefs[0].metrics.size(), 1u);
   ASSERT_EQ(cb.reliefs[0].metrics.size(), 1u);
   EXPECT_NEAR(ca.reliefs[0].metrics[0].lengthPerU, 1.0f, 1e-4f);
@@ -129,7 +131,7 @@ TEST(Metric, OnlyTableRenderersGetTables) {
   for (const char* algorithm : {"bump", "displacement", "brdf"}) {
     const Scene s = metricScene(algorithm, std::string("only_") + algorithm, unit, 2.0f, 0.03f);
     PrepareTimes times;
-    const RenderContext ctx = prepareRenderContext(s, times, false);
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
     ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u) << algorithm;
     const bool tables = std::string(algorithm) == "brdf";
     EXPECT_EQ(ctx.reliefs[0].metrics[0].levels.size(), tables ? 1u : 0u) << algorithm;
@@ -144,8 +146,9 @@ TEST(Metric, RenderContextsKeepNoHistogramMasses) {
   const Vec2 unit[4] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
   const Scene s = metricScene("brdf", "masses", unit, 2.0f, 0.03f);
   PrepareTimes times;
-  const RenderContext lean = prepareRenderContext(s, times, false),
-                      kept = prepareRenderContext(s, times, false, true);
+  const RenderContext lean = prepareRenderContext(s, times, {.buildFrame = false}),
+                      kept = prepareRenderContext(s, times,
+                                                  {.buildFrame = false, .keepHistograms = true});
   const LevelTables &a = lean.reliefs[0].tables(0), &b = kept.reliefs[0].tables(0);
   EXPECT_TRUE(a.distr.toData(false).empty());
   EXPECT_EQ(b.distr.toData(false).size(), b.distr.numBins());
@@ -204,7 +207,7 @@ TEST(Metric, ShearedAndStretchedClassesGetTwiceTheViewSlices) {
     s.render.tables.phiVBins = 4;
     s.render.tables.azimuths = 8;
     PrepareTimes times;
-    const RenderContext ctx = prepareRenderContext(s, times, false);
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
     ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u);
     const HistogramResolution& q = ctx.reliefs[0].metrics[0].levels[0].distr.resolution();
     EXPECT_EQ(q.phiV, 4 * c.factor) << "shape a " << ctx.reliefs[0].metrics[0].shape.a << " b "
@@ -222,7 +225,7 @@ TEST(Metric, ReliefSteeperThanTheTableCapIsTabulatedAtTheCap) {
     // Bump builds no tables but lists the classes, as the table renderers would get them.
     const Scene s = metricScene("bump", "steep", unit, 2.0f, amplitude);
     PrepareTimes times;
-    const RenderContext ctx = prepareRenderContext(s, times, false);
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
     ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u);
     lengths.push_back(ctx.reliefs[0].metrics[0].lengthPerU);
     const bool steep = amplitude > 1.0f;
@@ -245,7 +248,7 @@ TEST(Metric, AMeshFarFromTheOriginIsWarnedAbout) {
     Scene s = metricScene("bump", "far", unit, 2.0f, 0.03f);
     s.objects[0].transform = glm::translate(Mat4(1.0f), Vec3(offset, 0.0f, 0.0f));
     PrepareTimes times;
-    const RenderContext ctx = prepareRenderContext(s, times, false);
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
     bool warned = false;
     const std::string expected =
         s.objects[0].mesh.string() +

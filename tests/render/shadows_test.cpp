@@ -99,7 +99,7 @@ TEST(Shadows, FloatingQuadCastsItsShadowAndNothingElse) {
                           {-1.0f, 0.0f, -1.0f});
   const Image img = render(scene);
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(scene, times, false);
+  const RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
   int dark = 0, lit = 0;
   const float lightOnFloor = 0.5f * std::sqrt(0.5f);
   for (int y = 0; y < img.height; ++y)
@@ -234,7 +234,7 @@ TEST(Shadows, ShadowsOffLightsTheFloorUnderAnOccluder) {
   scene.render.shadows = false;
   const Image img = render(scene);
   PrepareTimes times;
-  const RenderContext ctx = prepareRenderContext(scene, times, false);
+  const RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
   const float lightOnFloor = 0.5f * std::sqrt(0.5f);
   int inShadowRegion = 0;
   for (int y = 0; y < img.height; ++y)

@@ -12,17 +12,13 @@
 
 namespace meso {
 
-// Whether progress bars may draw at all in this process (default true): the CLI turns them off
-// for --quiet, for bars drawn deep in the library (table building).
-void setProgressAllowed(bool allowed);
-
 // A duration as m:ss (the bar's elapsed time and ETA; also the CLI's per-frame ETA).
 std::string formatDuration(double seconds);
 
 class ProgressBar {
  public:
-  // enabled = false forces silence (e.g. --quiet); otherwise it draws only if stderr is a TTY and
-  // progress is allowed. With a delay the bar appears only for work that lasts longer than it
+  // enabled = false forces silence (e.g. --quiet); otherwise it draws only if stderr is a TTY.
+  // With a delay the bar appears only for work that lasts longer than it
   // (nothing is drawn for a quick run, e.g. tables read from the cache).
   ProgressBar(std::string label, int64_t total, bool enabled = true,
               std::chrono::milliseconds delay = std::chrono::milliseconds(0));

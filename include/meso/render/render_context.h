@@ -98,12 +98,20 @@ struct RenderContext {
   bool viewDependent() const;
 };
 
+// What prepareRenderContext does besides loading the scene and building its tables.
+struct PrepareOptions {
+  bool buildFrame = true;  // the geometry of the scene's own camera (prepareFrame)
+  // The tables' histograms keep their masses (`meso tables` plots them;
+  // TableSettings::keepHistograms).
+  bool keepHistograms = false;
+  bool progress = true;  // the tables' progress bar (drawn only when stderr is a terminal)
+};
+
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that
-// objects use (only those), then (unless buildFrame is false) the geometry of the scene's own
-// camera (prepareFrame). The tables' histograms keep their masses only when keepHistograms is true
-// (`meso tables` plots them; TableSettings::keepHistograms).
-RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times, bool buildFrame = true,
-                                   bool keepHistograms = false);
+// objects use (only those), then (unless options.buildFrame is false) the geometry of the scene's
+// own camera (prepareFrame).
+RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
+                                   const PrepareOptions& options = {});
 
 // Sets the camera and builds the frame's geometry: objects whose material has relief are diced
 // into displaced micropolygons where the algorithm raises relief in this view (everywhere for

@@ -51,6 +51,7 @@ struct MeasureOptions {
   const std::atomic<bool>* cancel = nullptr;
   // Set once the peak RSS could not be reset (a warning was printed then, only once).
   bool* warnedRss = nullptr;
+  bool progress = true;  // the tables' progress bar (drawn only when stderr is a terminal)
 };
 
 // Renders `c` of `base` through `cameras`, each frame with the scene's seed and then with the
