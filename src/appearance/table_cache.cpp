@@ -1,6 +1,7 @@
 #include "meso/appearance/table_cache.h"
 
 #include "meso/core/atomic_file.h"
+#include "meso/core/cache_file.h"
 #include "meso/core/error.h"
 
 #include <fcntl.h>
@@ -168,27 +169,18 @@ fs::path TableCache::lockFileFor(uint64_t key) const { return folder_ / keyName(
 std::optional<std::vector<float>> TableCache::load(uint64_t key, std::string* warning) const {
   if (folder_.empty()) return std::nullopt;
   const fs::path file = fileFor(key);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
-  const auto reject = [&](const char* why) -> std::optional<std::vector<float>> {
-    if (warning) *warning = file.string() + ": " + why + "; rebuilding";
-    in.close();
-    std::error_code ignored;
-    fs::remove(file, ignored);
-    return std::nullopt;
-  };
+  CacheFileReader in(file, "rebuilding", warning);
+  if (!in.opened()) return std::nullopt;
   Header h{};
-  if (!in.read(reinterpret_cast<char*>(&h), sizeof h)) return reject("truncated header");
-  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return reject("not a meso table file");
-  if (h.version != kTableFormatVersion) return reject("stale table format version");
-  if (h.key != key) return reject("key mismatch");
-  if (h.count > (uint64_t{1} << 32)) return reject("implausible size");
+  if (!in.readHeader(h)) return std::nullopt;
+  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return in.reject("not a meso table file");
+  if (h.version != kTableFormatVersion) return in.reject("stale table format version");
+  if (h.key != key) return in.reject("key mismatch");
+  if (h.count > (uint64_t{1} << 32)) return in.reject("implausible size");
   std::vector<float> data(h.count);
-  if (!in.read(reinterpret_cast<char*>(data.data()),
-               static_cast<std::streamsize>(h.count * sizeof(float))))
-    return reject("truncated payload");
-  if (in.peek() != std::char_traits<char>::eof()) return reject("trailing bytes");
-  if (checksumOf(data) != h.checksum) return reject("checksum mismatch (corrupt)");
+  if (!in.read(data.data(), h.count * sizeof(float), "truncated payload")) return std::nullopt;
+  if (!in.atEnd()) return std::nullopt;
+  if (checksumOf(data) != h.checksum) return in.reject("checksum mismatch (corrupt)");
   // The mtime is the last use that eviction goes by; a read-only folder just keeps the old one.
   std::error_code ignored;
   fs::last_write_time(file, fs::file_time_type::clock::now(), ignored);

@@ -3,6 +3,7 @@
 
 #include "meso/appearance/table_cache.h"
 #include "meso/core/atomic_file.h"
+#include "meso/core/cache_file.h"
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 
@@ -84,24 +85,16 @@ fs::path ReferenceCache::fileFor(uint64_t key) const {
 
 std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* warning) const {
   if (folder_.empty()) return std::nullopt;
-  const fs::path file = fileFor(key);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
-  const auto reject = [&](const char* why) -> std::optional<ReferenceRender> {
-    if (warning) *warning = file.string() + ": " + why + "; re-rendering the reference";
-    in.close();
-    std::error_code ignored;
-    fs::remove(file, ignored);
-    return std::nullopt;
-  };
+  CacheFileReader in(fileFor(key), "re-rendering the reference", warning);
+  if (!in.opened()) return std::nullopt;
   Header h{};
-  if (!in.read(reinterpret_cast<char*>(&h), sizeof h)) return reject("truncated header");
+  if (!in.readHeader(h)) return std::nullopt;
   if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || h.version != kFormatVersion)
-    return reject("not a meso reference file of this version");
-  if (h.key != key) return reject("key mismatch");
+    return in.reject("not a meso reference file of this version");
+  if (h.key != key) return in.reject("key mismatch");
   if (h.width < 1 || h.height < 1 || h.frames < 1 || h.width > 16384 || h.height > 16384 ||
       h.frames > 100000)
-    return reject("implausible size");
+    return in.reject("implausible size");
   ReferenceRender r;
   r.width = h.width, r.height = h.height;
   r.seconds = h.seconds, r.peakRssMib = h.peakRssMib, r.geometryMib = h.geometryMib;
@@ -110,13 +103,11 @@ std::optional<ReferenceRender> ReferenceCache::load(uint64_t key, std::string* w
   const size_t n = static_cast<size_t>(h.width) * static_cast<size_t>(h.height) * 4;
   r.frames.assign(static_cast<size_t>(h.frames), std::vector<float>(n));
   for (std::vector<float>& f : r.frames)
-    if (!in.read(reinterpret_cast<char*>(f.data()),
-                 static_cast<std::streamsize>(n * sizeof(float))))
-      return reject("truncated pixels");
+    if (!in.read(f.data(), n * sizeof(float), "truncated pixels")) return std::nullopt;
   uint64_t sum = 0;
-  if (!in.read(reinterpret_cast<char*>(&sum), sizeof sum) || sum != checksum(r.frames))
-    return reject("checksum mismatch");
-  if (in.peek() != std::char_traits<char>::eof()) return reject("trailing bytes");
+  if (!in.read(&sum, sizeof sum, "checksum mismatch")) return std::nullopt;
+  if (sum != checksum(r.frames)) return in.reject("checksum mismatch");
+  if (!in.atEnd()) return std::nullopt;
   return r;
 }
 
