@@ -3,9 +3,17 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace meso {
+
+// The rate (segments) for x asked-for segments: ceil(x) clamped to [1, limit]; NaN gives 1. Mesh
+// edges and split faces' sub-quads both round this way.
+inline int toRate(float x, int limit) {
+  if (!(x > 1.0f)) return 1;
+  return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
+}
 
 // Each unit diced at one rate (a mesh edge, the sub-quad of a split face) is coarsened by
 // factor(d), d the distance from the eye to its nearest point: 1 nearer than `beyond` (D), d / D

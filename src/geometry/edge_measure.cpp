@@ -74,12 +74,6 @@ void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDic
   }
 }
 
-// ceil(x) clamped to [1, limit]; NaN gives 1.
-int toRate(float x, int limit) {
-  if (!(x > 1.0f)) return 1;
-  return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
-}
-
 }  // namespace
 
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,

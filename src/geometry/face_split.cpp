@@ -20,18 +20,12 @@ using Cell = SplitPlan::Cell;
 // Split only where parts of a face differ by more than this in pixel density.
 constexpr float kSplitDensityRatio = 2.0f;
 
-// ceil(x) clamped to [1, limit]; NaN gives 1 (as adaptive_tessellation.cpp's edge rates).
-int toRate(float x, int limit) {
-  if (!(x > 1.0f)) return 1;
-  return static_cast<int>(std::min(std::ceil(x), static_cast<float>(limit)));
-}
-
 struct CellSamples {
   Vec3 P[3][3];  // [row along v][column along u]
 };
 
 // Segments that keep the polyline a0 a2 within `tolerance` pixels of the curve through a1 (a
-// chord's deviation falls as 1 / n^2 with n segments), as adaptive_tessellation.cpp measures edges.
+// chord's deviation falls as 1 / n^2 with n segments), as edge_measure.cpp measures edges.
 float coarseSegments(const ScreenMetric& screen, Vec3 a0, Vec3 a1, Vec3 a2, float tolerance) {
   const float z = screen.depth(a1);
   if (!(z >= screen.nearDistance)) return 0.0f;
