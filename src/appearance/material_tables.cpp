@@ -8,10 +8,11 @@
 #include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -244,15 +245,12 @@ void clampTableSlopes(const MaterialRelief& r, const std::string& name,
     m.lengthPerU = least;
   }
   if (!(steepest > 0.0f) || !warnings) return;
-  char text[500];
-  std::snprintf(text, sizeof text,
-                "material '%s': on a surface of %g world units per unit of u its relief has an "
-                "rms slope of %g (at most %g is tabulated: %.2f degrees); its tables are built at "
-                "that slope there (is the amplitude meant to be smaller, a mesh far from the "
-                "origin, or its uv degenerate?)",
-                name.c_str(), shortest, steepest, kMaxTableSlope,
-                std::atan(kMaxTableSlope) * 180.0f / kPi);
-  warnings->add(text);
+  warnings->warn(
+      "material '{}': on a surface of {:g} world units per unit of u its relief has an rms slope "
+      "of {:g} (at most {:g} is tabulated: {:.2f} degrees); its tables are built at that slope "
+      "there (is the amplitude meant to be smaller, a mesh far from the origin, or its uv "
+      "degenerate?)",
+      name, shortest, steepest, kMaxTableSlope, std::atan(kMaxTableSlope) * 180.0f / kPi);
 }
 
 }  // namespace

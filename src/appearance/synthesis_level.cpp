@@ -12,9 +12,10 @@
 #include "meso/synthesis/ndf_estimate.h"
 #include "meso/synthesis/tabulated_ndf.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace meso {
 namespace {
@@ -64,9 +65,7 @@ Vec2 ScaledSlopeNdf::support() const {
 }
 
 std::string ScaledSlopeNdf::name() const {
-  char text[64];
-  std::snprintf(text, sizeof text, " slopes x %.4g", k_);
-  return ndf_->name() + text;
+  return ndf_->name() + fmt::format(" slopes x {:.4g}", k_);
 }
 
 uint64_t ScaledSlopeNdf::fingerprint() const {

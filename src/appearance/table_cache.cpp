@@ -4,6 +4,8 @@
 #include "meso/core/cache_file.h"
 #include "meso/core/error.h"
 
+#include <fmt/format.h>
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
@@ -11,7 +13,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -46,9 +47,7 @@ uint64_t checksumOf(std::span<const float> data) {
 }
 
 std::string keyName(uint64_t key, const char* extension) {
-  char name[40];
-  std::snprintf(name, sizeof name, "%016llx%s", static_cast<unsigned long long>(key), extension);
-  return name;
+  return fmt::format("{:016x}{}", key, extension);
 }
 
 // The key of a file named as keyName() names them, or nullopt (temporaries start with a dot).
@@ -116,17 +115,12 @@ uint64_t parseByteSize(std::string_view text, const std::string& what) {
 }
 
 std::string formatByteSize(uint64_t bytes) {
-  char text[32];
-  if (bytes < 1024) {
-    std::snprintf(text, sizeof text, "%llu B", static_cast<unsigned long long>(bytes));
-    return text;
-  }
+  if (bytes < 1024) return fmt::format("{} B", bytes);
   constexpr const char* kUnits[] = {"KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
   double value = static_cast<double>(bytes) / 1024.0;
   int unit = 0;
   for (; value >= 1024.0 && unit < 5; ++unit) value /= 1024.0;
-  std::snprintf(text, sizeof text, "%.1f %s", value, kUnits[unit]);
-  return text;
+  return fmt::format("{:.1f} {}", value, kUnits[unit]);
 }
 
 TableCache::Lock& TableCache::Lock::operator=(Lock&& other) noexcept {

@@ -5,9 +5,10 @@
 #include "meso/core/error.h"
 #include "meso/relief/fourier.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -89,9 +90,8 @@ void checkBandLevels(const HeightTable& table, int numLevels) {
     throw Error("band split: need 1 to 16 levels, got " + std::to_string(numLevels));
   const int most = maxBandLevels(table);
   if (numLevels > most) {
-    char nyquist[32];
-    std::snprintf(nyquist, sizeof nyquist, "%g",
-                  0.5 * std::min(table.width(), table.heightTexels()));
+    const std::string nyquist =
+        fmt::format("{:g}", 0.5 * std::min(table.width(), table.heightTexels()));
     throw Error("band split: a " + std::to_string(table.width()) + " x " +
                 std::to_string(table.heightTexels()) + " map splits into at most " +
                 std::to_string(most) + (most == 1 ? " band" : " bands") +

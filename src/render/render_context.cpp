@@ -9,10 +9,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <deque>
 #include <limits>
 #include <optional>
@@ -65,13 +66,11 @@ std::optional<std::string> precisionWarning(const ControlMesh& mesh, const std::
                               std::abs(hi.y), std::abs(hi.z)});
   const float spacing = far * std::numeric_limits<float>::epsilon();
   if (!std::isfinite(far) || !(spacing > 1e-3f * size)) return std::nullopt;
-  char text[400];
-  std::snprintf(text, sizeof text,
-                "%s: it lies %g units from the origin, where positions (32-bit floats) are %g "
-                "apart, %.3g%% of its size (%g): its shape and relief are not kept there; move the "
-                "scene nearer the origin",
-                name.c_str(), far, spacing, 100.0f * spacing / size, size);
-  return text;
+  return fmt::format(
+      "{}: it lies {:g} units from the origin, where positions (32-bit floats) are {:g} apart, "
+      "{:.3g}% of its size ({:g}): its shape and relief are not kept there; move the scene "
+      "nearer the origin",
+      name, far, spacing, 100.0f * spacing / size, size);
 }
 
 }  // namespace
@@ -190,15 +189,13 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
     float step = scene.render.tables.metricStep;
     std::vector<MetricClass> classes = metricClassesFor(samples, step, &step);
     if (step > scene.render.tables.metricStep) {
-      char text[400];
-      std::snprintf(text, sizeof text,
-                    "material '%s': its surfaces' metrics (uv stretch, shear and length per unit "
-                    "of u) need more than %zu table sets per level at render.tables.metric_step "
-                    "%g; they were binned at a step of %g octaves into %zu (is a mesh far from the "
-                    "origin, or its uv degenerate?)",
-                    scene.materials[m].name.c_str(), kMaxMetricClasses,
-                    scene.render.tables.metricStep, step, classes.size());
-      ctx.warnings.add(text);
+      ctx.warnings.warn(
+          "material '{}': its surfaces' metrics (uv stretch, shear and length per unit of u) "
+          "need more than {} table sets per level at render.tables.metric_step {:g}; they were "
+          "binned at a step of {:g} octaves into {} (is a mesh far from the origin, or its uv "
+          "degenerate?)",
+          scene.materials[m].name, kMaxMetricClasses, scene.render.tables.metricStep, step,
+          classes.size());
     }
     if (settings.build)
       sets += static_cast<int64_t>(std::max<size_t>(classes.size(), 1) *

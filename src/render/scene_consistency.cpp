@@ -7,9 +7,10 @@
 #include "meso/render/local_contrast.h"
 #include "meso/render/render_context.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace meso {
 namespace {
@@ -208,12 +209,11 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
   // twice its edges per texel of height images.
   const float samples = scene.render.reliefSamples;
   const auto [fineTexel, coarseTexel] = referenceTexelSamples(scene);
-  char dicing[200];
-  std::snprintf(dicing, sizeof dicing,
-                "%g px, %g per relief wavelength, %g per texel; and %g px, %g, %g",
-                o.referenceDicing, std::min(16.0f, 2.0f * samples), fineTexel,
-                2.0f * o.referenceDicing, samples, coarseTexel);
-  announce(std::string("reference: displacement at ") + dicing);
+  announce(fmt::format(
+      "reference: displacement at {:g} px, {:g} per relief wavelength, {:g} per texel; and {:g} "
+      "px, {:g}, {:g}",
+      o.referenceDicing, std::min(16.0f, 2.0f * samples), fineTexel, 2.0f * o.referenceDicing,
+      samples, coarseTexel));
   images.push_back(renderWith(scene, Algorithm::Displacement, {o.referenceDicing, 2.0f, fineTexel},
                               o.referenceSpp, o.cancel, true));
   report.renderers.push_back("reference");
@@ -240,11 +240,6 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
 std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFormat format) {
   const bool markdown = format == TableFormat::Markdown;
   std::string out;
-  char buf[64];
-  const auto cell = [&](double v, const char* fmt) {
-    std::snprintf(buf, sizeof buf, fmt, v);
-    return std::string(buf);
-  };
   const std::string sep = markdown ? " | " : ",";
   out += markdown ? "| region | pixels" : "region,pixels";
   for (const std::string& r : report.renderers) out += sep + r;
@@ -263,13 +258,14 @@ std::string formatSceneConsistency(const SceneConsistencyReport& report, TableFo
     if (r.pixels == 0) continue;
     out += (markdown ? "| " : "") + (markdown ? r.name : "\"" + r.name + "\"") + sep +
            std::to_string(r.pixels);
-    for (double m : r.mean) out += sep + cell(m, "%.5f");
+    for (double m : r.mean) out += sep + fmt::format("{:.5f}", m);
     for (size_t i = 1; i < r.mean.size(); ++i)
-      out += sep + cell(r.mean[0] > 0.0 ? 100.0 * (r.mean[i] / r.mean[0] - 1.0) : 0.0, "%+.2f%%");
-    out += sep + cell(r.contrast.empty() ? 0.0 : r.contrast[0], "%.4f");
+      out += sep +
+             fmt::format("{:+.2f}%", r.mean[0] > 0.0 ? 100.0 * (r.mean[i] / r.mean[0] - 1.0) : 0.0);
+    out += sep + fmt::format("{:.4f}", r.contrast.empty() ? 0.0 : r.contrast[0]);
     for (size_t i = 1; i < r.contrastRatio.size(); ++i)
       out += sep + (std::isnan(r.contrastRatio[i]) ? (markdown ? "-" : "")
-                                                   : cell(r.contrastRatio[i], "%.3f"));
+                                                   : fmt::format("{:.3f}", r.contrastRatio[i]));
     out += markdown ? " |\n" : "\n";
   }
   return out;

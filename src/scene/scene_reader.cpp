@@ -13,9 +13,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <toml++/toml.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <optional>
 
@@ -248,9 +249,8 @@ void readPath(TableReader& r, PathSettings& p, const CameraSettings& camera) {
     if (const std::string problem = cameraProblem(c); !problem.empty()) {
       const float f =
           p.frames > 1 ? static_cast<float>(i) / static_cast<float>(p.frames - 1) : 0.0f;
-      char at[32];
-      std::snprintf(at, sizeof at, "%.6g",
-                    path.startTime() + f * (path.endTime() - path.startTime()));
+      const std::string at =
+          fmt::format("{:.6g}", path.startTime() + f * (path.endTime() - path.startTime()));
       const toml::node* keys = r.get("keys");
       throw Error(FileLoc{r.file(), keys ? static_cast<int>(keys->source().begin.line) : 0,
                           keys ? static_cast<int>(keys->source().begin.column) : 0},
