@@ -104,19 +104,6 @@ void evaluateHit(const RenderContext& ctx, const Ray& ray, SampleHit& s) {
     s.sp.P = ray.origin + s.hit.t * ray.direction;  // lights see the raised point, not the limit
 }
 
-// Where a hit's shadow rays start (shadow_rays.h); `limitP` null leaves the start on the traced
-// triangle (trace-only frames, which evaluate no limit surface).
-ShadowOrigin shadowOriginOf(const Ray& ray, const RayHit& hit, const Vec3& facet,
-                            const Vec3* limitP) {
-  ShadowOrigin o;
-  o.hit = ray.origin + hit.t * ray.direction;
-  o.facetN = facet;
-  o.V = -ray.direction;
-  o.rayT = hit.t;
-  o.limitP = limitP;
-  return o;
-}
-
 // Shades one camera sample from what its ray found and the lights' visibility from its hit.
 // footprintScale: the bump filter's footprint (0: off); pixelScale: a sample's share of the pixel,
 // over which colour textures are filtered (0: point lookups).
@@ -266,9 +253,15 @@ void traceChunkShadows(const RenderContext& ctx, Chunk& chunk, bool limit) {
   for (size_t s = 0; s < n; ++s) {
     const SampleHit& h = chunk.hits[s];
     if (!h.found) continue;
+    const Ray& ray = chunk.rays[s];
+    // Without `limit` (trace-only frames evaluate no limit surface) or on displaced
+    // micropolygons, the rays start on the traced triangle.
     const bool displaced = ctx.objects[h.hit.mesh].displaced;
-    starts[s] = shadowRayStart(
-        shadowOriginOf(chunk.rays[s], h.hit, h.facet, limit && !displaced ? &h.limitP : nullptr));
+    starts[s] = shadowRayStart({.hit = ray.origin + h.hit.t * ray.direction,
+                                .facetN = h.facet,
+                                .V = -ray.direction,
+                                .rayT = h.hit.t,
+                                .limitP = limit && !displaced ? &h.limitP : nullptr});
   }
   for (size_t k = 0; k < lights; ++k) {
     chunk.shadowRays.clear();
