@@ -39,11 +39,12 @@ CLI::App* addBandsOptions(CLI::App& cli, BandsCommandOptions& o) {
   return b;
 }
 
-void runBands(const BandsCommandOptions& o, const RunContext&) {
+void runBands(const BandsCommandOptions& o, const RunContext& context) {
   if (o.levels < 1 || o.levels > 16)
     throw Error("--levels: expected 1..16, got " + std::to_string(o.levels));
   HeightTableOptions options;
   options.periodic = !o.clamp;
+  options.memoryLimitBytes = context.memoryLimitBytes;
   const HeightTable table = loadHeightTable(o.height, options);
   try {
     checkBandLevels(table, o.levels);

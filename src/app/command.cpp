@@ -15,11 +15,8 @@
 namespace meso::app {
 
 void Command::run() {
-  const RunContext context{.memoryLimitBytes = memoryLimitMib_ > 0 ? memoryLimitMib_ << 20
-                                                                   : defaultMemoryLimitBytes()};
-  // Image decoding deep in the relief loaders refuses images over the limit (core/image_io).
-  setMemoryLimitBytes(context.memoryLimitBytes);
-  execute(context);
+  execute({.memoryLimitBytes =
+               memoryLimitMib_ > 0 ? memoryLimitMib_ << 20 : defaultMemoryLimitBytes()});
 }
 
 void Command::addMemoryLimit() {

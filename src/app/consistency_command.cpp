@@ -148,13 +148,13 @@ void addPatchOptions(CLI::App* c, ConsistencyCommandOptions& o) {
 }
 
 // The environment of --environment, its up axis the patch's normal +z.
-EnvironmentMap patchEnvironment(const ConsistencyCommandOptions& o) {
+EnvironmentMap patchEnvironment(const ConsistencyCommandOptions& o, uint64_t memoryLimitBytes) {
   EnvironmentDecl decl;
   decl.loc.file = "--environment";
   if (o.environment != "uniform") decl.file = o.environment;
   decl.rotation = o.environmentRotation;
   decl.up = Vec3(0.0f, 0.0f, 1.0f);
-  return EnvironmentMap::load(decl);
+  return EnvironmentMap::load(decl, memoryLimitBytes);
 }
 
 CLI::App* addConsistencyOptions(CLI::App& cli, ConsistencyCommandOptions& o) {
@@ -183,13 +183,14 @@ CLI::App* addConsistencyOptions(CLI::App& cli, ConsistencyCommandOptions& o) {
   return c;
 }
 
-void runSceneConsistency(const ConsistencyCommandOptions& o) {
+void runSceneConsistency(const ConsistencyCommandOptions& o, const RunContext& context) {
   if (!o.environment.empty())
     throw Error(
         "--environment: the patch's light; a SCENE is lit by its own [[lights]] (an environment "
         "there is a light of type \"environment\")");
-  const Scene scene = loadScene(o.scene, setOverrides(o.set));
+  const Scene scene = loadScene(o.scene, setOverrides(o.set), context.memoryLimitBytes);
   SceneConsistencyOptions so;
+  so.memoryLimitBytes = context.memoryLimitBytes;
   so.algorithms = o.algorithms;
   so.bands = o.bands;
   so.referenceDicing = o.referenceDicing;
@@ -224,12 +225,13 @@ void runSceneConsistency(const ConsistencyCommandOptions& o) {
         100.0 * report.referenceChange);
 }
 
-void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
-  if (!o.scene.empty()) return runSceneConsistency(o);
+void runConsistency(const ConsistencyCommandOptions& o, const RunContext& context) {
+  if (!o.scene.empty()) return runSceneConsistency(o, context);
   if (!o.set.empty())
     throw Error("--set: expected a SCENE (the patch without one has no scene keys)");
   const std::optional<EnvironmentMap> environment =
-      o.environment.empty() ? std::nullopt : std::optional(patchEnvironment(o));
+      o.environment.empty() ? std::nullopt
+                            : std::optional(patchEnvironment(o, context.memoryLimitBytes));
   for (float t : o.thetaV)
     if (!(t >= 0.0f && t < 90.0f))
       throw Error(
@@ -237,8 +239,9 @@ void runConsistency(const ConsistencyCommandOptions& o, const RunContext&) {
           "patch, which shows no area), got " +
           std::to_string(t));
   const ReliefLevelDecl decl = reliefFrom(o);
-  const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl);
+  const std::unique_ptr<PeriodicRelief> relief = makeTileRelief(decl, context.memoryLimitBytes);
   TableSettings settings;
+  settings.memoryLimitBytes = context.memoryLimitBytes;
   settings.variant = o.variant;
   settings.shadows = o.shadows;
   const int phiV = o.phiVBins > 0 ? o.phiVBins : (environment ? TableResolution{}.phiVBins : 1);

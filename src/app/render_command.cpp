@@ -78,7 +78,10 @@ class RenderRun {
     createOutputFolder(output_.parent_path(), "-o");
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
     if (animated_) storeFrameSettings(output_, settings_);
-    ctx_.emplace(prepareRenderContext(scene_, prep_, {.buildFrame = false, .progress = !o_.quiet}));
+    ctx_.emplace(prepareRenderContext(scene_, prep_,
+                                      {.buildFrame = false,
+                                       .progress = !o_.quiet,
+                                       .memoryLimitBytes = context_.memoryLimitBytes}));
     warnObjectsOutOfView();
     if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
     reportWarnings();
@@ -91,7 +94,7 @@ class RenderRun {
   // Loads the scene and checks every output before any work: nothing is rendered for a run that
   // cannot finish.
   void plan() {
-    scene_ = loadScene(o_.scene, sceneOverrides(o_));
+    scene_ = loadScene(o_.scene, sceneOverrides(o_), context_.memoryLimitBytes);
     applyRenderOptions(o_, scene_);
     window_ = cropWindow(o_, scene_.camera);
     if (scene_.lights.empty() && !scene_.environment)

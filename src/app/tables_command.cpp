@@ -61,7 +61,7 @@ void plot(const std::vector<std::string>& plots, const std::filesystem::path& ou
 }
 
 void runTables(const TablesCommandOptions& o, const RunContext& context) {
-  Scene scene = loadScene(o.scene, setOverrides(o.set));
+  Scene scene = loadScene(o.scene, setOverrides(o.set), context.memoryLimitBytes);
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
   // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
   scene.render.algorithm = Algorithm::Auto;
@@ -71,8 +71,10 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
   PrepareTimes times;
-  const RenderContext ctx =
-      prepareRenderContext(scene, times, {.buildFrame = false, .keepHistograms = !o.noPlots});
+  const RenderContext ctx = prepareRenderContext(scene, times,
+                                                 {.buildFrame = false,
+                                                  .keepHistograms = !o.noPlots,
+                                                  .memoryLimitBytes = context.memoryLimitBytes});
   for (const std::string& w : ctx.warnings.list())
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...

@@ -161,8 +161,8 @@ void plot(const fs::path& csv, const fs::path& png, bool quiet) {
                png.string().c_str(), script.c_str(), csv.string().c_str(), png.string().c_str());
 }
 
-Scene loadTradeScene(const TradeCommandOptions& o) {
-  Scene scene = loadScene(o.scene, setOverrides(o.set));
+Scene loadTradeScene(const TradeCommandOptions& o, uint64_t memoryLimitBytes) {
+  Scene scene = loadScene(o.scene, setOverrides(o.set), memoryLimitBytes);
   if (o.width) scene.camera.width = *o.width;
   if (o.height) scene.camera.height = *o.height;
   if (o.threads) scene.render.threads = *o.threads;
@@ -179,12 +179,13 @@ void writeTemporal(const TradeCommandOptions& o, const trade::TradeStudy& study,
     std::fprintf(stderr, "meso: wrote %s\n", (o.outDir / "temporal.csv").string().c_str());
 }
 
-void runTrade(const TradeCommandOptions& options, const RunContext&) {
+void runTrade(const TradeCommandOptions& options, const RunContext& context) {
   TradeCommandOptions o = options;
+  o.settings.memoryLimitBytes = context.memoryLimitBytes;
   o.settings.temporal = o.settings.temporal || o.temporalOnly;
   o.settings.grid.temporalOnly = o.temporalOnly;
   validate(o);
-  const Scene scene = loadTradeScene(o);
+  const Scene scene = loadTradeScene(o, context.memoryLimitBytes);
   const std::vector<CameraSettings> cams = cameras(o, scene);
   if (o.settings.temporal && cams.size() < 2)
     throw Error(

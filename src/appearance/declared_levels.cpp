@@ -25,13 +25,14 @@ Options noiseOptions(const ReliefLevelDecl& d) {
 }
 }  // namespace
 
-std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
+std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d,
+                                               uint64_t memoryLimitBytes) {
   if (d.source == ReliefSource::Solid)
     return std::make_unique<SolidSlice>(noiseOptions<SolidNoiseOptions>(d));
   if (d.source == ReliefSource::Noise)
     return std::make_unique<FractalNoise>(noiseOptions<FractalNoiseOptions>(d));
   try {
-    HeightTable table = HeightTable::load(d.height, d.periodic);
+    HeightTable table = HeightTable::load(d.height, d.periodic, memoryLimitBytes);
     if (d.bandCount > 1)  // one band-limited level of the image (scene/relief_bands.h)
       return std::make_unique<HeightTable>(
           bandLevelTable(table, d.bandCount, d.bandFirst, d.bandLast));
@@ -42,9 +43,9 @@ std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& d) {
   }
 }
 
-ReliefLevel makeReliefLevel(const ReliefLevelDecl& d) {
+ReliefLevel makeReliefLevel(const ReliefLevelDecl& d, uint64_t memoryLimitBytes) {
   ReliefLevel level;
-  level.source = makeHeightSource(d);
+  level.source = makeHeightSource(d, memoryLimitBytes);
   level.amplitude = d.amplitude;
   level.scale = d.scale;
   if (d.source == ReliefSource::Solid) {
@@ -81,11 +82,13 @@ class OwningTileRelief : public PeriodicRelief {
 };
 }  // namespace
 
-std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl) {
-  return std::make_unique<OwningTileRelief>(makeReliefLevel(decl));
+std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl,
+                                               uint64_t memoryLimitBytes) {
+  return std::make_unique<OwningTileRelief>(makeReliefLevel(decl, memoryLimitBytes));
 }
 
-void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels) {
+void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels,
+                    uint64_t memoryLimitBytes) {
   for (size_t i = 0; i < levels.size() && i < decls.size(); ++i) {
     const ReliefLevelDecl& d = decls[i];
     if (d.source != ReliefSource::Image || d.bandCount <= 1 || d.bandLast >= d.bandCount - 1)
@@ -97,7 +100,8 @@ void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLe
       ++end;
     ReliefLevelDecl sum = d;
     sum.bandLast = d.bandCount - 1;
-    levels[i].partialSum = std::make_shared<const ReliefLevel>(makeReliefLevel(sum));
+    levels[i].partialSum =
+        std::make_shared<const ReliefLevel>(makeReliefLevel(sum, memoryLimitBytes));
     levels[i].partialSumEnd = end;
   }
 }

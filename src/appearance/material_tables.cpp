@@ -260,7 +260,7 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                                    std::vector<MetricClass> classes, ProgressBar* shared) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) {
-    r.levels.push_back(makeReliefLevel(d));
+    r.levels.push_back(makeReliefLevel(d, settings.memoryLimitBytes));
     const auto* table = dynamic_cast<const HeightTable*>(r.levels.back().source.get());
     if (warnings && table && table->ignoredAlpha() && d.bandFirst == 0)
       warnings->add(d.height.string() +
@@ -268,13 +268,13 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
                     "channels)");
   }
   const size_t n = r.levels.size();
-  linkImageBands(material.relief, r.levels);
+  linkImageBands(material.relief, r.levels, settings.memoryLimitBytes);
   if (material.ndf.present) {
     const ReliefLevel* finest = n > 0 ? &r.levels.back() : nullptr;
     float angle = 0.0f;
-    std::unique_ptr<Ndf> ndf =
-        makeNdf(material.ndf, finest ? finest->source.get() : nullptr,
-                finest ? finest->scale : 1.0f, finest ? finest->amplitude : 0.0f, &angle);
+    std::unique_ptr<Ndf> ndf = makeNdf(
+        material.ndf, finest ? finest->source.get() : nullptr, finest ? finest->scale : 1.0f,
+        finest ? finest->amplitude : 0.0f, &angle, settings.memoryLimitBytes);
     // Octave 0 continues just below the finest level's shortest wavelength (16 cells per unit of u
     // on a material without relief), unless the scene says otherwise.
     const float base =

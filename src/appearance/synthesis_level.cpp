@@ -23,9 +23,9 @@ namespace {
 // The unit normal of slope s: normalize(-s.x, -s.y, 1).
 Vec3 normalOfSlope(Vec2 s) { return glm::normalize(Vec3(-s.x, -s.y, 1.0f)); }
 
-std::unique_ptr<Ndf> tabulatedFromImage(const NdfDecl& decl) {
+std::unique_ptr<Ndf> tabulatedFromImage(const NdfDecl& decl, uint64_t memoryLimitBytes) {
   try {
-    const Image img = readImage(decl.image);
+    const Image img = readImage(decl.image, memoryLimitBytes);
     if (img.width < 2 || img.height < 2)
       throw Error(decl.image.string() + ": an NDF image needs at least 2 x 2 pixels");
     // One channel, or the luminance of RGB(A); image row 0 (the top) is m.y = +1.
@@ -73,7 +73,8 @@ uint64_t ScaledSlopeNdf::fingerprint() const {
 }
 
 std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, float finestScale,
-                             float finestAmplitude, float* principalAngle) {
+                             float finestAmplitude, float* principalAngle,
+                             uint64_t memoryLimitBytes) {
   if (principalAngle) *principalAngle = 0.0f;
   switch (decl.type) {
     case NdfType::Beckmann:
@@ -81,7 +82,7 @@ std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, fl
     case NdfType::BlinnPhong:
       return std::make_unique<BlinnPhongNdf>(decl.exponent);
     case NdfType::Tabulated:
-      return tabulatedFromImage(decl);
+      return tabulatedFromImage(decl, memoryLimitBytes);
     case NdfType::Relief:
       break;
   }

@@ -148,9 +148,9 @@ float srgbEncode(float v) {
 }
 
 // The pixels of an opened image, all channels as float; at most maxValues of them (0: no limit
-// beyond OpenImageIO's).
+// beyond OpenImageIO's and memoryLimitBytes).
 Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64_t fileBytes,
-                 size_t maxValues = 0) {
+                 uint64_t memoryLimitBytes, size_t maxValues = 0) {
   const OIIO::ImageSpec& spec = in.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     fail(file, "image has zero size (" + std::to_string(spec.width) + "x" +
@@ -178,11 +178,13 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64
                    std::to_string(spec.height) + " pixels its header declares");
   // Float pixels plus the native scanlines they are converted from: refused from the declared size,
   // before decoding (a 190-byte PNG declaring 60000 x 60000 once tried 13 GiB).
-  requireMemory(static_cast<double>(spec.width) * spec.height * spec.nchannels *
-                    (sizeof(float) + spec.format.size()),
-                file.string(), "image",
-                "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                    ", " + std::to_string(spec.nchannels) + " channels, as the header declares");
+  requireMemoryWithin(memoryLimitBytes,
+                      static_cast<double>(spec.width) * spec.height * spec.nchannels *
+                          (sizeof(float) + spec.format.size()),
+                      file.string(), "image",
+                      "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                          ", " + std::to_string(spec.nchannels) +
+                          " channels, as the header declares");
   const double values = static_cast<double>(spec.width) * spec.height * spec.nchannels;
   if (maxValues > 0 && values > static_cast<double>(maxValues))
     fail(file, "image too large (" + std::to_string(spec.width) + "x" +
@@ -213,7 +215,7 @@ Image readOpened(OIIO::ImageInput& in, const std::filesystem::path& file, uint64
 
 }  // namespace
 
-Image readImage(const std::filesystem::path& file) {
+Image readImage(const std::filesystem::path& file, uint64_t memoryLimitBytes) {
   if (!std::filesystem::exists(file)) fail(file, "no such file");
   checkInputFile(file, "image", kMaxImageBytes);
   {
@@ -242,11 +244,11 @@ Image readImage(const std::filesystem::path& file) {
   if (!in) fail(file, "cannot read image: " + oiioMessage(""));
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(file, ec);
-  return readOpened(*in, file, ec ? UINT64_MAX / 2048 : bytes);
+  return readOpened(*in, file, ec ? UINT64_MAX / 2048 : bytes, memoryLimitBytes);
 }
 
 Image readImageFromMemory(const void* data, size_t size, const std::filesystem::path& name,
-                          size_t maxValues) {
+                          size_t maxValues, uint64_t memoryLimitBytes) {
   const char* bytes = static_cast<const char*>(data);
   checkFraming(
       [&](uint64_t offset, size_t count) {
@@ -273,7 +275,7 @@ Image readImageFromMemory(const void* data, size_t size, const std::filesystem::
   config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxyPointer);
   if (!in->open(name.string(), spec, config))
     fail(name, "cannot read image: " + oiioMessage(in->geterror()));
-  return readOpened(*in, name, size, maxValues);
+  return readOpened(*in, name, size, memoryLimitBytes, maxValues);
 }
 
 std::string encodeExr(const Image& image) {

@@ -4,17 +4,9 @@
 
 #include <fmt/format.h>
 
-#include <atomic>
-
 #include <unistd.h>
 
 namespace meso {
-namespace {
-
-std::atomic<uint64_t> gLimit{0};  // 0: not set yet
-
-}  // namespace
-
 uint64_t physicalMemoryBytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), size = ::sysconf(_SC_PAGESIZE);
   return pages > 0 && size > 0 ? static_cast<uint64_t>(pages) * static_cast<uint64_t>(size) : 0;
@@ -25,19 +17,7 @@ uint64_t defaultMemoryLimitBytes() {
   return physical > 0 ? physical / 2 : uint64_t(4) << 30;
 }
 
-uint64_t memoryLimitBytes() {
-  const uint64_t limit = gLimit.load();
-  return limit > 0 ? limit : defaultMemoryLimitBytes();
-}
-
-void setMemoryLimitBytes(uint64_t bytes) { gLimit.store(bytes); }
-
 std::string formatMib(double bytes) { return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0)); }
-
-void requireMemory(double bytes, const std::string& where, const std::string& key,
-                   const std::string& what) {
-  requireMemoryWithin(memoryLimitBytes(), bytes, where, key, what);
-}
 
 void requireMemoryWithin(uint64_t limit, double bytes, const std::string& where,
                          const std::string& key, const std::string& what) {

@@ -3,6 +3,7 @@
 
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
+#include "meso/core/memory_budget.h"
 
 #include <fmt/format.h>
 #include <OpenImageIO/imagebuf.h>
@@ -72,16 +73,25 @@ uint64_t fileHash(const std::filesystem::path& file) {
 
 }  // namespace
 
-ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space,
-                            const char* what) {
+ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space, const char* what,
+                            uint64_t memoryLimitBytes) {
   const std::string name = file.string();
   OIIO::ImageBuf in(name);
-  if (!in.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+  if (!in.init_spec(name, 0, 0))
     throw Error(name + ": not an image OpenImageIO can read (" + in.geterror() + ")");
   const OIIO::ImageSpec& spec = in.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error(name + ": the image has zero size (" + std::to_string(spec.width) + "x" +
                 std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
+  // The float pixels, their RGB copy and the mapped copy the TextureSystem gets: refused from the
+  // declared size, before decoding.
+  requireMemoryWithin(
+      memoryLimitBytes, static_cast<double>(spec.width) * spec.height * (spec.nchannels + 6) * 4.0,
+      name, what,
+      "decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
+          std::to_string(spec.nchannels) + " channels, as the header declares");
+  if (!in.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+    throw Error(name + ": not an image OpenImageIO can read (" + in.geterror() + ")");
   ColourImage out{Image(spec.width, spec.height, {"R", "G", "B"}), isSrgb(spec, space)};
   const int c = spec.nchannels;
   std::vector<float> texel(static_cast<size_t>(c));
@@ -101,9 +111,9 @@ ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space
 }
 
 int TextureLookup::add(const std::filesystem::path& file, ColourSpace space,
-                       const std::filesystem::path& folder) {
+                       const std::filesystem::path& folder, uint64_t memoryLimitBytes) {
   const std::string name = file.string();
-  const ColourImage read = readColourImage(file, space, "colour textures");
+  const ColourImage read = readColourImage(file, space, "colour textures", memoryLimitBytes);
   const Image& texels = read.rgb;
   const bool srgb = read.srgb;
   OIIO::ImageSpec rgbSpec(texels.width, texels.height, 3, OIIO::TypeDesc::FLOAT);

@@ -191,13 +191,8 @@ void EdgeRateTessellator::emitSplitFace(size_t k, const std::vector<int>& edgeRa
                                         TessellatedMesh& out, std::vector<TriangleGrid>* grids) {
   const int f = faces_[k];
   const Tessellation faceTess = faceTessellation(f, edgeRates, scratch);
+  beginFace(k, faceTess, edgeRates, true, scratch);
   const SplitPattern p = splitPattern(scratch.rates.data(), split);
-  const int numBoundary = faceTess.GetNumBoundaryCoords();
-  scratch.coords.resize(2 * static_cast<size_t>(numBoundary));
-  faceTess.GetBoundaryCoords(scratch.coords.data());
-  coordsToSt(f, numBoundary, scratch);
-  scratch.point.resize(numBoundary);
-  placeBoundary(k, edgeRates, scratch);
   scratch.facePoint = scratch.point;
   scratch.faceSt = scratch.st;
   int base = static_cast<int>(pointOffset_[k] + ownedBoundaryPoints(f, edgeRates));

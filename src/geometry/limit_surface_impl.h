@@ -151,6 +151,10 @@ class EdgeRateTessellator {
   // Triangles of the pattern's interior grid that only the grid holds (0 unless gridsOnly_).
   size_t gridOnlyFacets(int face, const OpenSubdiv::Bfr::Tessellation& tess,
                         const FaceScratch& scratch) const;
+  // scratch.coords, .st and .point sized for the points of the face's pattern (its boundary's only
+  // when boundaryOnly) and the boundary placed (placeBoundary).
+  void beginFace(size_t k, const OpenSubdiv::Bfr::Tessellation& tess,
+                 const std::vector<int>& edgeRates, bool boundaryOnly, FaceScratch& scratch);
   void emitFace(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch,
                 TessellatedMesh& out, TriangleGrid* grid);
   // Interior points and triangles of one Bfr pattern whose boundary points are placed; returns
@@ -166,7 +170,6 @@ class EdgeRateTessellator {
   void placeSubQuadBoundary(const SplitPattern& pattern, int i, int j, FaceScratch& scratch) const;
   // Points the face creates on its mesh vertices and edges.
   size_t ownedBoundaryPoints(int face, const std::vector<int>& edgeRates) const;
-  void coordsToSt(int face, int count, FaceScratch& scratch) const;
   void evaluatePoints(const VertexDisplacement* displacement, TessellatedMesh& out) const;
 
   const LimitSurface& surface_;

@@ -225,26 +225,32 @@ bool setGridPatchCoords(int face, const std::vector<int>& coord, const std::vect
 
 }  // namespace
 
-// scratch.st: meso's st of the first `count` Bfr (u, v) pairs of scratch.coords in face f.
-void EdgeRateTessellator::coordsToSt(int f, int count, FaceScratch& scratch) const {
+// scratch.coords, .st and .point sized for the points of the face's pattern `tess` (only its
+// boundary points when boundaryOnly), and its boundary points placed (placeBoundary).
+void EdgeRateTessellator::beginFace(size_t k, const Tessellation& tess,
+                                    const std::vector<int>& edgeRates, bool boundaryOnly,
+                                    FaceScratch& scratch) {
+  const int f = faces_[k];
+  const int count = boundaryOnly ? tess.GetNumBoundaryCoords() : tess.GetNumCoords();
+  scratch.coords.resize(2 * static_cast<size_t>(count));
+  if (boundaryOnly)
+    tess.GetBoundaryCoords(scratch.coords.data());
+  else
+    tess.GetCoords(scratch.coords.data());
   scratch.st.resize(count);
   for (int j = 0; j < count; ++j)
     scratch.st[j] = impl_.bfrToChart(f, Vec2(scratch.coords[2 * j], scratch.coords[2 * j + 1]));
+  scratch.point.resize(count);
+  placeBoundary(k, edgeRates, scratch);
 }
 
 // Creates the samples of the points this face owns and its triangles.
 void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
                                    FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) {
-  const int f = faces_[k];
-  const Tessellation tess = faceTessellation(f, edgeRates, scratch);
-  const int numCoords = tess.GetNumCoords();
-  scratch.coords.resize(2 * static_cast<size_t>(numCoords));
-  tess.GetCoords(scratch.coords.data());
-  coordsToSt(f, numCoords, scratch);
-  scratch.point.resize(numCoords);
-  placeBoundary(k, edgeRates, scratch);
+  const Tessellation tess = faceTessellation(faces_[k], edgeRates, scratch);
+  beginFace(k, tess, edgeRates, false, scratch);
   const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - tess.GetNumInteriorCoords();
-  emitPattern(f, tess, scratch, interiorBase, facetOffset_[k], out, grid);
+  emitPattern(faces_[k], tess, scratch, interiorBase, facetOffset_[k], out, grid);
 }
 
 // With `grid`, interior points are stored row by row and the interior cells are triangulated last,

@@ -98,12 +98,13 @@ HeightTable HeightTable::fromImage(const Image& image, const std::filesystem::pa
   return HeightTable(image, file, HeightTableOptions{periodic});
 }
 
-HeightTable HeightTable::load(const std::filesystem::path& file, bool periodic) {
-  return loadHeightTable(file, HeightTableOptions{periodic});
+HeightTable HeightTable::load(const std::filesystem::path& file, bool periodic,
+                              uint64_t memoryLimitBytes) {
+  return loadHeightTable(file, {.periodic = periodic, .memoryLimitBytes = memoryLimitBytes});
 }
 
 HeightTable loadHeightTable(const std::filesystem::path& file, HeightTableOptions options) {
-  return HeightTable(readImage(file), file, options);
+  return HeightTable(readImage(file, options.memoryLimitBytes), file, options);
 }
 
 float HeightTable::texel(int i, int j) const {

@@ -6,12 +6,13 @@
 #include "meso/render/relief_shadowing.h"
 #include "meso/render/shading.h"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
+#include <iterator>
 #include <vector>
 
 namespace meso {
@@ -165,17 +166,17 @@ std::string formatConsistency(const std::vector<ConsistencyRow>& rows, TableForm
                         ? "theta_v,bump,redistribution,brdf,displacement\n"
                         : "| theta_V | bump | redistribution | brdf | displacement | worst pair "
                           "|\n|---|---|---|---|---|---|\n";
-  char line[256];
   for (const ConsistencyRow& r : rows) {
     const double deg = r.thetaV * 180.0 / kPi;
     if (format == TableFormat::Csv)
-      std::snprintf(line, sizeof line, "%.6g,%.6f,%.6f,%.6f,%.6f\n", deg, r.bump * scale,
-                    r.redistribution * scale, r.brdf * scale, r.displacement * scale);
+      fmt::format_to(std::back_inserter(out), "{:.6g},{:.6f},{:.6f},{:.6f},{:.6f}\n", deg,
+                     r.bump * scale, r.redistribution * scale, r.brdf * scale,
+                     r.displacement * scale);
     else
-      std::snprintf(line, sizeof line, "| %.4g | %.4f | %.4f | %.4f | %.4f | %.2f%% |\n", deg,
-                    r.bump * scale, r.redistribution * scale, r.brdf * scale,
-                    r.displacement * scale, 100.0 * worstPairwiseDifference(r));
-    out += line;
+      fmt::format_to(std::back_inserter(out),
+                     "| {:.4g} | {:.4f} | {:.4f} | {:.4f} | {:.4f} | {:.2f}% |\n", deg,
+                     r.bump * scale, r.redistribution * scale, r.brdf * scale,
+                     r.displacement * scale, 100.0 * worstPairwiseDifference(r));
   }
   return out;
 }

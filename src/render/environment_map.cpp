@@ -47,14 +47,15 @@ float unitFloat(uint32_t bits) { return static_cast<float>(bits >> 8) * 0x1.0p-2
 
 }  // namespace
 
-EnvironmentMap EnvironmentMap::load(const EnvironmentDecl& decl) {
+EnvironmentMap EnvironmentMap::load(const EnvironmentDecl& decl, uint64_t memoryLimitBytes) {
   if (decl.file.empty()) {
     Image one(1, 1, {"R", "G", "B"});
     for (int k = 0; k < 3; ++k) one.at(0, 0, k) = 1.0f;
     return EnvironmentMap(one, decl);
   }
   try {
-    return EnvironmentMap(readColourImage(decl.file, decl.space, "environment maps").rgb, decl);
+    return EnvironmentMap(
+        readColourImage(decl.file, decl.space, "environment maps", memoryLimitBytes).rgb, decl);
   } catch (const Error& e) {
     throw Error(decl.loc, "lights.environment", e.what());
   }

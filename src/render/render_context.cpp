@@ -78,7 +78,8 @@ std::optional<std::string> precisionWarning(const ControlMesh& mesh, const std::
 namespace {
 
 // The kd and ks images of the materials that objects use, prepared for the TextureSystem.
-void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder) {
+void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder,
+                        uint64_t memoryLimitBytes) {
   const Scene& scene = *ctx.scene;
   ctx.materialTextures.assign(scene.materials.size(), {});
   for (size_t m = 0; m < scene.materials.size(); ++m) {
@@ -89,7 +90,7 @@ void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder)
       if (t.file.empty() || !used) return -1;
       if (!ctx.textures) ctx.textures = std::make_shared<TextureLookup>();
       try {
-        return ctx.textures->add(t.file, t.space, folder);
+        return ctx.textures->add(t.file, t.space, folder, memoryLimitBytes);
       } catch (const Error& e) {
         throw Error(t.loc, std::string("materials.") + key, e.what());
       }
@@ -121,7 +122,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                     {},
                     nullptr};
   if (scene.environment) {
-    auto env = std::make_shared<EnvironmentMap>(EnvironmentMap::load(*scene.environment));
+    auto env = std::make_shared<EnvironmentMap>(
+        EnvironmentMap::load(*scene.environment, options.memoryLimitBytes));
     if (!env->black()) ctx.environment = std::move(env);
   }
   ctx.reliefs.resize(scene.materials.size());
@@ -156,7 +158,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
   const std::filesystem::path cacheFolder =
       scene.render.cacheDir.empty() ? TableCache::defaultFolder() : scene.render.cacheDir;
   const TableCache cache(cacheFolder);
-  loadColourTextures(ctx, cacheFolder / "textures");
+  loadColourTextures(ctx, cacheFolder / "textures", options.memoryLimitBytes);
   TableSettings settings = tableSettings(scene.render.tables);
   // Self-shadowing tables only where a far-field renderer draws relief: bump ignores relief
   // shadows, displacement traces them.
@@ -164,6 +166,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                      ctx.algorithm != Algorithm::Displacement;
   settings.build = ctx.algorithm != Algorithm::Bump && ctx.algorithm != Algorithm::Displacement;
   settings.keepHistograms = options.keepHistograms;
+  settings.memoryLimitBytes = options.memoryLimitBytes;
   // The metric classes of every material first, so that one progress line counts every table set
   // of the scene (with its ETA) instead of one line per material.
   struct Plan {

@@ -61,7 +61,7 @@ std::pair<float, float> referenceTexelSamples(const Scene& scene) {
 
 // algorithm with the dicing of `d` (a rate <= 0 keeps the scene's).
 Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicing& d, int spp,
-                    const std::atomic<bool>* cancel, bool objects) {
+                    const SceneConsistencyOptions& o, bool objects) {
   Scene scene = base;
   scene.render.algorithm = algorithm;
   if (d.rate > 0.0f) scene.render.dicingRate = d.rate;
@@ -69,13 +69,14 @@ Rendered renderWith(const Scene& base, Algorithm algorithm, const ReferenceDicin
   if (d.texelSamples > 0.0f) scene.render.texelSamples = d.texelSamples;
   if (spp > 0) scene.camera.spp = spp;
   PrepareTimes times;
-  RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
+  RenderContext ctx = prepareRenderContext(
+      scene, times, {.buildFrame = false, .memoryLimitBytes = o.memoryLimitBytes});
   const FrameGeometryStats geometry = prepareFrame(ctx, scene.camera, times);
   RenderOptions options;
   options.spp = scene.camera.spp;
   options.seed = scene.render.seed;
   options.progress = false;
-  options.cancel = cancel;
+  options.cancel = o.cancel;
   RenderCounters counters;
   Rendered r;
   r.coarsening = geometry.coarsening;
@@ -215,15 +216,15 @@ SceneConsistencyReport sceneConsistency(const Scene& scene, const SceneConsisten
       o.referenceDicing, std::min(16.0f, 2.0f * samples), fineTexel, 2.0f * o.referenceDicing,
       samples, coarseTexel));
   images.push_back(renderWith(scene, Algorithm::Displacement, {o.referenceDicing, 2.0f, fineTexel},
-                              o.referenceSpp, o.cancel, true));
+                              o.referenceSpp, o, true));
   report.renderers.push_back("reference");
   images.push_back(renderWith(scene, Algorithm::Displacement,
-                              {2.0f * o.referenceDicing, 1.0f, coarseTexel}, o.referenceSpp,
-                              o.cancel, false));
+                              {2.0f * o.referenceDicing, 1.0f, coarseTexel}, o.referenceSpp, o,
+                              false));
   report.renderers.push_back("coarse reference");
   for (Algorithm a : o.algorithms) {
     announce(choiceName(a));
-    images.push_back(renderWith(scene, a, {}, 0, o.cancel, false));
+    images.push_back(renderWith(scene, a, {}, 0, o, false));
     report.renderers.push_back(choiceName(a));
   }
   report.referenceCoarsened = images[0].coarsening > 1.0f || images[1].coarsening > 1.0f;

@@ -9,11 +9,13 @@
 
 namespace meso {
 
-std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels) {
+std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels,
+                                              uint64_t memoryLimitBytes) {
   if (d.source != ReliefSource::Image || d.bands == 1 || d.bandCount > 1) return {d};
   BandPlan plan;
   try {
-    plan = planBands(HeightTable::load(d.height, d.periodic), d.bands, std::max(maxLevels, 1));
+    plan = planBands(HeightTable::load(d.height, d.periodic, memoryLimitBytes), d.bands,
+                     std::max(maxLevels, 1));
   } catch (const Error& e) {
     if (d.loc.line > 0) throw Error(d.loc, "relief", e.what());
     throw;
@@ -33,14 +35,14 @@ std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxL
   return out;
 }
 
-void expandImageBands(Scene& scene) {
+void expandImageBands(Scene& scene, uint64_t memoryLimitBytes) {
   for (Material& m : scene.materials) {
     std::vector<ReliefLevelDecl> levels;
     for (size_t k = 0; k < m.relief.size(); ++k) {
       // One level at least for each later relief table.
       const int budget = kMaxMaterialReliefLevels - static_cast<int>(levels.size()) -
                          static_cast<int>(m.relief.size() - 1 - k);
-      for (ReliefLevelDecl& d : expandImageBands(m.relief[k], budget))
+      for (ReliefLevelDecl& d : expandImageBands(m.relief[k], budget, memoryLimitBytes))
         levels.push_back(std::move(d));
     }
     m.relief = std::move(levels);

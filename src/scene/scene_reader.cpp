@@ -351,9 +351,10 @@ Scene parseScene(std::string_view text, const std::filesystem::path& file,
   return scene;
 }
 
-Scene loadScene(const std::filesystem::path& file, std::span<const SceneOverride> overrides) {
+Scene loadScene(const std::filesystem::path& file, std::span<const SceneOverride> overrides,
+                uint64_t memoryLimitBytes) {
   Scene scene = parseScene(readInputFile(file, "scene", kMaxSceneBytes), file, overrides);
-  expandImageBands(scene);
+  expandImageBands(scene, memoryLimitBytes);
   return scene;
 }
 

@@ -60,8 +60,10 @@ MeasuredRender renderMeasured(const Scene& base, const Configuration& c,
   resetPeakOrWarn(options.warnedRss);
   const double before = currentRssMib();
   PrepareTimes prep;
-  RenderContext ctx =
-      prepareRenderContext(scene, prep, {.buildFrame = false, .progress = options.progress});
+  RenderContext ctx = prepareRenderContext(scene, prep,
+                                           {.buildFrame = false,
+                                            .progress = options.progress,
+                                            .memoryLimitBytes = options.memoryLimitBytes});
   RenderCounters counters;
   for (const CameraSettings& cam : cameras) {
     if (options.cancel && options.cancel->load()) throw Interrupted();

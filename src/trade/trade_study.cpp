@@ -72,8 +72,11 @@ TradeStudy runTradeStudy(const Scene& scene, const std::vector<CameraSettings>& 
   for (const Configuration& c : configs)
     sceneFor(scene, c);  // checks every D before rendering anything
   bool warnedRss = false;
-  MeasureOptions measure{
-      .keepFilms = false, .cancel = cancel, .warnedRss = &warnedRss, .progress = !settings.quiet};
+  MeasureOptions measure{.keepFilms = false,
+                         .cancel = cancel,
+                         .warnedRss = &warnedRss,
+                         .progress = !settings.quiet,
+                         .memoryLimitBytes = settings.memoryLimitBytes};
   TradeStudy study;
   study.reference =
       convergeReference(scene, settings.reference, cameras, cache, measure, settings.quiet);

@@ -4,6 +4,8 @@
 // output of the failed frame under a final name.
 #include "support/temp_dir.h"
 
+#include "meso/core/image_io.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/mount.h>
@@ -425,6 +427,43 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("render.max_micropolygons: lowered from 80000000 to "), std::string::npos)
       << r.output;
+}
+
+// --memory-limit reaches every image a scene reads: a height image (read when the scene is loaded,
+// to plan its bands), a colour texture and an environment map (read when the tables are prepared)
+// are refused before decoding when their declared size exceeds it, and read under a larger limit.
+TEST_F(HostileTest, MemoryLimitReachesEveryImageAScenesReads) {
+  meso::Image big(2048, 2048, {"Y"});  // 32 MiB decoded as a height, 112 MiB as a colour texture
+  for (float& v : big.pixels) v = 0.5f;
+  meso::writeExr(dir_ / "big.exr", big);
+  const std::string cache = "[render]\ncache_dir = \"" + (dir_ / "cache").string() + "\"\n";
+  const std::string relief =
+      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  height = \"big.exr\"\n"
+      "  amplitude = 0.01\n";
+  const std::string kd = "[[materials]]\nname = \"m\"\nkd = \"big.exr\"\n";
+  const std::string environment = "[[lights]]\ntype = \"environment\"\nenvironment = \"big.exr\"\n";
+  const struct {
+    std::string toml, message;
+  } cases[] = {
+      {relief + scene("material = \"m\"\n") + cache,
+       "big.exr: image: needs an estimated 32.0 MiB (decoding 2048x2048, 1 channels"},
+      {kd + scene("material = \"m\"\n") + cache,
+       "big.exr: colour textures: needs an estimated 112.0 MiB"},
+      {environment + scene() + cache, "big.exr: environment maps: needs an estimated 112.0 MiB"},
+  };
+  for (const auto& c : cases) {
+    write("images.toml", c.toml);
+    const std::string command =
+        "render " + quoted(dir_ / "images.toml") + " -q -o " + quoted(dir_ / "out/i.exr");
+    RunResult r = run(command + " --memory-limit 16");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("more than the memory limit of 16.0 MiB"), std::string::npos)
+        << r.output;
+    if (c.message.find("image:") != std::string::npos) continue;  // relief: tables too large
+    r = run(command + " --memory-limit 512");
+    EXPECT_EQ(r.status, 0) << r.output;
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "meso/appearance/histogram_builder.h"
+#include "meso/core/memory_budget.h"
 #include "meso/relief/height_source.h"
 #include "meso/relief/relief_level.h"
 #include "meso/scene/scene.h"
@@ -14,12 +15,16 @@
 
 namespace meso {
 
-// Throws meso::Error naming the level's file and line for unreadable height images.
-std::unique_ptr<HeightSource> makeHeightSource(const ReliefLevelDecl& decl);
-ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl);
+// Throws meso::Error naming the level's file and line for unreadable height images and for images
+// larger than memoryLimitBytes allows.
+std::unique_ptr<HeightSource> makeHeightSource(
+    const ReliefLevelDecl& decl, uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
+ReliefLevel makeReliefLevel(const ReliefLevelDecl& decl,
+                            uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 // Sets partialSum and partialSumEnd of every band of a height image that finer bands of the same
 // image continue (levels[i] made from decls[i]).
-void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels);
+void linkImageBands(std::span<const ReliefLevelDecl> decls, std::vector<ReliefLevel>& levels,
+                    uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 // One period of a level as the table builders see it (histogram_builder.h), on a surface whose
 // unit of u and of v is `lengthPerU` world units long (an isotropic metric, docs/metric.md): the
@@ -44,6 +49,7 @@ class TileRelief : public PeriodicRelief {
 };
 
 // A level together with the tile view of it (keeps the level alive for the tile's lifetime).
-std::unique_ptr<PeriodicRelief> makeTileRelief(const ReliefLevelDecl& decl);
+std::unique_ptr<PeriodicRelief> makeTileRelief(
+    const ReliefLevelDecl& decl, uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 }  // namespace meso

@@ -8,6 +8,7 @@
 #include "meso/appearance/redistribution.h"
 #include "meso/appearance/shadowing_table.h"
 #include "meso/appearance/table_cache.h"
+#include "meso/core/memory_budget.h"
 #include "meso/core/warnings.h"
 
 #include <functional>
@@ -42,6 +43,9 @@ struct TableSettings {
   // its own; false traces every class. Only tables with view-azimuth slices derive (an average
   // over view azimuths does not map to another class's).
   bool deriveClasses = true;
+  // The command's --memory-limit: height and NDF images larger than it allows are refused before
+  // they are decoded.
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
 };
 
 // What the metric classes of one level derive from: the histogram (masses) and self-shadowing

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "meso/appearance/brdf_table.h"
+#include "meso/core/memory_budget.h"
 #include "meso/synthesis/index_texture.h"
 #include "meso/synthesis/ndf.h"
 #include "meso/synthesis/synthesis_sampler.h"
@@ -42,9 +43,10 @@ class ScaledSlopeNdf : public Ndf {
 // The NDF a declaration names. `finest` is the material's finest relief level (type "relief"
 // estimates the NDF from its slopes, Kautz et al. section 7, and sets *principalAngle, radians, to
 // the direction of largest slope variance; may be null otherwise). Throws meso::Error naming the
-// declaration for unreadable NDF images.
+// declaration for unreadable NDF images and images larger than memoryLimitBytes allows.
 std::unique_ptr<Ndf> makeNdf(const NdfDecl& decl, const HeightSource* finest, float finestScale,
-                             float finestAmplitude, float* principalAngle = nullptr);
+                             float finestAmplitude, float* principalAngle = nullptr,
+                             uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 struct SynthesisLevel {
   std::unique_ptr<Ndf> ndf;        // the material's NDF: far shading, the finest BRDF's lobe

@@ -2,14 +2,17 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 
 #include <filesystem>
 #include <string>
 
 namespace meso {
 
-// Reads any format OpenImageIO knows, all channels, as float. Throws meso::Error("FILE: ...").
-Image readImage(const std::filesystem::path& file);
+// Reads any format OpenImageIO knows, all channels, as float. Throws meso::Error("FILE: ..."), also
+// (before decoding) for an image whose header declares more pixels than memoryLimitBytes holds.
+Image readImage(const std::filesystem::path& file,
+                uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 // The bytes of an OpenEXR file of all channels (float, zip) and of an 8-bit sRGB PNG preview of
 // R, G, B: encoded in memory, so that the caller writes (and checks) them with atomic_file.h.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 
 #include <cstddef>
 #include <filesystem>
@@ -14,8 +15,9 @@ namespace meso {
 // access. Throws meso::Error("NAME: ...") for an unknown extension, a reader that cannot read from
 // memory, bytes that are not a valid image of that format, or (before allocating anything for
 // pixels) an image of more than `maxValues` channel values (0: OpenImageIO's limits:imagesize_MB
-// alone, as for files).
+// alone, as for files) or of more than memoryLimitBytes.
 Image readImageFromMemory(const void* data, size_t size, const std::filesystem::path& name,
-                          size_t maxValues = 0);
+                          size_t maxValues = 0,
+                          uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 }  // namespace meso

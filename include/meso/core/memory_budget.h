@@ -1,7 +1,8 @@
 // Memory estimated before it is allocated: a job whose estimate exceeds the limit is refused with
 // the estimate and the key that caused it, instead of running to bad_alloc after gigabytes (or for
-// minutes). The limit is the process's (--memory-limit; default half of physical memory), set once
-// by the command line before any work, read by the image decoder deep in the relief loaders.
+// minutes). The limit is a command's (--memory-limit; default half of physical memory): it is
+// passed down to whatever reads or allocates (scene loading, image decoding, table building), never
+// held in a global.
 #pragma once
 
 #include <cstdint>
@@ -14,10 +15,6 @@ uint64_t physicalMemoryBytes();
 // Half of physical memory (4 GiB when it cannot be read).
 uint64_t defaultMemoryLimitBytes();
 
-// The limit in force (defaultMemoryLimitBytes() until set).
-uint64_t memoryLimitBytes();
-void setMemoryLimitBytes(uint64_t bytes);
-
 // "1234.5 MiB".
 std::string formatMib(double bytes);
 
@@ -25,9 +22,5 @@ std::string formatMib(double bytes);
 // M MiB (--memory-limit)") when bytes > limitBytes. `where` may be empty.
 void requireMemoryWithin(uint64_t limitBytes, double bytes, const std::string& where,
                          const std::string& key, const std::string& what);
-
-// requireMemoryWithin the limit in force (memoryLimitBytes()).
-void requireMemory(double bytes, const std::string& where, const std::string& key,
-                   const std::string& what);
 
 }  // namespace meso

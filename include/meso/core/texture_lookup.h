@@ -3,8 +3,10 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 #include "meso/core/math.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 
@@ -24,8 +26,10 @@ struct ColourImage {
 // Reads `file` (one channel: grey; two: grey and alpha, alpha ignored; more: the first three as
 // RGB) and checks it: a readable image of non-zero size whose texels are finite and >= 0. sRGB
 // values (as `space` says) are turned linear. Throws meso::Error naming the file; `what` names the
-// images in the message ("colour textures hold finite values >= 0").
-ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space, const char* what);
+// images in the message ("colour textures hold finite values >= 0"), and (before decoding) for an
+// image whose header declares more pixels than memoryLimitBytes holds.
+ColourImage readColourImage(const std::filesystem::path& file, ColourSpace space, const char* what,
+                            uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 class TextureLookup {
  public:
@@ -38,8 +42,8 @@ class TextureLookup {
   // (named by a hash of the file's bytes and the colour space; written to a temporary name, then
   // renamed) that the TextureSystem reads. Throws meso::Error naming the file. Returns the
   // texture's index.
-  int add(const std::filesystem::path& file, ColourSpace space,
-          const std::filesystem::path& folder);
+  int add(const std::filesystem::path& file, ColourSpace space, const std::filesystem::path& folder,
+          uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
   // The linear RGB of texture k at (u, v), repeating outside [0, 1)^2 (v = 0 is the image's
   // bottom row, as for height images), filtered over the footprint spanned by (u, v)'s changes

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 #include "meso/relief/bump_derivatives.h"
 #include "meso/relief/height_source.h"
 
@@ -24,6 +25,7 @@ struct HeightTableOptions {
   BumpDerivativeMethod method = BumpDerivativeMethod::Quadratic;
   FrequencyEstimate frequency = FrequencyEstimate::Spectral;
   float energyCutoff = 1e-3f;  // Spectral: fraction of the non-constant energy allowed above freq
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();  // loadHeightTable's image decoding
 };
 
 // The index and fraction of a texel coordinate along one axis, and the indices of the four texels
@@ -50,7 +52,8 @@ class HeightTable : public HeightSource {
               HeightTableOptions options = {});
   static HeightTable fromImage(const Image& image, const std::filesystem::path& file,
                                bool periodic = true);
-  static HeightTable load(const std::filesystem::path& file, bool periodic = true);
+  static HeightTable load(const std::filesystem::path& file, bool periodic = true,
+                          uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
   float height(Vec2 p) const override;                       // bilinear
   Vec2 gradient(Vec2 p) const override;                      // per unit of tile coordinate
@@ -126,8 +129,9 @@ inline TexelTaps HeightTable::tapsAlong(double x, int n, double inverseN, bool p
   return taps;
 }
 
-// readImage(file) and the checks of the Image constructor. Throws meso::Error("FILE: ...") for a
-// missing, unreadable, truncated, zero-size or wrongly-channelled file.
+// readImage(file, options.memoryLimitBytes) and the checks of the Image constructor. Throws
+// meso::Error("FILE: ...") for a missing, unreadable, truncated, zero-size or wrongly-channelled
+// file.
 HeightTable loadHeightTable(const std::filesystem::path& file, HeightTableOptions options = {});
 
 }  // namespace meso

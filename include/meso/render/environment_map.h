@@ -5,6 +5,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 #include "meso/core/math.h"
 #include "meso/scene/scene.h"
 
@@ -24,8 +25,10 @@ class EnvironmentMap {
  public:
   // The map of `decl`: its file read and checked (core/texture_lookup.h's readColourImage: a
   // readable image of non-zero size with finite texels >= 0), or a uniform sky of decl.colour.
-  // Throws meso::Error naming the file and the scene line of the light.
-  static EnvironmentMap load(const EnvironmentDecl& decl);
+  // Throws meso::Error naming the file and the scene line of the light, also for a map larger
+  // than memoryLimitBytes allows.
+  static EnvironmentMap load(const EnvironmentDecl& decl,
+                             uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
   // From linear RGB texels (channels 0, 1, 2; top row first), scaled by decl.colour and
   // decl.intensity and turned by decl.rotation and decl.up; decl.file is not read.

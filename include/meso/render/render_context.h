@@ -3,6 +3,7 @@
 #pragma once
 
 #include "meso/appearance/material_tables.h"
+#include "meso/core/memory_budget.h"
 #include "meso/core/texture_lookup.h"
 #include "meso/core/warnings.h"
 #include "meso/geometry/limit_surface.h"
@@ -105,6 +106,9 @@ struct PrepareOptions {
   // TableSettings::keepHistograms).
   bool keepHistograms = false;
   bool progress = true;  // the tables' progress bar (drawn only when stderr is a terminal)
+  // The command's --memory-limit: images (height, NDF, colour, environment) larger than it allows
+  // are refused before they are decoded.
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
 };
 
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that

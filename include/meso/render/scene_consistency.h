@@ -5,6 +5,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 #include "meso/scene/scene.h"
 
 #include <atomic>
@@ -22,6 +23,7 @@ struct SceneConsistencyOptions {
   float referenceDicing = 0.25f;  // dicing rate of the displacement reference, pixels
   int referenceSpp = 0;           // 0: the scene's spp
   const std::atomic<bool>* cancel = nullptr;
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();  // PrepareOptions::memoryLimitBytes
   // Called before each render with what it is (e.g. "reference: displacement at 0.25 px").
   std::function<void(const std::string&)> onRender;
 };

@@ -2,6 +2,7 @@
 // T (DESIGN.md section 1).
 #pragma once
 
+#include "meso/core/memory_budget.h"
 #include "meso/scene/scene.h"
 
 #include <vector>
@@ -14,11 +15,13 @@ namespace meso {
 // copy of d with bandCount, bandFirst and bandLast set, and the user's midlevel on the coarsest
 // level only (the finer bands have mean 0). A noise relief, or an image with bands = 1, is
 // returned as it is. Throws meso::Error located at d.loc for an image that cannot be read.
-std::vector<ReliefLevelDecl> expandImageBands(const ReliefLevelDecl& d, int maxLevels);
+// Images larger than memoryLimitBytes allows are refused before they are decoded.
+std::vector<ReliefLevelDecl> expandImageBands(
+    const ReliefLevelDecl& d, int maxLevels, uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 // Every material's height images as their levels, each image within what the material's other
 // relief tables leave of kMaxMaterialReliefLevels. loadScene does this; a scene parsed from text
 // keeps one level per image until it is called.
-void expandImageBands(Scene& scene);
+void expandImageBands(Scene& scene, uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 }  // namespace meso

@@ -2,6 +2,7 @@
 // FILE:LINE:COL: key: what was expected.
 #pragma once
 
+#include "meso/core/memory_budget.h"
 #include "meso/scene/scene.h"
 
 #include <filesystem>
@@ -21,7 +22,10 @@ struct SceneOverride {
 // Reads and validates the scene file. Relative paths inside are resolved against its folder and
 // must name readable files. `overrides` are set in order before the file is read, so each is
 // checked exactly as the file's keys are and errors about it read "ORIGIN: key: what was expected".
-Scene loadScene(const std::filesystem::path& file, std::span<const SceneOverride> overrides = {});
+// Height images are read to plan their bands (expandImageBands), each refused before decoding when
+// larger than memoryLimitBytes allows.
+Scene loadScene(const std::filesystem::path& file, std::span<const SceneOverride> overrides = {},
+                uint64_t memoryLimitBytes = defaultMemoryLimitBytes());
 
 // The same from text; `file` names the source in messages and anchors relative paths.
 Scene parseScene(std::string_view text, const std::filesystem::path& file,

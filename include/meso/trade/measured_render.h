@@ -5,6 +5,7 @@
 #pragma once
 
 #include "meso/core/image.h"
+#include "meso/core/memory_budget.h"
 #include "meso/scene/scene.h"
 #include "meso/trade/configuration.h"
 
@@ -52,6 +53,7 @@ struct MeasureOptions {
   // Set once the peak RSS could not be reset (a warning was printed then, only once).
   bool* warnedRss = nullptr;
   bool progress = true;  // the tables' progress bar (drawn only when stderr is a terminal)
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();  // PrepareOptions::memoryLimitBytes
 };
 
 // Renders `c` of `base` through `cameras`, each frame with the scene's seed and then with the

@@ -6,6 +6,7 @@
 // hybrid near its thresholds (temporal_stability.h).
 #pragma once
 
+#include "meso/core/memory_budget.h"
 #include "meso/scene/scene.h"
 #include "meso/trade/configuration.h"
 #include "meso/trade/measured_render.h"
@@ -23,6 +24,7 @@ struct TradeSettings {
   SweepGrid grid;
   bool temporal = false;  // keep the default hybrid's films for temporalBands
   bool quiet = false;     // no progress on stderr
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();  // PrepareOptions::memoryLimitBytes
 };
 
 struct TradeStudy {
