@@ -199,7 +199,7 @@ namespace {
 struct FaceSample {
   Vec3 lo, hi;              // box of the face's limit patch
   float uvEdge = 0.0f;      // longest edge in uv
-  float lengthPerU = 0.0f;  // the largest min(|P_u|, |P_v|) of the points
+  float lengthPerU = 0.0f;  // the largest max(|P_u|, |P_v|) of the points
   float shortestPerU = std::numeric_limits<float>::infinity();  // the smallest
   float leastCot = std::numeric_limits<float>::infinity();      // most grazing view: cot(theta_V)
 };
@@ -211,7 +211,9 @@ bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, const SolidSpac
     const float shortest =
         solid.active ? solid.lengthPerUnit : std::min(glm::length(sp.Pu), glm::length(sp.Pv));
     s.shortestPerU = std::min(s.shortestPerU, shortest);
-    s.lengthPerU = std::max(s.lengthPerU, shortest);
+    s.lengthPerU =
+        std::max(s.lengthPerU, solid.active ? solid.lengthPerUnit
+                                            : std::max(glm::length(sp.Pu), glm::length(sp.Pv)));
     const Vec3 toEye = eye - sp.P;
     const float along = std::abs(glm::dot(sp.N, toEye)),
                 across = glm::length(glm::cross(sp.N, toEye));

@@ -43,7 +43,7 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
   const Vec3 toEye = eye - sp.P;
   const float distance = glm::length(toEye);
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
-  const float lengthPerU = std::min(glm::length(sp.Pu), glm::length(sp.Pv));
+  const float lengthPerU = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
   out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
   // The directions to the lights, once for every level (a few; more are sampled per level).
   constexpr size_t kKeptLights = 8;

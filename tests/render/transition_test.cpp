@@ -1,4 +1,6 @@
 #include "meso/core/error.h"
+#include "meso/geometry/limit_surface.h"
+#include "meso/render/displacement.h"
 #include "meso/render/transition.h"
 
 #include "support/plane_scene.h"
@@ -163,6 +165,43 @@ TEST(Displacement, TheShadowTerminatorRaisesTLikeTheSilhouette) {
     } else {
       EXPECT_EQ(Tt, T) << distance;
     }
+  }
+}
+
+// A uv compressed along one direction (a UV sphere towards its poles, a stretched chart) shortens
+// the relief's wavelength along u only: along v its detail is as large on screen as on a
+// unit-speed surface, and displacement draws it (rows along v). T follows the direction in which
+// the relief is largest, so such a point is raised where the unit-speed one is, and the face's
+// dicing bound agrees; compressed both ways, the relief is a table.
+TEST(Displacement, TFollowsTheDirectionInWhichTheReliefIsLargest) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.01f, 4.0f, 2)));
+  const TransitionSettings ts;
+  const Vec3 eye(0.2f, 0.1f, 2.0f);
+  const auto T = [&](Vec3 Pu, Vec3 Pv) {
+    const SurfacePoint sp{Vec3(0.0f), Pu, Pv, Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+    return levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition).T[0];
+  };
+  const float unit = T(Vec3(1, 0, 0), Vec3(0, 1, 0));
+  ASSERT_GT(unit, ts.e4);  // raised whole on the unit-speed plane
+  EXPECT_EQ(T(Vec3(0.01f, 0, 0), Vec3(0, 1, 0)), unit);
+  EXPECT_EQ(T(Vec3(1, 0, 0), Vec3(0, 0.01f, 0)), unit);
+  EXPECT_LT(T(Vec3(0.01f, 0, 0), Vec3(0, 0.01f, 0)), ts.e1);
+
+  // The unit square with u running 100 times faster than v, and with both: only the second is
+  // left undiced.
+  for (const float vRange : {1.0f, 100.0f}) {
+    ControlMesh mesh;
+    mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
+                      Vec3(-0.5f, 0.5f, 0)};
+    mesh.faceSizes = {4};
+    mesh.faceVertices = {0, 1, 2, 3};
+    mesh.uvs = {Vec2(0, 0), Vec2(100, 0), Vec2(100, vRange), Vec2(0, vRange)};
+    mesh.uvIndices = {0, 1, 2, 3};
+    const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+    const FaceDicing dicing =
+        faceDicing(surface, relief, DisplacementMode::ByTransition, ts, eye, 500.0f);
+    EXPECT_EQ(dicing.needsDicing[0], vRange == 1.0f ? 1 : 0) << vRange;
   }
 }
 
