@@ -1,6 +1,7 @@
 #include "meso/scene/mesh_text_check.h"
 
 #include "meso/core/error.h"
+#include "mesh_text_tokens.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -13,92 +14,7 @@
 namespace meso {
 namespace {
 
-struct Token {
-  std::string_view text;
-  int column;  // 1-based
-};
-
-// The whitespace-separated tokens of a line, up to a '#' comment.
-std::vector<Token> tokenize(std::string_view line) {
-  std::vector<Token> tokens;
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    if (i >= line.size() || line[i] == '#') break;
-    const size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
-  }
-  return tokens;
-}
-
-std::string shown(std::string_view t) {
-  std::string s(t.substr(0, 40));
-  for (char& c : s)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
-  return "\"" + s + (t.size() > 40 ? "...\"" : "\"");
-}
-
-bool printable(std::string_view t) {
-  for (char c : t)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) return false;
-  return true;
-}
-
-class LineReader {
- public:
-  LineReader(std::string_view bytes, const std::filesystem::path& file)
-      : bytes_(bytes), file_(file.string()) {}
-  // The next line's tokens (empty lines and comments skipped); false at the end.
-  bool next(std::vector<Token>& tokens) {
-    while (!done_) {
-      size_t end = bytes_.find('\n', at_);
-      if (end == std::string_view::npos) end = bytes_.size();
-      const std::string_view line = bytes_.substr(at_, end - at_);
-      if (end >= bytes_.size()) done_ = true;
-      at_ = end + 1;
-      ++line_;
-      if (line.find('\0') != std::string_view::npos)
-        fail(1, "", "unexpected binary data (a NUL byte) in a text mesh file");
-      tokens = tokenize(line);
-      if (!tokens.empty()) return true;
-    }
-    return false;
-  }
-  [[noreturn]] void fail(int column, const std::string& key, const std::string& what) const {
-    throw Error(FileLoc{file_, line_, column}, key, what);
-  }
-  int line() const { return line_; }
-  bool atEnd() const { return done_; }
-
- private:
-  std::string_view bytes_;
-  std::string file_;
-  size_t at_ = 0;
-  int line_ = 0;
-  bool done_ = false;
-};
-
-double number(const LineReader& r, const Token& t, const std::string& key) {
-  double v = 0.0;
-  const char* end = t.text.data() + t.text.size();
-  const auto [ptr, ec] = std::from_chars(t.text.data(), end, v);
-  if (ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
-    r.fail(t.column, key, "expected a number, got " + shown(t.text));
-  if (ec == std::errc::result_out_of_range || !std::isfinite(v) || std::abs(v) > FLT_MAX)
-    r.fail(t.column, key, "expected a finite single-precision number, got " + shown(t.text));
-  return v;
-}
-
-long long integer(const LineReader& r, const Token& t, std::string_view text,
-                  const std::string& key) {
-  long long v = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
-  if (text.empty() || ptr != end || ec != std::errc())
-    r.fail(t.column, key, "expected an integer index, got " + shown(text));
-  return v;
-}
+using namespace mesh_text;
 
 // Index `raw` (1-based, or negative: relative to the `defined` so far) into [1, total].
 long long objIndex(const LineReader& r, const Token& t, std::string_view text, long long defined,
@@ -251,72 +167,13 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   return counts;
 }
 
-// OpenMesh's PLY reader loops forever on some malformed headers (a property before any element, an
-// unknown type): the header must follow the grammar exactly before it is handed over.
-void checkPlyHeader(std::string_view bytes, const std::filesystem::path& file) {
-  static const std::set<std::string_view> kTypes = {
-      "char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
-      "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
-  LineReader r(bytes.substr(0, std::min<size_t>(bytes.size(), 65536)), file);
-  std::vector<Token> t;
-  if (!r.next(t) || t.size() != 1 || t[0].text != "ply")
-    r.fail(1, "", "not a PLY file (expected \"ply\" alone on line 1)");
-  bool format = false, element = false, vertex = false, face = false;
-  std::string_view current;
-  std::set<std::string_view> vertexProperties;
-  while (r.next(t)) {
-    const std::string_view key = t[0].text;
-    if (key == "end_header") {
-      if (!format) r.fail(1, "", "PLY header without a format line");
-      if (!vertex || !vertexProperties.count("x") || !vertexProperties.count("y") ||
-          !vertexProperties.count("z"))
-        r.fail(1, "", "PLY header without an element vertex with properties x, y and z");
-      if (!face)
-        r.fail(1, "", "PLY header without an element face with a list property vertex_indices");
-      return;
-    }
-    if (key == "comment" || key == "obj_info") continue;
-    if (key == "format") {
-      if (t.size() != 3 ||
-          (t[1].text != "ascii" && t[1].text != "binary_little_endian" &&
-           t[1].text != "binary_big_endian") ||
-          t[2].text != "1.0")
-        r.fail(t[0].column, "format",
-               "expected ascii, binary_little_endian or binary_big_endian and version 1.0");
-      format = true;
-    } else if (key == "element") {
-      if (t.size() != 3) r.fail(t[0].column, "element", "expected a name and a count");
-      if (integer(r, t[2], t[2].text, "element") < 0)
-        r.fail(t[2].column, "element", "expected a count of 0 or more");
-      element = true;
-      current = t[1].text;
-      vertex = vertex || current == "vertex";
-    } else if (key == "property") {
-      if (!element) r.fail(t[0].column, "property", "a property before any element");
-      const bool list = t.size() >= 2 && t[1].text == "list";
-      if (t.size() != (list ? 5u : 3u))
-        r.fail(t[0].column, "property", "expected TYPE NAME or list TYPE TYPE NAME");
-      for (size_t i = list ? 2 : 1; i + 1 < t.size(); ++i)
-        if (!kTypes.count(t[i].text))
-          r.fail(t[i].column, "property", "unknown type " + shown(t[i].text));
-      if (current == "vertex") vertexProperties.insert(t.back().text);
-      if (current == "face" && list &&
-          (t.back().text == "vertex_indices" || t.back().text == "vertex_index"))
-        face = true;
-    } else {
-      r.fail(t[0].column, "", "unexpected " + shown(key) + " in the PLY header");
-    }
-  }
-  r.fail(1, "", "truncated or malformed PLY header (no end_header)");
-}
-
 }  // namespace
 
 MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file,
                              const std::string& ext) {
   if (ext == ".obj") return checkObj(bytes, file);
   if (ext == ".off") return checkOff(bytes, file);
-  if (ext == ".ply") checkPlyHeader(bytes, file);
+  if (ext == ".ply") return checkPly(bytes, file);
   return {};
 }
 
