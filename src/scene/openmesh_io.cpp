@@ -27,12 +27,13 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
   throw Error(file.string() + ": " + what);
 }
 
-// Face-varying (u, v) from halfedge texture coordinates, identical values shared.
-void readUvs(const PolyMesh& mesh, ControlMesh& out) {
+// Face-varying (u, v) from halfedge texture coordinates (OBJ) or from the vertices' (PLY, OFF),
+// identical values shared.
+void readUvs(const PolyMesh& mesh, bool perVertex, ControlMesh& out) {
   std::map<std::pair<float, float>, int> index;
   for (const auto& f : mesh.faces())
     for (const auto& h : mesh.fh_range(f)) {
-      const auto t = mesh.texcoord2D(h);
+      const auto t = perVertex ? mesh.texcoord2D(mesh.to_vertex_handle(h)) : mesh.texcoord2D(h);
       const auto key = std::make_pair(t[0], t[1]);
       auto [it, added] = index.emplace(key, static_cast<int>(out.uvs.size()));
       if (added) out.uvs.emplace_back(t[0], t[1]);
@@ -82,7 +83,9 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
 
   PolyMesh mesh;
   mesh.request_halfedge_texcoords2D();
+  mesh.request_vertex_texcoords2D();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceTexCoord;
+  options += OpenMesh::IO::Options::VertexTexCoord;
   omlog().disable();
   omerr().disable();
   omout().disable();
@@ -120,7 +123,10 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
     }
     out.faceSizes.push_back(n);
   }
-  if (options.check(OpenMesh::IO::Options::FaceTexCoord)) readUvs(mesh, out);
+  if (options.check(OpenMesh::IO::Options::FaceTexCoord))
+    readUvs(mesh, false, out);
+  else if (options.check(OpenMesh::IO::Options::VertexTexCoord))
+    readUvs(mesh, true, out);
   return out;
 }
 

@@ -266,6 +266,13 @@ TEST_F(MeshIoTest, BinaryPlyAsExportersWriteIt) {
     for (int i = 0; i < 5; ++i)
       EXPECT_EQ(m.positions[i], Vec3(xyz[i][0], xyz[i][1], xyz[i][2])) << variant << ": " << i;
     EXPECT_EQ(m.faceVertices, (std::vector<int>{0, 1, 2, 3, 1, 4, 2})) << variant;
+    // Per-vertex s t become each corner's uv.
+    ASSERT_TRUE(m.hasUvs()) << variant;
+    ASSERT_EQ(m.uvIndices.size(), m.faceVertices.size());
+    for (size_t c = 0; c < m.faceVertices.size(); ++c) {
+      const int v = m.faceVertices[c];
+      EXPECT_EQ(m.uvs[m.uvIndices[c]], Vec2(xyz[v][0] / 2, xyz[v][1])) << variant << ": " << c;
+    }
   }
 }
 
