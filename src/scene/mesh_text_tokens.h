@@ -94,7 +94,7 @@ inline double number(const LineReader& r, const Token& t, const std::string& key
 }
 
 inline long long integer(const LineReader& r, const Token& t, std::string_view text,
-                  const std::string& key) {
+                         const std::string& key) {
   long long v = 0;
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, v);

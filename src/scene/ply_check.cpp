@@ -39,8 +39,8 @@ struct PlyHeader {
 // Bytes per value of each scalar type.
 const std::map<std::string_view, int>& typeSizes() {
   static const std::map<std::string_view, int> kSizes = {
-      {"char", 1},  {"uchar", 1}, {"int8", 1},   {"uint8", 1},   {"short", 2},   {"ushort", 2},
-      {"int16", 2}, {"uint16", 2}, {"int", 4},   {"uint", 4},    {"int32", 4},   {"uint32", 4},
+      {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
+      {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
       {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
   return kSizes;
 }
@@ -86,8 +86,7 @@ PlyHeader readHeader(std::string_view bytes, const std::filesystem::path& file) 
       for (const PlyElement& e : h.elements) {
         if (e.name == "vertex") vertex = &e;
         if (e.name != "face") continue;
-        if (!vertex)
-          r.fail(1, "", "PLY header declares element face before element vertex");
+        if (!vertex) r.fail(1, "", "PLY header declares element face before element vertex");
         for (const PlyProperty& p : e.properties)
           if (isVertexIndices(e, p)) return h;
       }
@@ -157,8 +156,11 @@ PlyHeader readHeader(std::string_view bytes, const std::filesystem::path& file) 
 class BodyWalker {
  public:
   BodyWalker(std::string_view body, const PlyHeader& h, const std::filesystem::path& file)
-      : body_(body), binary_(h.format != "ascii"), big_(h.format == "binary_big_endian"),
-        file_(file.string()), line_(h.bodyLine) {}
+      : body_(body),
+        binary_(h.format != "ascii"),
+        big_(h.format == "binary_big_endian"),
+        file_(file.string()),
+        line_(h.bodyLine) {}
 
   // The next value of `type`: integers must be integers in the type's range.
   double value(const std::string& type, const std::string& where) {
@@ -250,9 +252,9 @@ std::string rewrite(const PlyHeader& h, std::string_view body) {
   for (const PlyElement& e : h.elements) {
     out += "element " + e.name + " " + std::to_string(e.count) + "\n";
     for (const PlyProperty& p : e.properties)
-      out += p.countType.empty() ? "property " + p.type + " " + p.name + "\n"
-                                 : "property list " + p.countType + " " + p.type + " " + p.name +
-                                       "\n";
+      out += p.countType.empty()
+                 ? "property " + p.type + " " + p.name + "\n"
+                 : "property list " + p.countType + " " + p.type + " " + p.name + "\n";
   }
   out += "end_header\n";
   return out.append(body);
