@@ -98,6 +98,12 @@ PlyHeader readHeader(std::string_view bytes, const std::filesystem::path& file) 
       r.fail(1, "", "PLY header without an element face with a list property vertex_indices");
     }
     if (key == "comment" || key == "obj_info") continue;
+    // OpenMesh splits the header at any white space (a form feed too) and loops forever when a
+    // count is not a number: names are printable ASCII.
+    for (const Token& w : t)
+      if (!printable(w.text))
+        r.fail(w.column, std::string(key),
+               "unexpected bytes " + shown(w.text) + " in the PLY header");
     if (key == "format") {
       if (t.size() != 3 ||
           (t[1].text != "ascii" && t[1].text != "binary_little_endian" &&

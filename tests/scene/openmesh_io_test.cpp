@@ -164,6 +164,8 @@ TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
        ":4:15: property: list count type \"ushort\": expected uchar, uint8, uint16 or int"},
       {"intx.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty int x\n",
        ":4:10: property: vertex property x of type int in a binary PLY: expected float"},
+      {"formfeed.ply", "ply\nformat ascii 1.0\nelement ve\frtex 3\n",
+       ":3:9: element: unexpected bytes \"ve?rtex\" in the PLY header"},
       {"order.ply",
        "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
        "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
