@@ -83,9 +83,13 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
 
   PolyMesh mesh;
   mesh.request_halfedge_texcoords2D();
-  mesh.request_vertex_texcoords2D();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceTexCoord;
-  options += OpenMesh::IO::Options::VertexTexCoord;
+  // PLY and OFF carry uv per vertex. Not asked of OBJ: its reader then writes a vertex uv through
+  // the handle of a face it rejected (out of bounds).
+  if (ext != ".obj") {
+    mesh.request_vertex_texcoords2D();
+    options += OpenMesh::IO::Options::VertexTexCoord;
+  }
   omlog().disable();
   omerr().disable();
   omout().disable();
