@@ -208,12 +208,10 @@ bool sampleFace(const LimitSurface& surface, int face, Vec3 eye, const SolidSpac
                 FaceSample& s) {
   if (!surface.faceBox(face, s.lo, s.hi)) return false;
   const auto seen = [&](const SurfacePoint& sp) {
-    const float shortest =
-        solid.active ? solid.lengthPerUnit : std::min(glm::length(sp.Pu), glm::length(sp.Pv));
-    s.shortestPerU = std::min(s.shortestPerU, shortest);
-    s.lengthPerU =
-        std::max(s.lengthPerU, solid.active ? solid.lengthPerUnit
-                                            : std::max(glm::length(sp.Pu), glm::length(sp.Pv)));
+    const float lu = solid.active ? solid.lengthPerUnit : glm::length(sp.Pu);
+    const float lv = solid.active ? solid.lengthPerUnit : glm::length(sp.Pv);
+    s.shortestPerU = std::min(s.shortestPerU, std::min(lu, lv));
+    s.lengthPerU = std::max(s.lengthPerU, std::max(lu, lv));
     const Vec3 toEye = eye - sp.P;
     const float along = std::abs(glm::dot(sp.N, toEye)),
                 across = glm::length(glm::cross(sp.N, toEye));
