@@ -25,7 +25,4 @@ double levelTablesBytes(const TableResolution& r, std::string* key);
 // renders nothing).
 void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bool withFilm = true);
 
-// Measured: about 70 MiB of geometry per million displaced micropolygons; with margin.
-inline constexpr double kBytesPerMicropolygon = 96.0;
-
 }  // namespace meso::app

@@ -69,17 +69,34 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface) {
   return out;
 }
 
-TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate) {
+TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t memoryLimitBytes,
+                                 const std::string& where) {
   if (rate < 1)
     throw Error("tessellation rate must be at least 1 (got " + std::to_string(rate) + ")");
   EdgeRateTessellator tessellator(surface);
   std::vector<int> rates(static_cast<size_t>(tessellator.numEdges()), 1);
   const std::vector<uint8_t> affine = affineFaces(surface);
   const auto& base = surface.impl().refiner->GetLevel(0);
+  // Bfr at rate R: 2 R^2 triangles a quad, R^2 a triangle, n R^2 / 2 an n-gon (n quads of R / 2);
+  // a flat face at rate 1: n - 2 (counted as n, an upper bound).
+  double triangles = 0.0;
+  int curved = 0;
   for (int f = 0; f < surface.numFaces(); ++f) {
-    if (affine[f] || !surface.hasLimitSurface(f)) continue;
+    if (!surface.hasLimitSurface(f)) continue;
+    const int n = surface.faceSize(f);
+    if (affine[f]) {
+      triangles += n;
+      continue;
+    }
+    ++curved;
+    triangles += (n == 3 ? 1.0 : n == 4 ? 2.0 : 0.5 * n) * double(rate) * double(rate);
     for (int e : base.GetFaceEdges(f)) rates[e] = rate;
   }
+  requireMemoryWithin(memoryLimitBytes, triangles * kBytesPerMicropolygon, where,
+                      "render.tessellation_rate",
+                      "about " + std::to_string(static_cast<long long>(triangles)) +
+                          " triangles at rate " + std::to_string(rate) + " on " +
+                          std::to_string(curved) + " curved faces, drawn undisplaced");
   return tessellator.tessellate(rates, nullptr);
 }
 

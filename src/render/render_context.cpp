@@ -121,6 +121,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                     {},
                     {},
                     nullptr};
+  ctx.memoryLimitBytes = options.memoryLimitBytes;
   if (scene.environment) {
     auto env = std::make_shared<EnvironmentMap>(
         EnvironmentMap::load(*scene.environment, options.memoryLimitBytes));
@@ -320,7 +321,8 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     if (object.displaced)
       displaced.push_back(k);
     else if (object.mesh.numTriangles() == 0)
-      object.mesh = tessellateSmooth(object.surface, ctx.scene->render.tessellationRate);
+      object.mesh = tessellateSmooth(object.surface, ctx.scene->render.tessellationRate,
+                                     ctx.memoryLimitBytes, ctx.scene->objects[k].mesh.string());
   }
   if (!displaced.empty()) displaceObjects(ctx, displaced, d, stats);
   stats.tessellateSeconds = tess.seconds();

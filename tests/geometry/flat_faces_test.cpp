@@ -1,8 +1,13 @@
 #include "meso/geometry/flat_faces.h"
 
+#include "meso/core/error.h"
+
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
 
 namespace meso {
 namespace {
@@ -54,6 +59,25 @@ TEST(FlatFaces, CurvedFacesKeepTheRate) {
   const LimitSurface torus(test::torus(8, 6, 2.0f, 0.5f), SubdivisionScheme::CatmullClark);
   for (uint8_t a : affineFaces(torus)) EXPECT_EQ(a, 0);
   EXPECT_EQ(tessellateSmooth(torus, 4).numTriangles(), tessellateUniform(torus, 4).numTriangles());
+}
+
+// Undisplaced geometry honours --memory-limit: its triangles are counted before any is made, flat
+// faces at two a face whatever the rate.
+TEST(FlatFaces, CurvedTessellationBeyondTheMemoryLimitIsRefused) {
+  const LimitSurface torus(test::torus(8, 6, 2.0f, 0.5f), SubdivisionScheme::CatmullClark);
+  constexpr uint64_t kLimit = uint64_t(16) << 20;
+  try {
+    tessellateSmooth(torus, 64, kLimit, "torus.obj");
+    ADD_FAILURE() << "48 quads at rate 64 (393 216 triangles, 36 MiB) fit in 16 MiB";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("torus.obj: render.tessellation_rate: "), std::string::npos) << what;
+    EXPECT_NE(what.find("about 393216 triangles at rate 64 on 48 curved faces"), std::string::npos)
+        << what;
+  }
+  EXPECT_EQ(tessellateSmooth(torus, 16, kLimit, "torus.obj").numTriangles(), 48u * 2u * 256u);
+  const LimitSurface ground(test::grid(64), SubdivisionScheme::Bilinear);
+  EXPECT_EQ(tessellateSmooth(ground, 64, kLimit, "ground.obj").numTriangles(), 2u * 64u * 64u);
 }
 
 }  // namespace

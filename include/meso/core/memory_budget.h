@@ -12,6 +12,10 @@ namespace meso {
 
 uint64_t physicalMemoryBytes();
 
+// Geometry per triangle, Embree's BVH included. Measured: about 70 MiB per million displaced
+// micropolygons; with margin.
+inline constexpr double kBytesPerMicropolygon = 96.0;
+
 // Half of physical memory (4 GiB when it cannot be read).
 uint64_t defaultMemoryLimitBytes();
 

@@ -2,10 +2,12 @@
 // undisplaced that spends triangles only on the others.
 #pragma once
 
+#include "meso/core/memory_budget.h"
 #include "meso/geometry/limit_surface.h"
 #include "meso/geometry/tessellation.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace meso {
@@ -21,7 +23,11 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface);
 // tessellateUniform at `rate`, except that edges whose every face is affine get one segment: a
 // flat ground of 8 x 8-unit faces is 2 triangles a face instead of 2 rate^2, and curved faces (and
 // the edges they share with flat ones) keep `rate`. The same surface in view as tessellateUniform
-// up to rounding.
-TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate);
+// up to rounding. Refused (meso::Error naming `where` and render.tessellation_rate) before any
+// triangle is made when its triangles, at kBytesPerMicropolygon each, would exceed
+// `memoryLimitBytes` (--memory-limit).
+TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate,
+                                 uint64_t memoryLimitBytes = defaultMemoryLimitBytes(),
+                                 const std::string& where = "");
 
 }  // namespace meso

@@ -93,6 +93,9 @@ struct RenderContext {
     return scene->lights.size() +
            (environment ? static_cast<size_t>(scene->render.lightSamples) : size_t{0});
   }
+  // The command's --memory-limit: geometry drawn undisplaced beyond it is refused before it is
+  // made (displaced geometry is held to render.max_micropolygons, which the command lowers to fit).
+  uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).
