@@ -177,8 +177,9 @@ class BodyWalker {
       double v = 0.0;
       const char* end = t.text.data() + t.text.size();
       const auto [ptr, ec] = std::from_chars(t.text.data(), end, v);
-      if (ptr != end || ec != std::errc() || !std::isfinite(v))
-        throw Error(loc, where, "expected a finite number, got " + shown(t.text));
+      // OpenMesh reads positions, normals and uv as floats, whatever the declared type.
+      if (ptr != end || ec != std::errc() || !std::isfinite(v) || std::abs(v) > FLT_MAX)
+        throw Error(loc, where, "expected a finite single-precision number, got " + shown(t.text));
       return v;
     }
     long long v = 0;

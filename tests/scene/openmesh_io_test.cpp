@@ -154,7 +154,9 @@ TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
        "file can hold"},
       {"short.ply", ply3.substr(0, ply3.size() - 6), ":12: element vertex 2 x: the file ends here"},
       {"word.ply", ply3.substr(0, ply3.size() - 2) + "x\n3 0 1 2\n",
-       ":12:5: element vertex 2 z: expected a finite number, got \"x\""},
+       ":12:5: element vertex 2 z: expected a finite single-precision number, got \"x\""},
+      {"big.ply", ply3.substr(0, ply3.size() - 2) + "1e39\n3 0 1 2\n",
+       ":12:5: element vertex 2 z: expected a finite single-precision number, got \"1e39\""},
       {"list.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty list uchar float w\n",
        ":5:1: property: list property \"w\" in element \"vertex\": the only list read is the "
