@@ -79,7 +79,7 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
   if (bytes.empty()) fail(file, "empty mesh file");
   checkHeader(bytes, file, ext);
-  const MeshTextCounts counts = checkMeshText(bytes, file, ext);
+  MeshTextCounts counts = checkMeshText(bytes, file, ext);
 
   PolyMesh mesh;
   mesh.request_halfedge_texcoords2D();
@@ -97,7 +97,9 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
   std::streambuf* cerrBuffer = std::cerr.rdbuf(nullptr);
   bool ok = false;
   try {
-    std::istringstream stream{counts.rewritten.empty() ? std::string(bytes) : counts.rewritten};
+    // Moved, not copied: a mesh file may be gigabytes.
+    std::istringstream stream{counts.rewritten.empty() ? std::string(bytes)
+                                                       : std::move(counts.rewritten)};
     ok = OpenMesh::IO::read_mesh(mesh, stream, ext, options);
   } catch (...) {
     ok = false;
