@@ -12,6 +12,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -48,6 +49,35 @@ std::string printable(std::string s) {
   return s;
 }
 
+// The bytes OpenEXR reads for a value of `type` whose header declares `declared` bytes at
+// `valueAt`: the fixed size of a fixed-size type, the parsed length of a channel list (UINT64_MAX
+// when it does not end within `declared`), and `declared` for the others (strings, vectors, opaque
+// types), which OpenEXR reads by the declared size.
+uint64_t exrValueSize(const std::string& type, const ByteReader& read, uint64_t valueAt,
+                      uint64_t declared) {
+  static const std::map<std::string, uint64_t> kFixed = {
+      {"box2i", 16},      {"box2f", 16},   {"chromaticities", 32},
+      {"compression", 1}, {"double", 8},   {"envmap", 1},
+      {"float", 4},       {"int", 4},      {"keycode", 28},
+      {"lineOrder", 1},   {"m33f", 36},    {"m33d", 72},
+      {"m44f", 64},       {"m44d", 128},   {"rational", 8},
+      {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},
+      {"v2f", 8},         {"v2d", 16},     {"v3i", 12},
+      {"v3f", 12},        {"v3d", 24},     {"deepImageState", 1}};
+  if (const auto it = kFixed.find(type); it != kFixed.end()) return it->second;
+  if (type != "chlist") return declared;
+  // Channels: name \0, then pixel type, pLinear and 3 reserved bytes, x and y sampling (16
+  // bytes); an empty name ends the list.
+  const std::string value = read(valueAt, static_cast<size_t>(declared));
+  for (size_t at = 0; at < value.size();) {
+    if (value[at] == '\0') return at + 1;
+    const size_t end = value.find('\0', at);
+    if (end == std::string::npos) break;
+    at = end + 1 + 16;
+  }
+  return UINT64_MAX;
+}
+
 // A corrupt header can declare a PNG chunk or an OpenEXR attribute of gigabytes; libpng then skips
 // it a kilobyte at a time and OpenEXR allocates it (seconds and GiB of memory for a file of 300
 // bytes). Both end in an error anyway, since the bytes are not there: say so first. Checks every
@@ -81,10 +111,22 @@ void checkFraming(const ByteReader& read, uint64_t size, const std::filesystem::
                            (uint32_t(uint8_t(window[typeEnd + 3])) << 16) |
                            (uint32_t(uint8_t(window[typeEnd + 4])) << 24);
       const uint64_t valueAt = at + typeEnd + 5;
+      const std::string attribute = printable(window.substr(0, nameEnd));
       if (raw > 0x7fffffffu || raw > size - valueAt)
-        fail(name, "truncated or corrupt OpenEXR header: attribute \"" +
-                       printable(window.substr(0, nameEnd)) + "\" declares " + std::to_string(raw) +
-                       " bytes, the file has " + std::to_string(size - valueAt) + " left");
+        fail(name, "truncated or corrupt OpenEXR header: attribute \"" + attribute +
+                       "\" declares " + std::to_string(raw) + " bytes, the file has " +
+                       std::to_string(size - valueAt) + " left");
+      // OpenEXR reads a value of a known type by its type, not by the declared size: where the two
+      // differ it goes on reading the next attribute from elsewhere than this walk (and may find a
+      // size of gigabytes there), so they must agree.
+      const std::string type = window.substr(nameEnd + 1, typeEnd - nameEnd - 1);
+      const uint64_t expected = exrValueSize(type, read, valueAt, raw);
+      if (expected != raw)
+        fail(name, "truncated or corrupt OpenEXR header: attribute \"" + attribute + "\" of type " +
+                       printable(type) + " declares " + std::to_string(raw) +
+                       " bytes, its value holds " +
+                       (expected == UINT64_MAX ? std::string("no whole value")
+                                               : std::to_string(expected)));
       at = valueAt + raw;
     }
   }

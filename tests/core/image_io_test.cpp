@@ -1,5 +1,6 @@
 #include "meso/core/error.h"
 #include "meso/core/image_io.h"
+#include "meso/core/image_io_memory.h"
 
 #include "support/temp_dir.h"
 
@@ -8,6 +9,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 namespace meso {
 namespace {
@@ -84,6 +87,35 @@ TEST_F(ImageIoTest, MissingAndCorruptFilesAreClearErrors) {
   writeExr(dir_ / "t.exr", testImage());
   fs::resize_file(dir_ / "t.exr", fs::file_size(dir_ / "t.exr") / 2);
   EXPECT_THROW(readImage(dir_ / "t.exr"), Error);
+}
+
+// A 144-byte OpenEXR header (found by fuzz_height_image) whose channel list ends before its
+// declared size: OpenEXR reads the next attribute from inside that value, finds an attribute of
+// 939 MB there and allocates it. The framing check follows OpenEXR's reading and refuses it.
+TEST_F(ImageIoTest, ExrAttributeSizesAreCheckedAsOpenExrReadsThem) {
+  const std::string corrupt(
+      "\x76\x2f\x31\x01\x02\x00\x00\x00\x45\x70\x69\x66\x3a\x49\x6d\x3b\x00\x73\x74\x72\x69\x6e"
+      "\x67\x00\x13\x00\x00\x00\x32\x30\x32\x35\x3a\x31\x31\x3a\x32\x33\x20\x30\x32\x3a\x32\x34"
+      "\x3a\x31\x32\x63\x68\x61\x6e\x6e\x65\x6c\x73\x00\x63\x68\x6c\x69\x73\x74\x00\x13\x00\x00"
+      "\x00\x00\x01\x00\x9d\x00\x03\x64\x61\x74\x61\x57\x69\x6e\x64\x6f\x77\x00\x62\x6f\x78\x32"
+      "\x69\x00\x10\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00"
+      "\x00\xfc\xff\xff\xff\xff\xff\xff\xff\x00\x00\x00\x00\x00\x00\x10\x00\x00\x00\x00\x6f\x77"
+      "\x00\x62\x6f\x78\x34\x69\x00\x10\x00\x00\x38\xb5\x38",
+      145);
+  try {
+    readImageFromMemory(corrupt.data(), corrupt.size(), "corrupt.exr");
+    FAIL() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("corrupt.exr: truncated or corrupt OpenEXR header: "
+                                         "attribute \"channels\" of type chlist declares 19 bytes"),
+              std::string::npos)
+        << e.what();
+  }
+  // meso's own EXR passes the check and reads back.
+  writeExr(dir_ / "ok.exr", testImage());
+  std::ifstream in(dir_ / "ok.exr", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(readImageFromMemory(bytes.data(), bytes.size(), "ok.exr").pixels, testImage().pixels);
 }
 
 }  // namespace
