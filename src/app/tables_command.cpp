@@ -13,6 +13,8 @@
 #include "meso/render/render_context.h"
 #include "meso/scene/scene_parser.h"
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <string>
 #include <system_error>
@@ -60,6 +62,16 @@ void plot(const std::vector<std::string>& plots, const std::filesystem::path& ou
                outDir.string().c_str(), script.c_str(), plots.front().c_str());
 }
 
+// The theta_V rows the BRDF and self-shadowing tables were built on, in degrees ("0-89" for
+// every row; render.tables.frame_views).
+std::string viewRowsText(const BrdfTable& brdf) {
+  if (brdf.numThetaV() == 0) return "none";
+  const ViewRows& r = brdf.viewRows();
+  const int first = r.all() ? 0 : r.first, last = r.all() ? brdf.numThetaV() - 1 : r.last;
+  return fmt::format("{:.3g}-{:.3g}", brdf.thetaV(first) * 180.0f / kPi,
+                     brdf.thetaV(last) * 180.0f / kPi);
+}
+
 void runTables(const TablesCommandOptions& o, const RunContext& context) {
   Scene scene = loadScene(o.scene, setOverrides(o.set), context.memoryLimitBytes);
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
@@ -79,8 +91,8 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...
   std::printf(
-      "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,bands,cache,seconds,"
-      "bytes\n");
+      "material,level,metric_length_per_u,source,amplitude,scale,freq_per_u,bands,theta_v_rows,"
+      "cache,seconds,bytes\n");
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& material = scene.materials[m];
     const MaterialRelief& relief = ctx.reliefs[m];
@@ -93,10 +105,10 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
                                                         std::to_string(d.bandLast + 1) + "/" +
                                                         std::to_string(d.bandCount)
                                                   : "all";
-        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
+        std::printf("%s,%zu,%g,%s,%g,%g,%g,%s,%s,%s,%.3f,%zu\n", material.name.c_str(), i + 1,
                     relief.metrics[k].lengthPerU, choiceName(d.source), relief.levels[i].amplitude,
                     relief.levels[i].scale, relief.levels[i].freqPerU, bands.c_str(),
-                    t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
+                    viewRowsText(t.brdf).c_str(), t.fromCache ? "hit" : "miss", t.seconds, t.bytes);
         if (o.noPlots) continue;
         std::string stem = material.name + "_level" + std::to_string(i + 1);
         if (relief.metrics.size() > 1) stem += "_metric" + std::to_string(k + 1);

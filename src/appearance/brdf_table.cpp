@@ -70,7 +70,8 @@ Vec3 lightOfNode(const BrdfResolution& res, int phiV, int i, int j) {
 // slice's nL * nPhi diffuse values to sums and the specular ones after them. Slices are
 // independent: parallel, and the same bits for any thread count.
 template <typename PerSlice>
-BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, PerSlice perSlice) {
+BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, ViewRows rows,
+                    PerSlice perSlice) {
   const HistogramResolution& h = distr.resolution();
   std::vector<float> thetaV(h.thetaV);
   for (int k = 0; k < h.thetaV; ++k) thetaV[k] = distr.thetaV(k);
@@ -79,6 +80,7 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
   std::vector<float> data(BrdfTable::dataSize(res, h.thetaV, h.phiV), 0.0f);
   const size_t half = data.size() / 2;
   tbb::parallel_for(0, distr.numSlices(), [&](int k) {
+    if (!rows.contains(k / h.phiV)) return;
     std::vector<double> sums(2 * perView, 0.0);
     perSlice(k, polarDirection(distr.sliceThetaV(k), 0.0f), sums);
     for (size_t e = 0; e < perView; ++e) {
@@ -86,7 +88,9 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Per
       data[half + k * perView + e] = static_cast<float>(sums[perView + e]);
     }
   });
-  return BrdfTable::fromData(std::move(thetaV), res, std::move(data), h.phiV);
+  BrdfTable t = BrdfTable::fromData(std::move(thetaV), res, std::move(data), h.phiV);
+  t.setViewRows(rows);
+  return t;
 }
 
 // Figure 2's first branch over the quadrature normals: sums[node] gets sum m (L.N)+ and
@@ -151,9 +155,9 @@ BrdfTable BrdfTable::fromData(std::vector<float> thetaV, BrdfResolution res,
 }
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                      const SpecularLobe& lobe) {
+                                      const SpecularLobe& lobe, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
-  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+  return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
     const auto lobeOf = [&lobe](std::span<float> c) {
       for (float& v : c) {
         if (v == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
@@ -166,16 +170,16 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
 }
 
 BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                      float phong) {
+                                      float phong, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
-  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+  return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
     const auto lobeOf = [phong](std::span<float> c) { raiseToPower(c, phong); };
     sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
   });
 }
 
 BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                    const BrdfTable& finer) {
+                                    const BrdfTable& finer, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
   const int nL = thetaLNodes(res), nPhi = phiNodes(res, phiV);
   const size_t perView = static_cast<size_t>(nL) * nPhi;
@@ -183,7 +187,7 @@ BrdfTable BrdfTable::fromFinerLevel(const VisibleNormalHistogram& distr, BrdfRes
   for (int i = 0; i < nL; ++i)
     for (int j = 0; j < nPhi; ++j)
       lights[static_cast<size_t>(i) * nPhi + j] = lightOfNode(res, phiV, i, j);
-  return integrate(distr, res, [&](int k, const Vec3& V, std::vector<double>& sums) {
+  return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
     const QuadratureNormals q = quadratureNormals(distr, k, res.coarser);
     // Eq. (1): angles of V and L measured from the quadrature normal; azimuths in the plane
     // perpendicular to N, against the relief's axes x and y (seen from the view-aligned frame,
@@ -227,7 +231,7 @@ BrdfTable::Value BrdfTable::entry(int k, int i, int j) const {
 }
 
 BrdfTable::ViewAxes BrdfTable::locateView(float thetaV, float phiV) const {
-  return {locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV()),
+  return {locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV(), rows_),
           locateViewAzimuth(phiV, phiV_)};
 }
 

@@ -131,15 +131,18 @@ VisibleNormalHistogram deriveHistogram(const VisibleNormalHistogram& tile, const
 }
 
 ShadowingTable deriveShadowing(const ShadowingTable& tile, const ClassMap& map,
-                               const VisibleNormalHistogram& layout, ShadowingResolution res) {
+                               const VisibleNormalHistogram& layout, ShadowingResolution res,
+                               ViewRows rows) {
   return ShadowingTable::tabulate(
-      layout, res, [&](float thetaV, float phiV, float thetaL, float phiVL) {
+      layout, res,
+      [&](float thetaV, float phiV, float thetaL, float phiVL) {
         const Vec3 v = map.toTile(polarDirection(thetaV, phiV));
         const Vec3 l = map.toTile(polarDirection(thetaL, phiV - phiVL));
         const float phiT = tileAzimuth(map, phiV), phiLT = tileAzimuth(map, phiV - phiVL);
         return tile.lookup(std::acos(std::clamp(v.z, -1.0f, 1.0f)), phiT,
                            std::acos(std::clamp(l.z, -1.0f, 1.0f)), wrapAngle(phiT - phiLT));
-      });
+      },
+      rows);
 }
 
 }  // namespace meso

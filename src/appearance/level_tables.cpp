@@ -35,14 +35,15 @@ uint64_t tableKey(const PeriodicRelief& relief, float phong, const TableSettings
     hash.value(phong);
   // A derived class's tables are not its traced ones: keyed by the tile they derive from.
   if (derivation) hash.string("derived").value(derivation->tileKey);
+  if (!s.views.all()) hash.string("views").value(s.views.first).value(s.views.last);
   return hash.digest();
 }
 
 BrdfTable brdfFor(const VisibleNormalHistogram& distr, float phong, const TableSettings& s,
                   const BrdfTable* finer, const SpecularLobe* lobe) {
-  if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, *finer);
-  return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe)
-              : BrdfTable::fromDistribution(distr, s.brdf, phong);
+  if (finer) return BrdfTable::fromFinerLevel(distr, s.brdf, *finer, s.views);
+  return lobe ? BrdfTable::fromDistribution(distr, s.brdf, *lobe, s.views)
+              : BrdfTable::fromDistribution(distr, s.brdf, phong, s.views);
 }
 
 // The self-shadowing factor of a level, from the cache or traced in the periodic tile.
@@ -70,15 +71,17 @@ ShadowingTable shadowingFor(const PeriodicRelief& relief, const VisibleNormalHis
   ShadowingTable table;
   if (cached && ShadowingTable::fromData(*cached, r, table) &&
       table.numPhiV() == layout.resolution().phiV &&
-      table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1)
+      table.numThetaV() == (layout.resolution().thetaV - 1) * std::max(r.thetaVRefine, 1) + 1) {
+    table.setViewRows(s.views);
     return table;
+  }
   const ShadowingTable* tileTable = derivation ? &derivation->tile().shadowing : nullptr;
   if (tileTable && !tileTable->empty()) {
-    table = deriveShadowing(*tileTable, derivation->map, layout, r);
+    table = deriveShadowing(*tileTable, derivation->map, layout, r, s.views);
   } else {
     const PeriodicTile tile(relief, std::max(s.histogram.meshResolution, 1));
-    table =
-        ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong, s.histogram.seed + 7919);
+    table = ShadowingTable::trace(relief, tile, layout, s.histogram, r, phong,
+                                  s.histogram.seed + 7919, s.views);
   }
   warning.clear();
   cache.store(key, table.toData(), &warning);
@@ -158,6 +161,7 @@ LevelTables finishLevel(const LevelJob& job, float phong, const BrdfTable* finer
                        ? BrdfTable::fromData(thetaV, settings.brdf, std::move(p.brdfData), phiV)
                        : brdfFor(distr, phong, settings, finer, finer ? nullptr : job.lobe);
   const bool fromCache = p.fromCache && brdf.data().size() == brdfSize;
+  brdf.setViewRows(settings.views);
   if (!fromCache) {  // assembled only to be stored
     std::vector<float> payload = distr.toData(false);
     payload.insert(payload.end(), brdf.data().begin(), brdf.data().end());

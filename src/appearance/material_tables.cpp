@@ -158,7 +158,8 @@ struct ClassCount {
 MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
                                const MetricClass& metric, const TableCache& cache,
                                const TableSettings& shapeless, const SpecularLobe* lobe,
-                               DerivationTiles* derive, ClassCount& count, ProgressBar& progress) {
+                               DerivationTiles* derive, ViewRows coarsestRows, ClassCount& count,
+                               ProgressBar& progress) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -188,6 +189,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     LevelJob& job = jobs[k];
     job.relief = tiles[k].get();
     job.settings = settings;
+    if (index == 0) job.settings.views = coarsestRows;
     job.settings.histogram.meshResolution =
         tableMeshResolution(traced, settings.histogram.meshResolution);
     job.finer = finerLevel < n ? static_cast<int>(n - 1 - finerLevel) : -1;
@@ -255,9 +257,10 @@ void clampTableSlopes(const MaterialRelief& r, const std::string& name,
 
 }  // namespace
 
-MaterialRelief buildMaterialRelief(const Material& material, const TableCache& cache,
-                                   Warnings* warnings, const TableSettings& settings,
-                                   std::vector<MetricClass> classes, ProgressBar* shared) {
+MaterialRelief buildMaterialRelief(
+    const Material& material, const TableCache& cache, Warnings* warnings,
+    const TableSettings& settings, std::vector<MetricClass> classes, ProgressBar* shared,
+    const std::function<ViewRows(const MaterialRelief&)>& coarsestRows) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) {
     r.levels.push_back(makeReliefLevel(d, settings.memoryLimitBytes));
@@ -311,11 +314,16 @@ MaterialRelief buildMaterialRelief(const Material& material, const TableCache& c
   // Classes at once (each builds its levels at once, then their BRDFs): the same tables, in the
   // same order, whatever the thread count.
   r.metrics.resize(classes.size());
+  for (size_t c = 0; c < classes.size(); ++c) {
+    r.metrics[c].lengthPerU = classes[c].lengthPerU;
+    r.metrics[c].shape = classes[c].shape;
+  }
+  const ViewRows rows = coarsestRows && settings.build ? coarsestRows(r) : ViewRows{};
   std::vector<ClassCount> counts(classes.size());
   tbb::parallel_for(size_t(0), classes.size(), [&](size_t c) {
     r.metrics[c] =
         buildMetricTables(r, material, classes[c], cache, settings, r.synthesis ? &lobe : nullptr,
-                          derive ? &*derive : nullptr, counts[c], progress);
+                          derive ? &*derive : nullptr, rows, counts[c], progress);
   });
   if (derive && warnings)
     for (Warnings& w : derive->warnings) warnings->append(std::move(w));

@@ -126,26 +126,29 @@ void sumSlice(const std::vector<std::pair<Hit, float>>& hits, const PeriodicTile
 ShadowingTable ShadowingTable::trace(const PeriodicRelief& relief, const PeriodicTile& tile,
                                      const VisibleNormalHistogram& layout,
                                      const HistogramSettings& hs, ShadowingResolution res,
-                                     float phong, uint64_t seed) {
-  return traceWith(relief, tile, layout, hs, res, phong, seed, false);
+                                     float phong, uint64_t seed, ViewRows rows) {
+  return traceWith(relief, tile, layout, hs, res, phong, seed, false, rows);
 }
 
 ShadowingTable ShadowingTable::traceWithShadowRays(
     const PeriodicRelief& relief, const PeriodicTile& tile, const VisibleNormalHistogram& layout,
     const HistogramSettings& hs, ShadowingResolution res, float phong, uint64_t seed) {
-  return traceWith(relief, tile, layout, hs, res, phong, seed, true);
+  return traceWith(relief, tile, layout, hs, res, phong, seed, true, {});
 }
 
 ShadowingTable ShadowingTable::traceWith(const PeriodicRelief& relief, const PeriodicTile& tile,
                                          const VisibleNormalHistogram& layout,
                                          const HistogramSettings& hs, ShadowingResolution res,
-                                         float phong, uint64_t seed, bool withShadowRays) {
+                                         float phong, uint64_t seed, bool withShadowRays,
+                                         ViewRows rows) {
   ShadowingTable t = onNodes(layout, res);
+  t.setViewRows(rows);
   const int slices = t.numThetaV() * t.phiV_;
   const size_t half = t.data_.size() / 2;
   std::vector<float> phiVL(t.nPhi_);
   for (int j = 0; j < t.nPhi_; ++j) phiVL[j] = t.phi(j);
   tbb::parallel_for(0, slices, [&](int k) {
+    if (!t.rows_.contains(k / t.phiV_)) return;
     Rng rng(seed, static_cast<uint64_t>(k));
     const float phiWidth = 2.0f * kPi / static_cast<float>(t.phiV_);
     const float phiLo = t.phiV_ > 1 ? layout.phiVCentre(k % t.phiV_) - 0.5f * phiWidth : 0.0f;
@@ -195,10 +198,13 @@ ShadowingTable ShadowingTable::onNodes(const VisibleNormalHistogram& layout,
 }
 
 ShadowingTable ShadowingTable::tabulate(const VisibleNormalHistogram& layout,
-                                        ShadowingResolution res, const NodeFunction& f) {
+                                        ShadowingResolution res, const NodeFunction& f,
+                                        ViewRows rows) {
   ShadowingTable t = onNodes(layout, res);
+  t.setViewRows(rows);
   const size_t half = t.data_.size() / 2;
   tbb::parallel_for(0, t.numThetaV() * t.phiV_, [&](int k) {
+    if (!t.rows_.contains(k / t.phiV_)) return;
     const float thetaV = t.thetaV_[k / t.phiV_];
     const float phiV = t.phiV_ > 1 ? layout.phiVCentre(k % t.phiV_) : 0.0f;
     for (int i = 0; i < t.numDelta(); ++i) {
@@ -229,11 +235,13 @@ ShadowingTable::Value ShadowingTable::entry(int slice, int i, int j) const {
 ShadowingTable::Value ShadowingTable::lookup(float thetaV, float phiV, float thetaL,
                                              float phiVL) const {
   if (data_.empty()) return {};
-  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV());
+  const TableAxis a = locateOnAxis(thetaV, thetaV_.front(), thetaV_.back(), numThetaV(), rows_);
   const TableAxis m = locateViewAzimuth(phiV, phiV_);
   // The same offset theta_L - theta_V in both theta_V slices: along the hot-spot ridge.
-  const float tv =
-      std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_.front(), thetaV_.back());
+  const int n = numThetaV();
+  const int first = rows_.all() ? 0 : std::clamp(rows_.first, 0, n - 1);
+  const int last = rows_.all() ? n - 1 : std::clamp(rows_.last, first, n - 1);
+  const float tv = std::clamp(std::isfinite(thetaV) ? thetaV : 0.0f, thetaV_[first], thetaV_[last]);
   const TableAxis b = locateOnAxis(thetaL - tv, -0.5f * kPi, 0.5f * kPi, numDelta());
   const float p = wrapAngle(phiVL);
   const TableAxis c =

@@ -14,6 +14,16 @@
 #include <cmath>
 
 namespace meso {
+
+TileMap tableTileMap(const MaterialRelief& relief, const MetricPosition& metric, const Vec3& Pu,
+                     const Vec3& Pv, const Vec3& N) {
+  const MetricShape& s = relief.metrics[metric.k0].shape;
+  const Vec3 pu = s.identity() ? Pu : Pu / s.a, pv = s.identity() ? Pv : s.a * Pv - s.b * Pu;
+  return makeTileMap(pu, pv, N,
+                     tableLengthPerU(areaLengthPerU(pu, pv), relief.metrics[metric.k0].lengthPerU,
+                                     relief.metrics[metric.k1].lengthPerU));
+}
+
 namespace {
 
 // The frame a level perturbs: level i+1 rides on level i's surface (section 2.3).
@@ -48,11 +58,7 @@ LevelFrame unshaped(const LevelFrame& f, const MetricShape& s) {
 // the frame's own length clamped to the two classes' around the limit surface's metric
 // (tableLengthPerU), as redistribution's maps carry a stretch beyond the classes.
 TileMap brdfTileMap(const LevelContext& c, const LevelFrame& shaped) {
-  const LevelFrame f = unshaped(shaped, c.relief.metrics[c.metric.k0].shape);
-  return makeTileMap(
-      f.Pu, f.Pv, f.N,
-      tableLengthPerU(areaLengthPerU(f.Pu, f.Pv), c.relief.metrics[c.metric.k0].lengthPerU,
-                      c.relief.metrics[c.metric.k1].lengthPerU));
+  return tableTileMap(c.relief, c.metric, shaped.Pu, shaped.Pv, shaped.N);
 }
 
 // The level after level i in a walk over tables: a band whose table is the sum of its image's

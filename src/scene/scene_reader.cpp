@@ -190,6 +190,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
     q.variant = tr.choice("variant", q.variant);
     q.metricStep = static_cast<float>(tr.number("metric_step", q.metricStep, 0.01, 4.0));
     q.deriveClasses = tr.boolean("derive_classes", q.deriveClasses);
+    q.frameViews = tr.boolean("frame_views", q.frameViews);
     tr.finish();
   }
   r.finish();

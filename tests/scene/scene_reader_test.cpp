@@ -349,7 +349,7 @@ TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
       parse(std::string(kObject) +
             "[render.tables]\ntheta_v_bins = 9\ntheta_n_bins = 48\nphi_bins = 16\nazimuths = 8\n"
             "rays_per_view = 512\nmesh_resolution = 64\nbrdf_theta_l = 12\nbrdf_phi = 10\nvariant "
-            "= \"separable\"\nshadow_rays = 512\n");
+            "= \"separable\"\nshadow_rays = 512\nframe_views = false\n");
   const TableResolution& t = s.render.tables;
   EXPECT_EQ(t.thetaVBins, 9);
   EXPECT_EQ(t.thetaNBins, 48);
@@ -361,6 +361,8 @@ TEST_F(SceneReaderTest, TableResolutionsAndTheirLimits) {
   EXPECT_EQ(t.brdfPhi, 10);
   EXPECT_EQ(t.variant, RedistributionVariant::Separable);
   EXPECT_EQ(t.shadowRays, 512);
+  EXPECT_FALSE(t.frameViews);
+  EXPECT_TRUE(parse(kObject).render.tables.frameViews);
   EXPECT_EQ(parse(kObject).render.tables.thetaNBins, 96);
   EXPECT_EQ(parse(kObject).render.tables.shadowRays, 128);
   EXPECT_NE(errorOf(std::string(kObject) + "[render.tables]\nshadow_rays = 8\n")

@@ -55,21 +55,24 @@ class BrdfTable {
  public:
   BrdfTable() = default;
   // The finest level (Figure 2, first branch): (L.N) and (H.N)^phong over the visible normals.
+  // Every table is integrated on the theta_V rows `rows` only (the others stay 0 and are never
+  // looked up: lookups clamp to the rows built); each row is the same bits as on a whole table.
   static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                    float phong);
+                                    float phong, ViewRows rows = {});
   // The same with any specular lobe.
   static BrdfTable fromDistribution(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                    const SpecularLobe& lobe);
+                                    const SpecularLobe& lobe, ViewRows rows = {});
   // A coarser level (Figure 2, second branch): the finer level's table at the primed angles of
   // eq. (1), averaged over this level's visible normals.
   static BrdfTable fromFinerLevel(const VisibleNormalHistogram& distr, BrdfResolution res,
-                                  const BrdfTable& finer);
+                                  const BrdfTable& finer, ViewRows rows = {});
 
   struct Value {
     float diffuse = 0.0f;
     float specular = 0.0f;
   };
-  // Trilinear lookup; angles are clamped to the table (theta_V beyond the last slice uses it).
+  // Trilinear lookup; angles are clamped to the table (theta_V beyond the last slice uses it, and
+  // beyond the rows built the nearest of them).
   // On a table with view-azimuth slices, the phi_V = 0 ones (use the overload below).
   Value lookup(float thetaV, float thetaL, float phiVL) const;
   // With the view's azimuth phiV about the relief's own axes (tile x = 0): interpolated between
@@ -106,6 +109,9 @@ class BrdfTable {
   const std::vector<float>& data() const { return data_; }
   static BrdfTable fromData(std::vector<float> thetaV, BrdfResolution res, std::vector<float> data,
                             int phiV = 1);
+  // The theta_V rows that hold values (a table read from the cache is told which).
+  const ViewRows& viewRows() const { return rows_; }
+  void setViewRows(ViewRows rows) { rows_ = rows; }
 
  private:
   TableLayout layout() const {
@@ -120,6 +126,7 @@ class BrdfTable {
   int phiV_ = 1;
   int nPhi_ = 16;
   std::vector<float> data_;  // dataSize(res_, view slices, phiV_)
+  ViewRows rows_;
 };
 
 }  // namespace meso

@@ -27,7 +27,9 @@ VisibleNormalHistogram deriveHistogram(const VisibleNormalHistogram& tile, const
 // is the tile's L'.n' times |M^-1 L| / |M^-T n'|, a factor that varies over the hits (and H does
 // not map to H'), so the factor is the tile's to the extent that the weights' change is
 // uncorrelated with being lit (measured in docs/tables.md).
+// Only on the theta_V rows `rows` of the layout (ShadowingTable::tabulate).
 ShadowingTable deriveShadowing(const ShadowingTable& tile, const ClassMap& map,
-                               const VisibleNormalHistogram& layout, ShadowingResolution res);
+                               const VisibleNormalHistogram& layout, ShadowingResolution res,
+                               ViewRows rows = {});
 
 }  // namespace meso

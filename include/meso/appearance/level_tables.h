@@ -46,6 +46,10 @@ struct TableSettings {
   // The command's --memory-limit: height and NDF images larger than it allows are refused before
   // they are decoded.
   uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
+  // The histogram's theta_V rows on which the level's BRDF and self-shadowing tables are built
+  // (its histogram and redistribution tables have every row: redistribution maps from theta_V =
+  // 0). Part of the cache key unless every row.
+  ViewRows views;
 };
 
 // What the metric classes of one level derive from: the histogram (masses) and self-shadowing

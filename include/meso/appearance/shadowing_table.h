@@ -48,11 +48,13 @@ struct ShadowingResolution {
 class ShadowingTable {
  public:
   ShadowingTable() = default;
-  // Traces the table on the slices of `layout` (theta_V nodes and view-azimuth slices).
+  // Traces the table on the slices of `layout` (theta_V nodes and view-azimuth slices), on the
+  // histogram's theta_V rows `rows` only (the others stay 1, and lookups clamp to the rows built;
+  // each row is the same bits as on a whole table).
   static ShadowingTable trace(const PeriodicRelief& relief, const PeriodicTile& tile,
                               const VisibleNormalHistogram& layout,
                               const HistogramSettings& histogram, ShadowingResolution res,
-                              float phong, uint64_t seed);
+                              float phong, uint64_t seed, ViewRows rows = {});
   // The same table with one shadow ray (PeriodicTile::occluded) per visible hit and light node
   // instead of one horizon march per hit and light azimuth: the reference trace() is tested
   // against, many times slower.
@@ -69,7 +71,7 @@ class ShadowingTable {
   // (phi_V the slice's centre): a table derived from another class's (class_derivation.h).
   using NodeFunction = std::function<Value(float, float, float, float)>;
   static ShadowingTable tabulate(const VisibleNormalHistogram& layout, ShadowingResolution res,
-                                 const NodeFunction& f);
+                                 const NodeFunction& f, ViewRows rows = {});
   // Multilinear in (theta_V, phi_V, theta_L - theta_V, phi_{V-L}); an empty table is 1.
   Value lookup(float thetaV, float phiV, float thetaL, float phiVL) const;
   bool empty() const { return data_.empty(); }
@@ -88,6 +90,8 @@ class ShadowingTable {
   std::vector<float> toData() const;
   static bool fromData(const std::vector<float>& data, ShadowingResolution res,
                        ShadowingTable& out);
+  // The histogram's theta_V rows that hold values (a table read from the cache is told which).
+  void setViewRows(ViewRows rows) { rows_ = rows.refined(std::max(res_.thetaVRefine, 1)); }
 
  private:
   TableLayout layout() const {
@@ -97,7 +101,7 @@ class ShadowingTable {
   static ShadowingTable traceWith(const PeriodicRelief& relief, const PeriodicTile& tile,
                                   const VisibleNormalHistogram& layout,
                                   const HistogramSettings& histogram, ShadowingResolution res,
-                                  float phong, uint64_t seed, bool withShadowRays);
+                                  float phong, uint64_t seed, bool withShadowRays, ViewRows rows);
   size_t index(int slice, int i, int j) const {
     return (static_cast<size_t>(slice) * numDelta() + i) * nPhi_ + j;
   }
@@ -106,6 +110,7 @@ class ShadowingTable {
   int phiV_ = 1;
   int nPhi_ = 7;
   std::vector<float> data_;  // diffuse then specular, 2 * slices * thetaL * nPhi
+  ViewRows rows_;            // on the refined theta_V nodes
 };
 
 }  // namespace meso

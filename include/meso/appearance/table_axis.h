@@ -25,6 +25,33 @@ inline TableAxis locateOnAxis(float x, float lo, float hi, int n) {
   return {i0, std::min(i0 + 1, n - 1), s - static_cast<float>(i0)};
 }
 
+// The theta_V rows of a table that were built, first to last (last < 0: every row). Tables are
+// built only on the rows a scene's frames can look them up at (docs/tables.md, "Only the views a
+// scene needs"); lookups clamp to those rows.
+struct ViewRows {
+  int first = 0;
+  int last = -1;
+  bool all() const { return first <= 0 && last < 0; }
+  bool contains(int k) const { return k >= first && (last < 0 || k <= last); }
+  // The same rows on an axis refined `refine` times (node k becomes node k * refine).
+  ViewRows refined(int refine) const {
+    return all() ? ViewRows{} : ViewRows{first * refine, last * refine};
+  }
+  bool operator==(const ViewRows&) const = default;
+};
+
+// locateOnAxis, kept within the nodes `rows` of the axis (a lookup beyond them takes the nearest
+// built row): on every row, the same nodes and weight as locateOnAxis.
+inline TableAxis locateOnAxis(float x, float lo, float hi, int n, const ViewRows& rows) {
+  if (rows.all()) return locateOnAxis(x, lo, hi, n);
+  const int first = std::clamp(rows.first, 0, n - 1);
+  const int last = std::clamp(rows.last, first, n - 1);
+  float s = std::isfinite(x) ? (x - lo) / (hi - lo) * static_cast<float>(n - 1) : 0.0f;
+  s = std::clamp(s, static_cast<float>(first), static_cast<float>(last));
+  const int i0 = std::min(static_cast<int>(s), std::max(last - 1, first));
+  return {i0, std::min(i0 + 1, last), s - static_cast<float>(i0)};
+}
+
 // The view azimuth phiV between the centres 2 pi (m + 1/2) / n of n periodic view-azimuth slices
 // (slice n - 1 neighbours slice 0); with one slice, slice 0.
 inline TableAxis locateViewAzimuth(float phiV, int n) {

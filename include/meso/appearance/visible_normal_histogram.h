@@ -20,6 +20,9 @@ struct HistogramResolution {
   int phiV = 1;
 };
 
+// The last view slice of a histogram: 89 degrees.
+inline constexpr float kThetaVMax = 1.5533430f;
+
 // A normal as angles relative to the view: theta_N from the macro normal, phi = phi_N - phi_V.
 struct NormalAngles {
   float thetaN = 0.0f;
@@ -35,8 +38,7 @@ class VisibleNormalHistogram {
  public:
   // thetaVMax < pi/2: exactly grazing rays see only silhouettes, so the last slice is taken just
   // above the horizon and lookups beyond it clamp to it.
-  explicit VisibleNormalHistogram(HistogramResolution res,
-                                  float thetaVMax = 1.5533430f /* 89 deg */);
+  explicit VisibleNormalHistogram(HistogramResolution res, float thetaVMax = kThetaVMax);
   // The bin geometry alone, with no storage (for tables that only need the layout).
   struct LayoutOnly {};
   VisibleNormalHistogram(HistogramResolution res, float thetaVMax, LayoutOnly);

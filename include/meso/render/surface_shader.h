@@ -4,6 +4,7 @@
 
 #include "meso/render/render_context.h"
 #include "meso/render/shading.h"
+#include "meso/render/tile_map.h"
 
 #include <array>
 #include <span>
@@ -33,6 +34,12 @@ struct Footprint {
 // tangent plane at P + dP/dx, P + dP/dy, and dP = Pu du + Pv dv is solved by least squares. Invalid
 // (and harmless) when a neighbouring ray misses the plane or the frame is degenerate.
 Footprint footprintAt(const SurfacePoint& sp, const Ray& rx, const Ray& ry, float scale);
+
+// The map through which a level's BRDF and self-shadowing tables are looked up on a frame (P_u,
+// P_v, N) at metric position `metric`: the frame's tangents as class k0's shape sees them, at the
+// frame's own length clamped to the two classes' (tableLengthPerU).
+TileMap tableTileMap(const MaterialRelief& relief, const MetricPosition& metric, const Vec3& Pu,
+                     const Vec3& Pv, const Vec3& N);
 
 struct ShadeResult {
   Vec3 colour{0.0f};

@@ -173,6 +173,9 @@ struct TableResolution {
   float metricStep = 0.25f;
   // Metric classes derive their histograms from one traced tile per level (false: each traces).
   bool deriveClasses = true;
+  // The coarsest level's BRDF and self-shadowing tables only on the theta_V rows the scene's
+  // frames can look up (false: every row; docs/tables.md).
+  bool frameViews = true;
 };
 
 // render.light_samples: at most this many per camera sample.

@@ -1,0 +1,116 @@
+// Only the table entries a scene needs (docs/tables.md): the theta_V a scene's frames see on a flat
+// surface, against every pixel's ray; images rendered with the coarsest tables built on those rows
+// only are the whole tables' images, bit for bit.
+#include "meso/render/film_layout.h"
+#include "meso/render/integrator.h"
+#include "meso/render/render_context.h"
+#include "meso/render/view_rows.h"
+#include "meso/scene/camera.h"
+#include "meso/scene/mesh_io.h"
+
+#include "support/plane_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace meso {
+namespace {
+
+// A 40 x 40 ground in z = 0 with unit-speed uv, one noise level, seen from `eye`.
+Scene groundScene(const std::string& algorithm, const Vec3& eye, const Vec3& target) {
+  Material m;
+  m.kd = Vec3(0.7f);
+  m.ks = Vec3(0.2f);
+  m.phong = 20.0f;
+  m.relief = {testing::noiseLevel(0.02f, 2.0f, 3)};
+  Scene s = testing::planeScene(testing::writePlaneObj("rows", 20.0f, 0.0f, 40.0f), algorithm, m,
+                                Vec3(0.4f, 0.5f, -0.7f), "rows");
+  s.camera.position = eye;
+  s.camera.lookAt = target;
+  s.camera.width = 64;
+  s.camera.height = 36;
+  s.camera.fovY = 40.0f;
+  s.camera.spp = 1;
+  s.render.tables.raysPerView = 256;
+  s.render.tables.azimuths = 16;
+  s.render.tables.shadowRays = 32;
+  return s;
+}
+
+// The smallest and largest angle between the ground's normal and the direction to the eye over
+// every ray through a fine grid of film positions that meets the ground.
+std::pair<float, float> angleOverPixels(const Scene& s) {
+  const Camera camera(s.camera);
+  float lo = 10.0f, hi = -1.0f;
+  const int n = 400;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const Ray r = camera.generateRay(static_cast<float>(i) * s.camera.width / n,
+                                       static_cast<float>(j) * s.camera.height / n);
+      if (!(r.direction.z < 0.0f)) continue;
+      const Vec3 p = r.origin - r.origin.z / r.direction.z * r.direction;
+      if (std::abs(p.x) > 20.0f || std::abs(p.y) > 20.0f) continue;
+      const float theta = std::acos(std::min(-r.direction.z, 1.0f));
+      lo = std::min(lo, theta), hi = std::max(hi, theta);
+    }
+  return {lo, hi};
+}
+
+ViewAngles anglesOf(const Scene& s, const RenderContext& ctx) {
+  std::vector<ScreenMetric> screens;
+  for (const CameraSettings& c : sceneCameras(s)) screens.push_back(Camera(c).screen());
+  const LimitSurface* surface = &ctx.objects[0].surface;
+  return coarsestViewAngles(std::span(&surface, 1), ctx.reliefs[0], screens, 0.0f);
+}
+
+TEST(ViewRows, FlatGroundAnglesAreThoseOfItsPixels) {
+  // Low over the ground looking at the far edge, and straight down over it (the eye's foot in
+  // view: theta_V 0 is seen).
+  for (const auto& [eye, target] : {std::pair{Vec3(0, -19, 2.5f), Vec3(0, 0, 0)},
+                                    std::pair{Vec3(3, -4, 1.5f), Vec3(3, 20, 0.5f)},
+                                    std::pair{Vec3(1, 2, 30), Vec3(1, 2.5f, 0)}}) {
+    const Scene s = groundScene("brdf", eye, target);
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+    const ViewAngles a = anglesOf(s, ctx);
+    const auto [lo, hi] = angleOverPixels(s);
+    ASSERT_FALSE(a.all);
+    // The bounds hold every pixel's angle, and are the pixels' own to the half-degree margin and
+    // the grid's spacing.
+    const float deg = kPi / 180.0f;
+    EXPECT_LE(a.lo, lo);
+    EXPECT_GE(a.lo, lo - 0.6f * deg) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+    EXPECT_GE(a.hi, hi);
+    EXPECT_LE(a.hi, hi + 0.6f * deg) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+  }
+}
+
+TEST(ViewRows, CoarsestTablesOnTheFramesRowsRenderTheWholeTablesImage) {
+  for (const char* algorithm : {"auto", "brdf", "redistribution"}) {
+    Scene s = groundScene(algorithm, Vec3(0, -19, 2.5f), Vec3(0, 0, 0));
+    Scene whole = s;
+    whole.render.tables.frameViews = false;
+    PrepareTimes times;
+    const RenderContext a = prepareRenderContext(s, times);
+    const RenderContext b = prepareRenderContext(whole, times);
+    const ViewRows& rows = a.reliefs[0].metrics[0].levels[0].brdf.viewRows();
+    EXPECT_FALSE(rows.all()) << "a view of the ground from 2.5 units up sees no theta_V near 0";
+    EXPECT_GT(rows.first, 4);
+    EXPECT_TRUE(b.reliefs[0].metrics[0].levels[0].brdf.viewRows().all());
+    RenderCounters counters;
+    const Image ia = renderFrame(a, {s.camera.spp, 3, false}, counters);
+    const Image ib = renderFrame(b, {s.camera.spp, 3, false}, counters);
+    double sum = 0.0;
+    for (int y = 0; y < ia.height; ++y)
+      for (int x = 0; x < ia.width; ++x)
+        for (int c : {FilmLayout::R, FilmLayout::G, FilmLayout::B}) {
+          ASSERT_EQ(ia.at(x, y, c), ib.at(x, y, c)) << algorithm << " at " << x << ", " << y;
+          sum += ia.at(x, y, c);
+        }
+    EXPECT_GT(sum, 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace meso
