@@ -158,8 +158,8 @@ struct ClassCount {
 MetricTables buildMetricTables(const MaterialRelief& r, const Material& material,
                                const MetricClass& metric, const TableCache& cache,
                                const TableSettings& shapeless, const SpecularLobe* lobe,
-                               DerivationTiles* derive, ViewRows coarsestRows, ClassCount& count,
-                               ProgressBar& progress) {
+                               DerivationTiles* derive, const std::vector<ViewRows>& rows,
+                               ClassCount& count, ProgressBar& progress) {
   const float lengthPerU = metric.lengthPerU;
   TableSettings settings = shapeless;
   settings.histogram.shape = metric.shape;
@@ -189,7 +189,7 @@ MetricTables buildMetricTables(const MaterialRelief& r, const Material& material
     LevelJob& job = jobs[k];
     job.relief = tiles[k].get();
     job.settings = settings;
-    if (index == 0) job.settings.views = coarsestRows;
+    if (index < rows.size()) job.settings.views = rows[index];
     job.settings.histogram.meshResolution =
         tableMeshResolution(traced, settings.histogram.meshResolution);
     job.finer = finerLevel < n ? static_cast<int>(n - 1 - finerLevel) : -1;
@@ -260,7 +260,7 @@ void clampTableSlopes(const MaterialRelief& r, const std::string& name,
 MaterialRelief buildMaterialRelief(
     const Material& material, const TableCache& cache, Warnings* warnings,
     const TableSettings& settings, std::vector<MetricClass> classes, ProgressBar* shared,
-    const std::function<ViewRows(const MaterialRelief&)>& coarsestRows) {
+    const std::function<std::vector<ViewRows>(const MaterialRelief&)>& levelRows) {
   MaterialRelief r;
   for (const ReliefLevelDecl& d : material.relief) {
     r.levels.push_back(makeReliefLevel(d, settings.memoryLimitBytes));
@@ -318,7 +318,8 @@ MaterialRelief buildMaterialRelief(
     r.metrics[c].lengthPerU = classes[c].lengthPerU;
     r.metrics[c].shape = classes[c].shape;
   }
-  const ViewRows rows = coarsestRows && settings.build ? coarsestRows(r) : ViewRows{};
+  const std::vector<ViewRows> rows =
+      levelRows && settings.build ? levelRows(r) : std::vector<ViewRows>{};
   std::vector<ClassCount> counts(classes.size());
   tbb::parallel_for(size_t(0), classes.size(), [&](size_t c) {
     r.metrics[c] =

@@ -208,12 +208,12 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                                    scene.materials[m].relief.size());
     plans.push_back({m, std::move(classes), curved});
   }
-  // The coarsest level's BRDF and self-shadowing tables only on the theta_V rows that the
-  // scene's frames can look them up at (view_rows.h).
+  // The BRDF and self-shadowing tables only on the theta_V rows that the scene's frames can look
+  // them up at (view_rows.h).
   std::vector<ScreenMetric> screens;
   for (const CameraSettings& c : sceneCameras(scene)) screens.push_back(Camera(c).screen());
-  const auto coarsestRows = [&](size_t m) {
-    return [&, m](const MaterialRelief& r) -> ViewRows {
+  const auto levelRows = [&](size_t m) {
+    return [&, m](const MaterialRelief& r) -> std::vector<ViewRows> {
       if (!scene.render.tables.frameViews) return {};
       std::vector<const LimitSurface*> surfaces;
       for (const PreparedObject& o : ctx.objects) {
@@ -221,8 +221,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
         if (o.solid.active) return {};  // seen through its own chart, not the limit surface's
         surfaces.push_back(&o.surface);
       }
-      return viewRowsFor(coarsestViewAngles(surfaces, r, screens, displacementBound(r)),
-                         settings.histogram.resolution.thetaV, kThetaVMax);
+      return levelViewRows(surfaces, r, screens, displacementBound(r),
+                           settings.histogram.resolution.thetaV, kThetaVMax);
     };
   };
   // Shown only when building takes longer than a second (tables read from the cache do not).
@@ -233,7 +233,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
   tbb::parallel_for(size_t(0), plans.size(), [&](size_t p) {
     const size_t m = plans[p].material;
     ctx.reliefs[m] = buildMaterialRelief(scene.materials[m], cache, &planWarnings[p], settings,
-                                         std::move(plans[p].classes), &progress, coarsestRows(m));
+                                         std::move(plans[p].classes), &progress, levelRows(m));
     if (ctx.algorithm == Algorithm::Bump) buildSlopePyramids(ctx.reliefs[m]);
     if (ctx.algorithm == Algorithm::Auto) buildVisibleHeights(ctx.reliefs[m], plans[p].curved);
   });

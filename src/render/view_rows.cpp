@@ -1,12 +1,17 @@
 // The theta_V rows a scene's frames can look its coarsest tables up at (view_rows.h).
 #include "meso/render/view_rows.h"
 
+#include "meso/appearance/declared_levels.h"
 #include "meso/geometry/flat_faces.h"
 #include "meso/render/surface_shader.h"
 #include "meso/scene/camera_path.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace meso {
 namespace {
@@ -79,6 +84,44 @@ bool footInside(const std::vector<Vec3>& polygon, const Vec3& N, const Vec3& eye
   return true;
 }
 
+// Half a degree for rounding in the shader's own angles.
+constexpr float kMargin = 0.5f * kPi / 180.0f;
+
+// The smallest and largest factor by which the map scales tangent directions (the singular values
+// of its tangential part).
+std::pair<float, float> tangentialScales(const TileMap& m) {
+  const Vec3 e1 = glm::normalize(m.a), e2 = glm::cross(m.N, e1);
+  const float p = glm::dot(m.aDual, e1), q = glm::dot(m.aDual, e2), r = glm::dot(m.bDual, e1),
+              t = glm::dot(m.bDual, e2);
+  // Singular values of [[p, q], [r, t]].
+  const float a = p * p + q * q + r * r + t * t, d = std::abs(p * t - q * r);
+  const float root = std::sqrt(std::max(a * a - 4.0f * d * d, 0.0f));
+  return {std::sqrt(std::max(0.5f * (a - root), 0.0f)), std::sqrt(0.5f * (a + root))};
+}
+
+// The steepest tilt of a level's normals in its tables' tile (TileRelief at `length` per unit of
+// u, as the histograms trace it): its gradient sampled 8 times per shortest wavelength, then 10%
+// steeper for the peaks between samples (a sinusoid's is 8% above its nearest sample's).
+float steepestTilt(const ReliefLevel& level, float length) {
+  const TileRelief tile(level, length);
+  const float f = level.source->highestFrequency();
+  const int n =
+      std::clamp(static_cast<int>(std::ceil(8.0f * (std::isfinite(f) ? f : 128.0f))), 64, 1024);
+  const float steepest = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, n), 0.0f,
+      [&](const tbb::blocked_range<int>& rows, float m) {
+        for (int j = rows.begin(); j < rows.end(); ++j)
+          for (int i = 0; i < n; ++i) {
+            const Vec2 g = tile.gradient((static_cast<float>(i) + 0.5f) / static_cast<float>(n),
+                                         (static_cast<float>(j) + 0.5f) / static_cast<float>(n));
+            m = std::max(m, glm::length(g));
+          }
+        return m;
+      },
+      [](float x, float y) { return std::max(x, y); });
+  return std::isfinite(steepest) ? std::atan(1.1f * steepest) : 0.5f * kPi;
+}
+
 }  // namespace
 
 std::vector<CameraSettings> sceneCameras(const Scene& scene) {
@@ -93,7 +136,7 @@ std::vector<CameraSettings> sceneCameras(const Scene& scene) {
 ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
                               const MaterialRelief& relief, std::span<const ScreenMetric> screens,
                               float bound) {
-  ViewAngles all;
+  ViewAngles all, out;
   if (relief.metrics.empty() || screens.empty() || !std::isfinite(bound)) return all;
   float lo = 0.5f * kPi, hi = 0.0f;
   for (const LimitSurface* surface : surfaces) {
@@ -111,6 +154,9 @@ ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
       }
       const SurfacePoint sp = surface->evaluate(face, centre);
       const TileMap m = tableTileMap(relief, relief.metricAt(sp.Pu, sp.Pv), sp.Pu, sp.Pv, sp.N);
+      const auto [sMin, sMax] = tangentialScales(m);
+      out.sMin = std::min(out.sMin, sMin);
+      out.sMax = std::max(out.sMax, sMax);
       for (const ScreenMetric& screen : screens) {
         const std::vector<Vec3> seen = inView(polygon, screen, bound);
         if (seen.size() < 3) continue;
@@ -129,9 +175,50 @@ ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
     }
   }
   if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return all;
-  // Half a degree for rounding in the shader's own angles.
-  constexpr float kMargin = 0.5f * kPi / 180.0f;
-  return {std::max(lo - kMargin, 0.0f), std::min(hi + kMargin, 0.5f * kPi), false};
+  out.lo = std::max(lo - kMargin, 0.0f);
+  out.hi = std::min(hi + kMargin, 0.5f * kPi);
+  out.all = false;
+  return out;
+}
+
+std::vector<ViewRows> levelViewRows(std::span<const LimitSurface* const> surfaces,
+                                    const MaterialRelief& relief,
+                                    std::span<const ScreenMetric> screens, float bound, int n,
+                                    float thetaVMax) {
+  std::vector<ViewRows> rows(relief.levels.size());
+  const ViewAngles a = coarsestViewAngles(surfaces, relief, screens, bound);
+  if (rows.empty() || a.all) return rows;
+  rows[0] = viewRowsFor(a, n, thetaVMax);
+  // A finer level's frame is tilted by the coarser levels' relief (raised, redistributed or bump
+  // normals), and eq. (1) looks it up from the coarser level's visible normals: its rows widen by
+  // the coarser levels' steepest tilt. Bounded where the tile map is the world's (one isotropic
+  // class at the surfaces' own length), so that tilts and angles are the same in both.
+  constexpr float kUnit = 0.01f;
+  if (relief.metrics.size() != 1 || !relief.metrics[0].shape.identity() ||
+      !(a.sMin >= 1.0f - kUnit && a.sMax <= 1.0f + kUnit))
+    return rows;
+  const float length = relief.metrics[0].lengthPerU;
+  const float step = thetaVMax / static_cast<float>(n - 1);
+  const auto lowest = [&](const ViewRows& r) { return r.all() ? 0.0f : step * r.first; };
+  const auto highest = [&](const ViewRows& r) { return r.all() ? thetaVMax : step * r.last; };
+  float tilt = 0.0f;  // of level i's frame: the coarser levels' steepest tilts, summed
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const ReliefLevel& coarser = relief.levels[i - 1];
+    float alpha = steepestTilt(coarser, length);
+    if (coarser.partialSum) alpha = std::max(alpha, steepestTilt(*coarser.partialSum, length));
+    tilt += alpha;
+    if (!(tilt < 0.5f * kPi)) break;
+    // The frame tilted by `tilt` sees theta_V within it of the surface's; its tangents stretch by
+    // up to 1 / cos(tilt) along the slope, which lowers the tile's theta_V by up to that factor in
+    // tan. A map within kUnit of the world's moves angles by under kMargin.
+    ViewAngles w{a.lo - kMargin, a.hi + tilt + kMargin, false};
+    w.lo = std::atan(std::cos(tilt) * std::tan(std::max(w.lo - tilt, 0.0f)));
+    // Eq. (1): the coarser level's rows seen from its normals.
+    w.lo = std::max(std::min(w.lo, lowest(rows[i - 1]) - alpha - kMargin), 0.0f);
+    w.hi = std::min(std::max(w.hi, highest(rows[i - 1]) + alpha + kMargin), 0.5f * kPi);
+    rows[i] = viewRowsFor(w, n, thetaVMax);
+  }
+  return rows;
 }
 
 ViewRows viewRowsFor(const ViewAngles& angles, int n, float thetaVMax) {

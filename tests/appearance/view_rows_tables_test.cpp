@@ -57,7 +57,7 @@ MaterialRelief build(ViewRows rows) {
                              [rows](const MaterialRelief& r) {
                                // The classes are known when the rows are asked for.
                                EXPECT_EQ(r.metrics.size(), 2u);
-                               return rows;
+                               return std::vector<ViewRows>{rows};
                              });
 }
 

@@ -1,5 +1,5 @@
 // Only the table entries a scene needs (docs/tables.md): the theta_V a scene's frames see on a flat
-// surface, against every pixel's ray; images rendered with the coarsest tables built on those rows
+// surface, against every pixel's ray; images rendered with the tables built on those rows
 // only are the whole tables' images, bit for bit.
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
@@ -17,13 +17,13 @@
 namespace meso {
 namespace {
 
-// A 40 x 40 ground in z = 0 with unit-speed uv, one noise level, seen from `eye`.
+// A 40 x 40 ground in z = 0 with unit-speed uv and two noise levels, seen from `eye`.
 Scene groundScene(const std::string& algorithm, const Vec3& eye, const Vec3& target) {
   Material m;
   m.kd = Vec3(0.7f);
   m.ks = Vec3(0.2f);
   m.phong = 20.0f;
-  m.relief = {testing::noiseLevel(0.02f, 2.0f, 3)};
+  m.relief = {testing::noiseLevel(0.02f, 2.0f, 3), testing::noiseLevel(0.004f, 16.0f, 2)};
   Scene s = testing::planeScene(testing::writePlaneObj("rows", 20.0f, 0.0f, 40.0f), algorithm, m,
                                 Vec3(0.4f, 0.5f, -0.7f), "rows");
   s.camera.position = eye;
@@ -86,7 +86,7 @@ TEST(ViewRows, FlatGroundAnglesAreThoseOfItsPixels) {
   }
 }
 
-TEST(ViewRows, CoarsestTablesOnTheFramesRowsRenderTheWholeTablesImage) {
+TEST(ViewRows, TablesOnTheFramesRowsRenderTheWholeTablesImage) {
   for (const char* algorithm : {"auto", "brdf", "redistribution"}) {
     Scene s = groundScene(algorithm, Vec3(0, -19, 2.5f), Vec3(0, 0, 0));
     Scene whole = s;
@@ -97,6 +97,11 @@ TEST(ViewRows, CoarsestTablesOnTheFramesRowsRenderTheWholeTablesImage) {
     const ViewRows& rows = a.reliefs[0].metrics[0].levels[0].brdf.viewRows();
     EXPECT_FALSE(rows.all()) << "a view of the ground from 2.5 units up sees no theta_V near 0";
     EXPECT_GT(rows.first, 4);
+    // The finer level's rows reach further down (the coarser relief tilts its frames), but not to
+    // 0.
+    const ViewRows& finer = a.reliefs[0].metrics[0].levels[1].brdf.viewRows();
+    EXPECT_FALSE(finer.all());
+    EXPECT_LT(finer.first, rows.first);
     EXPECT_TRUE(b.reliefs[0].metrics[0].levels[0].brdf.viewRows().all());
     RenderCounters counters;
     const Image ia = renderFrame(a, {s.camera.spp, 3, false}, counters);

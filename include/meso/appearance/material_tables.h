@@ -66,15 +66,15 @@ TableSettings tableSettings(const TableResolution& resolution);
 
 // Builds (or loads) the tables of every level for each metric class (sorted by shape, then length,
 // here). Empty means the unit metric only. `progress` (may be null: a bar of the material's own)
-// advances by one per table set. `coarsestRows` (may be empty: every row), given the relief with
-// its classes' lengths and shapes in `metrics`, says on which theta_V rows the coarsest level's
-// BRDF and self-shadowing tables are built (TableSettings::views; the finer levels' are whole:
-// eq. (1) and frames tilted by coarser relief look them up at any angle).
+// advances by one per table set. `levelRows` (may be empty: every row), given the relief with its
+// classes' lengths and shapes in `metrics`, says per level (coarsest first; levels it leaves out
+// get every row) on which theta_V rows its BRDF and self-shadowing tables are built
+// (TableSettings::views).
 MaterialRelief buildMaterialRelief(
     const Material& material, const TableCache& cache, Warnings* warnings,
     const TableSettings& settings = {}, std::vector<MetricClass> classes = {},
     ProgressBar* progress = nullptr,
-    const std::function<ViewRows(const MaterialRelief&)>& coarsestRows = {});
+    const std::function<std::vector<ViewRows>(const MaterialRelief&)>& levelRows = {});
 
 // The steepest rms slope a class's tables are built for (89.4 degrees): beyond it the class's
 // length per unit of u is raised until the relief is this steep, with a warning. Tracing a tile

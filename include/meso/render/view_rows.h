@@ -8,6 +8,7 @@
 #include "meso/geometry/screen_metric.h"
 #include "meso/scene/scene.h"
 
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct ViewAngles {
   float lo = 0.0f;
   float hi = 0.5f * kPi;
   bool all = true;
+  // The least and most the faces' tile maps scale tangent directions (1 and 1: the tile's angles
+  // are the world's).
+  float sMin = std::numeric_limits<float>::infinity();
+  float sMax = 0.0f;
 };
 
 // The theta_V (in tile space, through tableTileMap at each face's metric position) at which the
@@ -33,6 +38,15 @@ struct ViewAngles {
 ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
                               const MaterialRelief& relief, std::span<const ScreenMetric> screens,
                               float bound);
+
+// The rows of every level's BRDF and self-shadowing tables, coarsest first: the coarsest level's
+// from coarsestViewAngles; a finer level's widened by the coarser levels' steepest tilts (its
+// frame is tilted by them, and eq. (1) looks it up from the coarser level's normals) where the
+// material has one isotropic class at the surfaces' own length, else every row.
+std::vector<ViewRows> levelViewRows(std::span<const LimitSurface* const> surfaces,
+                                    const MaterialRelief& relief,
+                                    std::span<const ScreenMetric> screens, float bound, int n,
+                                    float thetaVMax);
 
 // The rows of a histogram layout (n theta_V slices over [0, thetaVMax]) that lookups at `angles`
 // interpolate between.
