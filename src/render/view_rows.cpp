@@ -1,4 +1,4 @@
-// The theta_V rows a scene's frames can look its coarsest tables up at (view_rows.h).
+// The theta_V rows a scene's frames can look a material's tables up at (view_rows.h).
 #include "meso/render/view_rows.h"
 
 #include "meso/appearance/declared_levels.h"
@@ -53,19 +53,16 @@ float tileThetaV(const TileMap& m, const Vec3& d) {
 }
 
 // The smallest tileThetaV(eye - p) over p on segment ab of the face's plane. N.(eye - p) is the
-// eye's height over the plane, the same for every p, so theta_V grows with the map's tangential
-// length of eye - p, a convex function of p: a ternary search finds its minimum.
+// eye's height over the plane, the same for every p, so theta_V grows with the tile's tangential
+// length of eye - p, |u - t w| with u and w the tile's images of eye - a and b - a: least at
+// t = u.w / w.w, clamped to the segment.
 float segmentMinimum(const TileMap& m, const Vec3& eye, const Vec3& a, const Vec3& b) {
-  float lo = 0.0f, hi = 1.0f;
-  const auto f = [&](float t) { return tileThetaV(m, eye - (a + t * (b - a))); };
-  for (int i = 0; i < 60; ++i) {
-    const float t1 = lo + (hi - lo) / 3.0f, t2 = hi - (hi - lo) / 3.0f;
-    if (f(t1) <= f(t2))
-      hi = t2;
-    else
-      lo = t1;
-  }
-  return std::min({f(lo), f(0.0f), f(1.0f)});
+  const Vec3 u3 = m.toTile(eye - a), w3 = m.toTile(b - a);
+  const Vec2 u(u3.x, u3.y), w(w3.x, w3.y);
+  const float ww = glm::dot(w, w);
+  const float t = ww > 0.0f ? std::clamp(glm::dot(u, w) / ww, 0.0f, 1.0f) : 0.0f;
+  return std::min({tileThetaV(m, eye - (a + t * (b - a))), tileThetaV(m, eye - a),
+                   tileThetaV(m, eye - b)});
 }
 
 // Whether the eye's foot on the face's plane lies in the convex polygon (there theta_V is 0).

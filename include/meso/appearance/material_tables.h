@@ -14,10 +14,10 @@
 #include "meso/relief/relief_level.h"
 #include "meso/scene/scene.h"
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
-#include <functional>
 #include <vector>
 
 namespace meso {

@@ -116,7 +116,9 @@ struct PrepareOptions {
 
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that
 // objects use (only those), then (unless options.buildFrame is false) the geometry of the scene's
-// own camera (prepareFrame).
+// own camera (prepareFrame). The tables serve the views of the scene's camera and of every frame
+// of its path (render.tables.frame_views, view_rows.h): a caller that renders other views of a
+// flat surface sets that to false.
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                                    const PrepareOptions& options = {});
 

@@ -1,6 +1,6 @@
 // Only the table entries a scene can use (docs/tables.md, "Only the views a scene needs"): the
-// theta_V rows at which a material's coarsest BRDF and self-shadowing tables can be looked up by
-// any frame of the scene.
+// theta_V rows at which a material's BRDF and self-shadowing tables can be looked up by any frame
+// of the scene.
 #pragma once
 
 #include "meso/appearance/material_tables.h"
