@@ -61,8 +61,8 @@ float segmentMinimum(const TileMap& m, const Vec3& eye, const Vec3& a, const Vec
   const Vec2 u(u3.x, u3.y), w(w3.x, w3.y);
   const float ww = glm::dot(w, w);
   const float t = ww > 0.0f ? std::clamp(glm::dot(u, w) / ww, 0.0f, 1.0f) : 0.0f;
-  return std::min({tileThetaV(m, eye - (a + t * (b - a))), tileThetaV(m, eye - a),
-                   tileThetaV(m, eye - b)});
+  return std::min(
+      {tileThetaV(m, eye - (a + t * (b - a))), tileThetaV(m, eye - a), tileThetaV(m, eye - b)});
 }
 
 // Whether the eye's foot on the face's plane lies in the convex polygon (there theta_V is 0).
