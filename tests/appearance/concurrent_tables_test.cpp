@@ -2,6 +2,8 @@
 // the same bits for any thread count, and one build per table when builders share a cache.
 #include "meso/appearance/material_tables.h"
 
+#include "support/small_tables.h"
+
 #include <gtest/gtest.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
@@ -13,41 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Material twoLevels() {
-  Material m;
-  m.name = "two";
-  ReliefLevelDecl coarse;
-  coarse.source = ReliefSource::Noise;
-  coarse.octaves = 2;
-  coarse.amplitude = 0.04f;
-  coarse.scale = 2.0f;
-  coarse.seed = 3;
-  ReliefLevelDecl fine = coarse;
-  fine.amplitude = 0.01f;
-  fine.scale = 16.0f;
-  fine.seed = 5;
-  m.relief = {coarse, fine};
-  return m;
-}
+Material twoLevels() { return testing::twoNoiseLevels("two"); }
 
-TableSettings smallSettings() {
-  TableResolution q;
-  q.thetaVBins = 6;
-  q.thetaNBins = 24;
-  q.phiBins = 12;
-  q.phiVBins = 4;
-  q.azimuths = 8;
-  q.raysPerView = 256;
-  q.meshResolution = 24;
-  q.brdfThetaL = 6;
-  q.brdfPhi = 6;
-  TableSettings s = tableSettings(q);
-  s.shadows = true;
-  s.shadowing.thetaL = 7;
-  s.shadowing.phi = 4;
-  s.shadowing.raysPerSlice = 64;
-  return s;
-}
+TableSettings smallSettings() { return testing::smallTableSettings(6); }
 
 // Three classes: two lengths of the isotropic shape and a stretched one (derived from a tile).
 std::vector<MetricClass> threeClasses() {
@@ -85,7 +55,7 @@ TEST(ConcurrentTables, SameBitsForOneAndTwoThreads) {
 // Two builders of the same material in one process, at once, on one cache folder: each table is
 // built once (the other waits for its lock, then loads it), and neither waits forever.
 TEST(ConcurrentTables, TwoBuildersShareEachBuild) {
-  const fs::path folder = fs::path(testing::TempDir()) / "meso_concurrent_tables";
+  const fs::path folder = fs::path(::testing::TempDir()) / "meso_concurrent_tables";
   fs::remove_all(folder);
   const TableCache cache{folder};
   MaterialRelief a, b;

@@ -3,6 +3,8 @@
 // lookups clamp to them; the finer levels stay whole.
 #include "meso/appearance/material_tables.h"
 
+#include "support/small_tables.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,41 +12,9 @@
 namespace meso {
 namespace {
 
-Material twoLevels() {
-  Material m;
-  m.name = "rows";
-  ReliefLevelDecl coarse;
-  coarse.source = ReliefSource::Noise;
-  coarse.octaves = 2;
-  coarse.amplitude = 0.04f;
-  coarse.scale = 2.0f;
-  coarse.seed = 3;
-  ReliefLevelDecl fine = coarse;
-  fine.amplitude = 0.01f;
-  fine.scale = 16.0f;
-  fine.seed = 5;
-  m.relief = {coarse, fine};
-  return m;
-}
+Material twoLevels() { return testing::twoNoiseLevels("rows"); }
 
-TableSettings smallSettings() {
-  TableResolution q;
-  q.thetaVBins = 7;
-  q.thetaNBins = 24;
-  q.phiBins = 12;
-  q.phiVBins = 4;
-  q.azimuths = 8;
-  q.raysPerView = 256;
-  q.meshResolution = 24;
-  q.brdfThetaL = 6;
-  q.brdfPhi = 6;
-  TableSettings s = tableSettings(q);
-  s.shadows = true;
-  s.shadowing.thetaL = 7;
-  s.shadowing.phi = 4;
-  s.shadowing.raysPerSlice = 64;
-  return s;
-}
+TableSettings smallSettings() { return testing::smallTableSettings(7); }
 
 // An isotropic class and a stretched one (which derives from the level's tile).
 std::vector<MetricClass> twoClasses() {
