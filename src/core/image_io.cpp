@@ -12,12 +12,12 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <map>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 

@@ -69,20 +69,19 @@ bool ScreenMetric::boxInView(Vec3 lo, Vec3 hi, float grow) const {
   return boxNearView(lo - Vec3(grow), hi + Vec3(grow), 0.0f);
 }
 
-bool ScreenMetric::boxNearView(Vec3 lo, Vec3 hi, float distance) const {
+std::array<ScreenMetric::Plane, 5> ScreenMetric::viewPlanes() const {
   const float ty = tanHalfFovY;
   const float tx = ty * static_cast<float>(width) / static_cast<float>(height);
+  return {{{right - tx * forward, 0.0f},
+           {-right - tx * forward, 0.0f},
+           {up - ty * forward, 0.0f},
+           {-up - ty * forward, 0.0f},
+           {-forward, -nearDistance}}};
+}
+
+bool ScreenMetric::boxNearView(Vec3 lo, Vec3 hi, float distance) const {
   // The box is outside a plane dot(n, p - eye) > c when its corner nearest the inside is.
-  struct Plane {
-    Vec3 n;
-    float c;
-  };
-  const Plane planes[5] = {{right - tx * forward, 0.0f},
-                           {-right - tx * forward, 0.0f},
-                           {up - ty * forward, 0.0f},
-                           {-up - ty * forward, 0.0f},
-                           {-forward, -nearDistance}};
-  for (const Plane& plane : planes) {
+  for (const Plane& plane : viewPlanes()) {
     const Vec3 nearest(plane.n.x > 0.0f ? lo.x : hi.x, plane.n.y > 0.0f ? lo.y : hi.y,
                        plane.n.z > 0.0f ? lo.z : hi.z);
     if (glm::dot(plane.n, nearest - eye) > plane.c + distance * glm::length(plane.n)) return false;

@@ -34,13 +34,9 @@ std::vector<Vec3> clipped(const std::vector<Vec3>& polygon, const Vec3& n, const
 
 // The face's part inside the screen's view, grown by `grow` (as ScreenMetric::boxNearView).
 std::vector<Vec3> inView(std::vector<Vec3> polygon, const ScreenMetric& s, float grow) {
-  const float ty = s.tanHalfFovY;
-  const float tx = ty * static_cast<float>(s.width) / static_cast<float>(s.height);
-  const Vec3 normals[5] = {s.right - tx * s.forward, -s.right - tx * s.forward,
-                           s.up - ty * s.forward, -s.up - ty * s.forward, -s.forward};
-  for (int k = 0; k < 5 && !polygon.empty(); ++k) {
-    const float c = (k == 4 ? -s.nearDistance : 0.0f) + grow * glm::length(normals[k]);
-    polygon = clipped(polygon, normals[k], s.eye, c);
+  for (const ScreenMetric::Plane& plane : s.viewPlanes()) {
+    if (polygon.empty()) break;
+    polygon = clipped(polygon, plane.n, s.eye, plane.c + grow * glm::length(plane.n));
   }
   return polygon;
 }

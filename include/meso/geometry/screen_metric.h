@@ -4,6 +4,8 @@
 
 #include "meso/core/math.h"
 
+#include <array>
+
 namespace meso {
 
 // A pinhole view reduced to what dicing needs, independent of the scene area. The frame and pixel
@@ -55,6 +57,13 @@ struct ScreenMetric {
   // the box grown by a ball, not a cube, so tighter than boxInView(lo, hi, distance) beside the
   // frustum's slanted planes. Conservative.
   bool boxNearView(Vec3 lo, Vec3 hi, float distance) const;
+  // The view frustum as the half-spaces dot(n, p - eye) <= c (left, right, top, bottom, near),
+  // n not normalized.
+  struct Plane {
+    Vec3 n;
+    float c;
+  };
+  std::array<Plane, 5> viewPlanes() const;
 };
 
 }  // namespace meso
