@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 #include <span>
 
 #include <tbb/parallel_for.h>
@@ -22,10 +24,44 @@ constexpr size_t kLanes = 8;
 // The visible normals of one view slice as quadrature points: each a group of neighbouring
 // histogram bins with their total mass and mass-weighted mean normal (unnormalized, so that the
 // diffuse term, linear in N, stays exact), structure of arrays for loops the compiler vectorizes.
+// The points run theta_N-major within each phi_N column, so that every block of kLanes points is a
+// narrow cone of normals: `block` holds each block's cone (unit axis, and -sin of its half-angle
+// plus a margin), for skipping the blocks a light cannot reach.
 struct QuadratureNormals {
   std::vector<float> mass, x, y, z, invLength;
+  struct Cone {
+    Vec3 axis{0.0f, 0.0f, 1.0f};
+    float unlitBelow = -2.0f;  // every point of the block is unlit where L . axis < this
+  };
+  std::vector<Cone> block;
   size_t size() const { return mass.size(); }
 };
+
+// The cone around the points [b, b + kLanes) that have mass: a light at more than 90 degrees plus
+// the half-angle from its axis has L.N < 0 on every one of them. The margin (1e-3 radian) keeps the
+// test conservative beyond the float rounding of L.N, so that a skipped block is one whose points
+// would each have added exactly zero.
+QuadratureNormals::Cone coneOf(const QuadratureNormals& q, size_t b) {
+  glm::dvec3 sum(0.0);
+  for (size_t l = b; l < b + kLanes; ++l)
+    if (q.mass[l] > 0.0f)
+      sum += glm::dvec3(q.x[l], q.y[l], q.z[l]) * static_cast<double>(q.invLength[l]);
+  QuadratureNormals::Cone cone;
+  const double len = glm::length(sum);
+  if (!(len > 0.0)) return cone;  // nothing to skip or nothing there: never skipped
+  const glm::dvec3 axis = sum / len;
+  double halfAngle = 0.0;
+  for (size_t l = b; l < b + kLanes; ++l)
+    if (q.mass[l] > 0.0f) {
+      const glm::dvec3 n = glm::dvec3(q.x[l], q.y[l], q.z[l]) * static_cast<double>(q.invLength[l]);
+      halfAngle = std::max(halfAngle, std::acos(std::clamp(glm::dot(n, axis), -1.0, 1.0)));
+    }
+  const double reach = halfAngle + 1e-3;
+  if (reach >= 0.5 * std::numbers::pi) return cone;
+  cone.axis = Vec3(axis);
+  cone.unlitBelow = static_cast<float>(-std::sin(reach));
+  return cone;
+}
 
 QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
                                     const NormalGrouping& g) {
@@ -33,8 +69,8 @@ QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
   const int gt = std::min(g.thetaNBins(distr.thetaNWidth()), h.thetaN);
   const int gp = std::min(g.phiBins(distr.phiWidth()), h.phi);
   QuadratureNormals q;
-  for (int a0 = 0; a0 < h.thetaN; a0 += gt)
-    for (int b0 = 0; b0 < h.phi; b0 += gp) {
+  for (int b0 = 0; b0 < h.phi; b0 += gp)
+    for (int a0 = 0; a0 < h.thetaN; a0 += gt) {
       double m = 0.0;
       glm::dvec3 n(0.0);
       for (int a = a0; a < std::min(a0 + gt, h.thetaN); ++a)
@@ -53,6 +89,7 @@ QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
     }
   while (q.size() % kLanes != 0)  // massless padding for the lanes of sumLocalModel
     for (std::vector<float>* v : {&q.mass, &q.x, &q.y, &q.z, &q.invLength}) v->push_back(0.0f);
+  for (size_t b = 0; b < q.size(); b += kLanes) q.block.push_back(coneOf(q, b));
   return q;
 }
 
@@ -93,38 +130,73 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Vie
   return t;
 }
 
+// The clamped (L.N)+ and (H.N)+ of the quadrature normals [first, first + count), their masses
+// beside them (restrict: one loop the compiler vectorizes without run-time alias checks).
+void localTerms(const QuadratureNormals& q, size_t first, size_t count, const Vec3& L,
+                const Vec3& H, float* __restrict dOut, float* __restrict cOut,
+                float* __restrict mOut) {
+  const float *x = q.x.data() + first, *y = q.y.data() + first, *z = q.z.data() + first;
+  const float *inv = q.invLength.data() + first, *m = q.mass.data() + first;
+  const float lx = L.x, ly = L.y, lz = L.z, hx = H.x, hy = H.y, hz = H.z;
+  for (size_t b = 0; b < count; ++b) {  // branch-free, so that it vectorizes
+    const float lDotN = lx * x[b] + ly * y[b] + lz * z[b];
+    const float cosHN = (hx * x[b] + hy * y[b] + hz * z[b]) * inv[b];
+    const float lit = lDotN > 0.0f ? 1.0f : 0.0f;
+    dOut[b] = lit * lDotN;
+    cOut[b] = lit * std::min(std::max(cosHN, 0.0f), 1.0f);
+    mOut[b] = m[b];
+  }
+}
+
 // Figure 2's first branch over the quadrature normals: sums[node] gets sum m (L.N)+ and
 // sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the clamped
-// cosines of one light, in place, into the lobe's values.
+// cosines of one light, in place, into the lobe's values. Blocks whose cone the light cannot reach
+// are left out: each of their points would add exactly +-0 to its lane, so the sums are the same
+// bits as over every point (on a rough relief about half of the pairs are unlit, most of them in
+// blocks left out).
 template <typename LobeOf>
 void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int phiV, const Vec3& V,
                    LobeOf lobeOf, std::vector<double>& sums) {
   const int nL = BrdfTable::thetaLNodes(res), nPhi = BrdfTable::phiNodes(res, phiV);
-  const size_t perView = static_cast<size_t>(nL) * nPhi, n = q.size();
-  std::vector<float> d(n), c(n);
+  const size_t perView = static_cast<size_t>(nL) * nPhi, n = q.size(), blocks = q.block.size();
+  std::vector<float> d(n), c(n), mass(n), reach(blocks);
+  std::vector<float> ax(blocks), ay(blocks), az(blocks), below(blocks);
+  for (size_t kb = 0; kb < blocks; ++kb) {
+    ax[kb] = q.block[kb].axis.x, ay[kb] = q.block[kb].axis.y, az[kb] = q.block[kb].axis.z;
+    below[kb] = q.block[kb].unlitBelow;
+  }
   for (int i = 0; i < nL; ++i)
     for (int j = 0; j < nPhi; ++j) {
       const Vec3 L = lightOfNode(res, phiV, i, j);
       const Vec3 h = V + L;
       const float hl = glm::length(h);
       const Vec3 H = hl > 1e-12f ? h / hl : Vec3(0.0f);
-      const float *x = q.x.data(), *y = q.y.data(), *z = q.z.data(), *inv = q.invLength.data();
-      float *dOut = d.data(), *cOut = c.data();
-      for (size_t b = 0; b < n; ++b) {  // branch-free, so that it vectorizes
-        const float lDotN = L.x * x[b] + L.y * y[b] + L.z * z[b];
-        const float cosHN = (H.x * x[b] + H.y * y[b] + H.z * z[b]) * inv[b];
-        const float lit = lDotN > 0.0f ? 1.0f : 0.0f;
-        dOut[b] = lit * lDotN;
-        cOut[b] = lit * std::min(std::max(cosHN, 0.0f), 1.0f);
+      const float lx = L.x, ly = L.y, lz = L.z;
+      for (size_t kb = 0; kb < blocks; ++kb)  // > 0 where the light may reach the block
+        reach[kb] = lx * ax[kb] + ly * ay[kb] + lz * az[kb] - below[kb];
+      // The runs of reached blocks, packed one after the other (lane l of a packed block is lane l
+      // of the block).
+      size_t packed = 0;
+      for (size_t kb = 0; kb < blocks;) {
+        if (!(reach[kb] >= 0.0f)) {
+          ++kb;
+          continue;
+        }
+        size_t end = kb + 1;
+        while (end < blocks && reach[end] >= 0.0f) ++end;
+        const size_t first = kb * kLanes, count = (end - kb) * kLanes;
+        kb = end;
+        localTerms(q, first, count, L, H, d.data() + packed, c.data() + packed,
+                   mass.data() + packed);
+        packed += count;
       }
-      lobeOf(std::span<float>(c));
-      // Independent lanes (the arrays are padded with massless points to a multiple of kLanes):
-      // a reduction the compiler vectorizes without reordering any one sum, so the same bits on
-      // every machine.
+      lobeOf(std::span<float>(c.data(), packed));
+      // Independent lanes: a reduction the compiler vectorizes without reordering any one sum, so
+      // the same bits on every machine.
       float diff[kLanes] = {}, spec[kLanes] = {};
-      for (size_t b = 0; b < n; b += kLanes)
+      for (size_t b = 0; b < packed; b += kLanes)
         for (size_t l = 0; l < kLanes; ++l)
-          diff[l] += q.mass[b + l] * d[b + l], spec[l] += q.mass[b + l] * c[b + l];
+          diff[l] += mass[b + l] * d[b + l], spec[l] += mass[b + l] * c[b + l];
       double dSum = 0.0, sSum = 0.0;
       for (size_t l = 0; l < kLanes; ++l) dSum += diff[l], sSum += spec[l];
       sums[static_cast<size_t>(i) * nPhi + j] = dSum;

@@ -229,3 +229,47 @@ TEST(BrdfTable, GroupedQuadratureNormalsMatchEveryBin) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// The integration leaves out the blocks of quadrature normals that a light cannot reach (every
+// one facing away from it). Every node of a broad histogram's table, lights below the mean plane
+// included, is still the sum over every bin: nothing lit was left out.
+TEST(BrdfTable, BlocksLeftOutHoldNoLitNormal) {
+  const VisibleNormalHistogram h = fineRoughHistogram();
+  BrdfResolution every{9, 7};
+  every.finest = NormalGrouping{};
+  const float phong = 20.0f;
+  const BrdfTable t = BrdfTable::fromDistribution(h, every, phong);
+  const HistogramResolution& r = h.resolution();
+  size_t below = 0;
+  for (int k = 0; k < t.numThetaV(); ++k) {
+    const Vec3 V = polarDirection(h.sliceThetaV(k), 0.0f);
+    for (int i = 0; i < BrdfTable::thetaLNodes(every); ++i)
+      for (int j = 0; j < BrdfTable::phiNodes(every, 1); ++j) {
+        const Vec3 L = polarDirection(t.thetaL(i), -t.phi(j));
+        const Vec3 H = glm::normalize(V + L);
+        double diffuse = 0.0, specular = 0.0;
+        for (int a = 0; a < r.thetaN; ++a)
+          for (int b = 0; b < r.phi; ++b) {
+            const double m = h.mass(k, a, b);
+            if (m == 0.0) continue;
+            const Vec3 n = h.meanNormal(k, a, b);
+            const double lDotN = glm::dot(L, n);
+            if (lDotN <= 0.0) continue;
+            diffuse += m * lDotN;
+            specular += m * std::pow(std::clamp(glm::dot(H, glm::normalize(n)), 0.0f, 1.0f), phong);
+          }
+        const BrdfTable::Value v = t.entry(k, i, j);
+        EXPECT_NEAR(v.diffuse, diffuse, 1e-5 * std::max(1.0, diffuse)) << k << " " << i << " " << j;
+        EXPECT_NEAR(v.specular, specular, 1e-5 * std::max(1.0, specular))
+            << k << " " << i << " " << j;
+        if (t.thetaL(i) > 0.5f * kPi && diffuse > 1e-3) ++below;
+      }
+  }
+  EXPECT_GT(below, 100u);  // the lights where blocks are left out light some facets
+}
+
+}  // namespace
+}  // namespace meso
