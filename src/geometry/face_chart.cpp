@@ -4,10 +4,78 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace meso {
 
 using OpenSubdiv::Bfr::Parameterization;
+
+namespace {
+
+float cross2(Vec2 x, Vec2 y) { return x.x * y.y - x.y * y.x; }
+
+// The kite of sub-face i: (0, 0) at V_i, (1, 0) at M_i (towards V_i+1), (1, 1) at the centre C,
+// (0, 1) at M_i-1, with the bilinear map between.
+struct Kite {
+  Vec2 p00, p10, p11, p01;
+  Vec2 at(Vec2 ab) const {
+    return (1.0f - ab.x) * (1.0f - ab.y) * p00 + ab.x * (1.0f - ab.y) * p10 + ab.x * ab.y * p11 +
+           (1.0f - ab.x) * ab.y * p01;
+  }
+  // d(at)/d(a, b) as columns.
+  glm::mat2 derivative(Vec2 ab) const {
+    return glm::mat2((1.0f - ab.y) * (p10 - p00) + ab.y * (p11 - p01),
+                     (1.0f - ab.x) * (p01 - p00) + ab.x * (p11 - p10));
+  }
+  // (a, b) of st, clamped to the unit square, and d(a, b)/d(st) there. The chart's kites are
+  // convex, so the bilinear map is one to one on them: of the two roots of its inverse (a quadratic
+  // in b), the one nearer the unit square, then one Newton step for the float rounding.
+  Vec2 inverse(Vec2 st, glm::mat2& dAbDst) const {
+    const glm::dvec2 e(p10 - p00), g(p01 - p00), k(p00 - p10 + p11 - p01), h(st - p00);
+    const auto cross = [](glm::dvec2 x, glm::dvec2 y) { return x.x * y.y - x.y * y.x; };
+    // h = a (e + b k) + b g: the cross product with e + b k removes a.
+    const double k2 = cross(k, g), k1 = cross(e, g) + cross(h, k), k0 = cross(h, e);
+    const auto withA = [&](double b) {
+      const glm::dvec2 dir = e + b * k, rest = h - b * g;
+      const double a = std::abs(dir.x) > std::abs(dir.y) ? rest.x / dir.x : rest.y / dir.y;
+      return glm::dvec2(a, b);
+    };
+    const auto outside = [](glm::dvec2 ab) {
+      const glm::dvec2 d = glm::max(glm::max(-ab, ab - 1.0), glm::dvec2(0.0));
+      return std::isfinite(ab.x) && std::isfinite(ab.y) ? d.x + d.y : 1e300;
+    };
+    glm::dvec2 best = withA(std::abs(k1) > 0.0 ? -k0 / k1 : 0.0);
+    if (std::abs(k2) > 1e-12 * std::abs(k1)) {
+      const double w = std::sqrt(std::max(k1 * k1 - 4.0 * k0 * k2, 0.0));
+      best = withA((-k1 + w) / (2.0 * k2));
+      const glm::dvec2 other = withA((-k1 - w) / (2.0 * k2));
+      if (outside(other) < outside(best)) best = other;
+    }
+    if (!(outside(best) < 1e300)) best = glm::dvec2(0.5);
+    Vec2 ab(glm::clamp(best, glm::dvec2(-1.0), glm::dvec2(2.0)));
+    ab += glm::inverse(derivative(ab)) * (st - at(ab));  // one Newton step
+    ab = glm::clamp(ab, Vec2(0.0f), Vec2(1.0f));
+    dAbDst = glm::inverse(derivative(ab));
+    return ab;
+  }
+};
+
+Kite kiteOf(const Vec2* v, int n, int i) {
+  return {v[i], 0.5f * (v[i] + v[(i + 1) % n]), v[n], 0.5f * (v[i] + v[(i + n - 1) % n])};
+}
+
+// The kite whose sector around the centre holds st: from the ray through M_i-1 counter-clockwise
+// to the ray through M_i (the chart is counter-clockwise).
+int chartSector(const Vec2* v, int n, Vec2 st) {
+  const Vec2 c = v[n], d = st - c;
+  for (int i = 0; i < n; ++i) {
+    const Kite k = kiteOf(v, n, i);
+    if (cross2(k.p01 - c, d) >= 0.0f && cross2(d, k.p10 - c) >= 0.0f) return i;
+  }
+  return 0;  // st at the centre, or NaN
+}
+
+}  // namespace
 
 void appendFaceChart(int n, std::vector<Vec2>& chart) {
   if (n == 3) {
@@ -34,40 +102,28 @@ Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) cons
     }
     return glm::clamp(st, Vec2(0.0f), Vec2(1.0f));
   }
-  // The 2N triangles of the fan around the centre split the chart into wedges: pick the wedge
-  // containing st. A point outside the polygon is projected radially onto its boundary, which keeps
-  // the clamp continuous.
+  // Sub-face i is the kite (V_i, M_i, C, M_i-1) of the chart, mapped bilinearly onto the
+  // sub-face's normalized square: pick the kite whose sector around the centre holds st, invert
+  // its bilinear map there. A point outside the polygon is projected radially onto its boundary,
+  // which keeps the clamp continuous.
   const int n = f.param.GetFaceSize();
   const Vec2* v = &chartPoints[f.chartOffset];
-  const Vec2 c = v[n];
-  float best = -1e30f;
-  int bestSub = 0;
-  bool bestLower = true;
-  Vec2 bestLambda(0.0f);
-  glm::mat2 bestInverse(1.0f);
-  for (int i = 0; i < n; ++i) {
-    const Vec2 vi = v[i], mNext = 0.5f * (vi + v[(i + 1) % n]);
-    const Vec2 mPrev = 0.5f * (vi + v[(i + n - 1) % n]);
-    for (bool lower : {true, false}) {
-      // lower: (C, V_i, M_i) <-> (1, 1), (0, 0), (1, 0); upper: (C, M_i-1, V_i) <-> (1, 1), (0, 1),
-      // (0, 0) in the sub-face's normalized coordinates.
-      const glm::mat2 e = lower ? glm::mat2(vi - c, mNext - c) : glm::mat2(mPrev - c, vi - c);
-      const glm::mat2 inv = glm::inverse(e);
-      const Vec2 lambda = inv * (st - c);
-      const float m = std::min(lambda.x, lambda.y);
-      if (m > best)
-        best = m, bestSub = i, bestLower = lower, bestLambda = lambda, bestInverse = inv;
-    }
+  const int i = chartSector(v, n, st);
+  const Kite kite = kiteOf(v, n, i);
+  const Vec2 c = kite.p11, d = st - c;
+  for (const auto& [from, to] : {std::pair(kite.p00, kite.p10), std::pair(kite.p01, kite.p00)}) {
+    const Vec2 edge = to - from;
+    const float den = cross2(d, edge);
+    if (!(std::abs(den) > 0.0f)) continue;
+    const float t = cross2(from - c, edge) / den, u = cross2(from - c, d) / den;
+    if (u >= 0.0f && u <= 1.0f && t > 0.0f && t < 1.0f) st = c + t * d;
   }
-  const float outer = bestLambda.x + bestLambda.y;
-  if (outer > 1.0f) bestLambda /= outer;
-  const glm::mat2 local = bestLower ? glm::mat2(Vec2(-1.0f, -1.0f), Vec2(0.0f, -1.0f))
-                                    : glm::mat2(Vec2(-1.0f, 0.0f), Vec2(-1.0f, -1.0f));
-  const Vec2 ab = glm::clamp(Vec2(1.0f) + local * bestLambda, Vec2(0.0f), Vec2(1.0f));
+  glm::mat2 dAbDst;
+  const Vec2 ab = kite.inverse(st, dAbDst);
   // Normalized sub-face coordinates are twice Bfr's tile coordinates.
-  jacobian = 0.5f * local * bestInverse;
+  jacobian = 0.5f * dAbDst;
   Vec2 uv;
-  f.param.ConvertNormalizedSubFaceToCoord(bestSub, &ab.x, &uv.x);
+  f.param.ConvertNormalizedSubFaceToCoord(i, &ab.x, &uv.x);
   return uv;
 }
 
@@ -75,17 +131,9 @@ Vec2 LimitSurface::Impl::bfrToChart(int face, Vec2 bfrUv) const {
   const Face& f = faces[face];
   if (f.chartOffset < 0) return bfrUv;
   const int n = f.param.GetFaceSize();
-  const Vec2* v = &chartPoints[f.chartOffset];
   Vec2 ab;
   const int i = f.param.ConvertCoordToNormalizedSubFace(&bfrUv.x, &ab.x);
-  ab = glm::clamp(ab, Vec2(0.0f), Vec2(1.0f));
-  const Vec2 vi = v[i], c = v[n];
-  if (ab.x >= ab.y) {
-    const Vec2 mNext = 0.5f * (vi + v[(i + 1) % n]);
-    return (1.0f - ab.x) * vi + (ab.x - ab.y) * mNext + ab.y * c;
-  }
-  const Vec2 mPrev = 0.5f * (vi + v[(i + n - 1) % n]);
-  return (1.0f - ab.y) * vi + (ab.y - ab.x) * mPrev + ab.x * c;
+  return kiteOf(&chartPoints[f.chartOffset], n, i).at(glm::clamp(ab, Vec2(0.0f), Vec2(1.0f)));
 }
 
 }  // namespace meso

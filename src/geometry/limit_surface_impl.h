@@ -23,9 +23,10 @@ namespace meso {
 // tessellation can have corners in different tiles and interpolating their coordinates would be
 // meaningless. For those faces meso's st lives in a continuous chart instead: the unit right
 // triangle for N = 3, a regular N-gon inscribed in the unit square otherwise. Sub-face i is the
-// kite (V_i, M_i, C, M_i-1) of the chart, mapped piecewise affinely (two triangles split along
-// V_i-C) onto the sub-face's normalized square, so the map is continuous and orientation
-// preserving.
+// kite (V_i, M_i, C, M_i-1) of the chart, mapped bilinearly onto the sub-face's normalized square,
+// so the map is continuous and orientation preserving, and a flat triangle under the bilinear
+// scheme (whose sub-faces are the bilinear patches of the same kites in space) is an affine image
+// of its chart: its relief is undistorted, of one metric class.
 // Appends the chart vertices of an N-gon face (N > 3: the regular N-gon; N = 3: the unit right
 // triangle), counter-clockwise from edge 0 along +s, then the centre. Defined in face_chart.cpp
 // with Impl::chartToBfr and Impl::bfrToChart.

@@ -309,6 +309,28 @@ TEST(LimitSurface, PolygonChartIsContinuousAndInterpolatesCorners) {
   }
 }
 
+// A flat triangle under the bilinear scheme is the affine image of its chart (the unit right
+// triangle): its sub-faces are the bilinear patches of the chart's kites in space, which the
+// chart maps bilinearly too. So its surface point, tangents and uv are exactly those of the affine
+// map everywhere, across the sub-faces' seams (a relief on it is undistorted, of one metric
+// class).
+TEST(LimitSurface, BilinearTriangleIsAnAffineImageOfItsChart) {
+  ControlMesh mesh;
+  mesh.positions = {Vec3(0.0f, 0.0f, 0.0f), Vec3(2.0f, 0.3f, 0.1f), Vec3(0.4f, 1.5f, -0.2f)};
+  mesh.faceVertices = {0, 1, 2};
+  mesh.faceSizes = {3};
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const Vec3 e0 = mesh.positions[1] - mesh.positions[0], e1 = mesh.positions[2] - mesh.positions[0];
+  for (Vec2 st : domainSamples(24, true)) {
+    const SurfacePoint sp = surface.evaluate(0, st);
+    EXPECT_LT(glm::length(sp.P - (mesh.positions[0] + st.x * e0 + st.y * e1)), 2e-6f)
+        << st.x << "," << st.y;
+    EXPECT_LT(glm::length(sp.Pu - e0), 2e-5f) << st.x << "," << st.y;
+    EXPECT_LT(glm::length(sp.Pv - e1), 2e-5f) << st.x << "," << st.y;
+    EXPECT_LT(glm::length(sp.uv - st), 2e-6f) << st.x << "," << st.y;
+  }
+}
+
 TEST(LimitSurface, CollapsedFacesGiveNoNan) {
   ControlMesh collapsed = test::grid(3);
   for (int v : {5, 6, 9, 10}) collapsed.positions[v] = Vec3(1.5f, 1.5f, 0.0f);  // the middle face
