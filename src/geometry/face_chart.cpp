@@ -77,8 +77,22 @@ int chartSector(const Vec2* v, int n, Vec2 st) {
 
 }  // namespace
 
-void appendFaceChart(int n, std::vector<Vec2>& chart) {
+void appendFaceChart(int n, const Vec3* corners, std::vector<Vec2>& chart) {
   if (n == 3) {
+    // The triangle's own shape, scaled to the unit right triangle's area (one half), edge 0 along
+    // +s: a flat triangle's chart is then similar to it (its relief is isotropic, of the identity
+    // metric shape). The unit right triangle where the triangle is degenerate.
+    const glm::dvec3 e0 = glm::dvec3(corners[1]) - glm::dvec3(corners[0]);
+    const glm::dvec3 e1 = glm::dvec3(corners[2]) - glm::dvec3(corners[0]);
+    const double l0 = glm::length(e0), twiceArea = glm::length(glm::cross(e0, e1));
+    if (l0 > 0.0 && twiceArea > 1e-6 * l0 * glm::length(e1) && std::isfinite(twiceArea)) {
+      const double scale = 1.0 / std::sqrt(twiceArea);
+      const Vec2 v1(static_cast<float>(l0 * scale), 0.0f);
+      const Vec2 v2(static_cast<float>(glm::dot(e0, e1) / l0 * scale),
+                    static_cast<float>(twiceArea / l0 * scale));
+      chart.insert(chart.end(), {Vec2(0.0f), v1, v2, (v1 + v2) / 3.0f});
+      return;
+    }
     chart.insert(chart.end(), {Vec2(0.0f), Vec2(1.0f, 0.0f), Vec2(0.0f, 1.0f), Vec2(1.0f / 3.0f)});
     return;
   }
@@ -95,12 +109,15 @@ Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) cons
   const Face& f = faces[face];
   if (f.chartOffset < 0) {
     jacobian = glm::mat2(1.0f);
-    if (f.param.GetType() == Parameterization::TRI) {
-      st = glm::max(st, Vec2(0.0f));
-      const float sum = st.x + st.y;
-      return sum > 1.0f ? st / sum : st;
-    }
     return glm::clamp(st, Vec2(0.0f), Vec2(1.0f));
+  }
+  if (f.param.GetType() == Parameterization::TRI) {
+    // A Loop triangle: Bfr's (u, v) are the barycentric coordinates of st on the chart triangle.
+    const Vec2* v = &chartPoints[f.chartOffset];
+    jacobian = glm::inverse(glm::mat2(v[1] - v[0], v[2] - v[0]));
+    Vec2 uv = glm::max(jacobian * (st - v[0]), Vec2(0.0f));
+    const float sum = uv.x + uv.y;
+    return sum > 1.0f ? uv / sum : uv;
   }
   // Sub-face i is the kite (V_i, M_i, C, M_i-1) of the chart, mapped bilinearly onto the
   // sub-face's normalized square: pick the kite whose sector around the centre holds st, invert
@@ -130,6 +147,10 @@ Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) cons
 Vec2 LimitSurface::Impl::bfrToChart(int face, Vec2 bfrUv) const {
   const Face& f = faces[face];
   if (f.chartOffset < 0) return bfrUv;
+  if (f.param.GetType() == Parameterization::TRI) {
+    const Vec2* v = &chartPoints[f.chartOffset];
+    return v[0] + bfrUv.x * (v[1] - v[0]) + bfrUv.y * (v[2] - v[0]);
+  }
   const int n = f.param.GetFaceSize();
   Vec2 ab;
   const int i = f.param.ConvertCoordToNormalizedSubFace(&bfrUv.x, &ab.x);

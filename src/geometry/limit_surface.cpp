@@ -172,9 +172,12 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     Impl::Face& face = impl_->faces[f];
     const int n = mesh.faceSizes[f];
     face.param = Parameterization(toSdc(scheme), n);
-    if (face.param.HasSubFaces()) {
+    if (face.param.HasSubFaces() || n == 3) {
       face.chartOffset = static_cast<int>(impl_->chartPoints.size());
-      appendFaceChart(n, impl_->chartPoints);
+      Vec3 corners[3];
+      if (n == 3)
+        for (int k = 0; k < 3; ++k) corners[k] = mesh.positions[mesh.faceVertices[first + k]];
+      appendFaceChart(n, corners, impl_->chartPoints);
     }
     setPolygonFrame(mesh, first, n, face);
     first += static_cast<size_t>(n);
@@ -256,8 +259,6 @@ Vec3 limitNormal(const LimitSurface::Impl& impl, int face, Vec2 st, const Vec3& 
   if (f.chartOffset >= 0) {
     centre = impl.chartPoints[f.chartOffset + f.param.GetFaceSize()];
     corner = impl.chartPoints[f.chartOffset];
-  } else if (f.param.GetType() == Parameterization::TRI) {
-    centre = Vec2(1.0f / 3.0f);
   }
   const Vec2 target = glm::length(st - centre) > 1e-3f ? centre : corner;
   for (float inset : {1e-4f, 1e-3f, 1e-2f, 1e-1f}) {

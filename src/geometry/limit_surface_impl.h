@@ -17,20 +17,22 @@
 
 namespace meso {
 
-// meso's patch coordinates st equal Bfr's (u, v) for quads (unit square) and Loop triangles (the
-// unit right triangle). Bfr parameterizes every other face (triangles and N-gons under
-// Catmull-Clark or bilinear) by N quad sub-faces laid out as disjoint tiles, so a triangle of Bfr's
-// tessellation can have corners in different tiles and interpolating their coordinates would be
-// meaningless. For those faces meso's st lives in a continuous chart instead: the unit right
-// triangle for N = 3, a regular N-gon inscribed in the unit square otherwise. Sub-face i is the
-// kite (V_i, M_i, C, M_i-1) of the chart, mapped bilinearly onto the sub-face's normalized square,
-// so the map is continuous and orientation preserving, and a flat triangle under the bilinear
-// scheme (whose sub-faces are the bilinear patches of the same kites in space) is an affine image
-// of its chart: its relief is undistorted, of one metric class.
-// Appends the chart vertices of an N-gon face (N > 3: the regular N-gon; N = 3: the unit right
-// triangle), counter-clockwise from edge 0 along +s, then the centre. Defined in face_chart.cpp
-// with Impl::chartToBfr and Impl::bfrToChart.
-void appendFaceChart(int n, std::vector<Vec2>& chart);
+// meso's patch coordinates st equal Bfr's (u, v) for quads (unit square). A Loop triangle's st
+// lives on the chart triangle below, of which Bfr's (u, v) are the barycentric coordinates. Bfr
+// parameterizes every other face (triangles and N-gons under Catmull-Clark or bilinear) by N quad
+// sub-faces laid out as disjoint tiles, so a triangle of Bfr's tessellation can have corners in
+// different tiles and interpolating their coordinates would be meaningless. For those faces meso's
+// st lives in a continuous chart instead: for N = 3 the
+// control triangle's own shape (scaled to area one half), a regular N-gon inscribed in the unit
+// square otherwise. Sub-face i is the kite (V_i, M_i, C, M_i-1) of the chart, mapped bilinearly
+// onto the sub-face's normalized square, so the map is continuous and orientation preserving, and
+// a flat triangle under the bilinear scheme (whose sub-faces are the bilinear patches of the same
+// kites in space) is a similar image of its chart: its relief is undistorted, isotropic, of one
+// metric class.
+// Appends the chart vertices of an N-gon face (`corners`: its control points, read for N = 3),
+// counter-clockwise from edge 0 along +s, then the centre. Defined in face_chart.cpp with
+// Impl::chartToBfr and Impl::bfrToChart.
+void appendFaceChart(int n, const Vec3* corners, std::vector<Vec2>& chart);
 
 struct LimitSurface::Impl {
   struct Face {
@@ -41,7 +43,8 @@ struct LimitSurface::Impl {
     OpenSubdiv::Bfr::Surface<float> uvSurface;
     size_t patchOffset = 0;  // first float of this face's patch points
     size_t uvPatchOffset = 0;
-    int chartOffset = -1;  // first chart point (N vertices, then the centre); -1: st is Bfr's
+    int chartOffset =
+        -1;  // first chart point (N vertices, then the centre); -1: st is Bfr's (quads)
     // The patch is the bilinear quad of its 4 patch points (regular faces of the bilinear scheme,
     // checked against Bfr when the surface is made): evaluated directly, without Bfr's generic
     // basis and point combination (the hybrid's shading evaluates the limit surface at every hit).

@@ -309,26 +309,60 @@ TEST(LimitSurface, PolygonChartIsContinuousAndInterpolatesCorners) {
   }
 }
 
-// A flat triangle under the bilinear scheme is the affine image of its chart (the unit right
-// triangle): its sub-faces are the bilinear patches of the chart's kites in space, which the
-// chart maps bilinearly too. So its surface point, tangents and uv are exactly those of the affine
-// map everywhere, across the sub-faces' seams (a relief on it is undistorted, of one metric
-// class).
-TEST(LimitSurface, BilinearTriangleIsAnAffineImageOfItsChart) {
+// A flat triangle under the bilinear scheme is a similar image of its chart (the triangle's own
+// shape at area one half): its sub-faces are the bilinear patches of the chart's kites in space,
+// which the chart maps bilinearly too. So its surface point and tangents are exactly those of the
+// affine map from the chart everywhere, across the sub-faces' seams, with orthogonal tangents of
+// equal length (a relief on it is undistorted and isotropic, of one metric class); the same holds
+// for Loop on a flat regular lattice; a degenerate triangle keeps the unit right triangle.
+TEST(LimitSurface, BilinearTriangleIsASimilarImageOfItsChart) {
   ControlMesh mesh;
   mesh.positions = {Vec3(0.0f, 0.0f, 0.0f), Vec3(2.0f, 0.3f, 0.1f), Vec3(0.4f, 1.5f, -0.2f)};
   mesh.faceVertices = {0, 1, 2};
   mesh.faceSizes = {3};
   const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
   const Vec3 e0 = mesh.positions[1] - mesh.positions[0], e1 = mesh.positions[2] - mesh.positions[0];
-  for (Vec2 st : domainSamples(24, true)) {
+  const Vec2 c0 = surface.cornerSt(0, 0), c1 = surface.cornerSt(0, 1), c2 = surface.cornerSt(0, 2);
+  const glm::mat2 chart(c1 - c0, c2 - c0);
+  EXPECT_NEAR(0.5f * std::abs(glm::determinant(chart)), 0.5f, 1e-5f);
+  const glm::mat2 inv = glm::inverse(chart);
+  // d P / d st: the columns of [e0 e1] chart^-1.
+  const Vec3 pu = inv[0][0] * e0 + inv[0][1] * e1, pv = inv[1][0] * e0 + inv[1][1] * e1;
+  EXPECT_NEAR(glm::dot(pu, pv), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(pu), glm::length(pv), 1e-5f);
+  for (Vec2 l : domainSamples(24, true)) {
+    const Vec2 st = c0 + l.x * (c1 - c0) + l.y * (c2 - c0);
     const SurfacePoint sp = surface.evaluate(0, st);
-    EXPECT_LT(glm::length(sp.P - (mesh.positions[0] + st.x * e0 + st.y * e1)), 2e-6f)
-        << st.x << "," << st.y;
-    EXPECT_LT(glm::length(sp.Pu - e0), 2e-5f) << st.x << "," << st.y;
-    EXPECT_LT(glm::length(sp.Pv - e1), 2e-5f) << st.x << "," << st.y;
-    EXPECT_LT(glm::length(sp.uv - st), 2e-6f) << st.x << "," << st.y;
+    EXPECT_LT(glm::length(sp.P - (mesh.positions[0] + l.x * e0 + l.y * e1)), 2e-6f)
+        << l.x << "," << l.y;
+    EXPECT_LT(glm::length(sp.Pu - pu), 2e-5f) << l.x << "," << l.y;
+    EXPECT_LT(glm::length(sp.Pv - pv), 2e-5f) << l.x << "," << l.y;
+    EXPECT_LT(glm::length(sp.uv - st), 2e-6f) << l.x << "," << l.y;
   }
+  // Loop: on a flat regular lattice the limit surface is the lattice's affine map (linear
+  // precision), so an inner face's chart is a similar image too.
+  ControlMesh lattice;
+  constexpr int kSide = 6;
+  for (int j = 0; j <= kSide; ++j)
+    for (int i = 0; i <= kSide; ++i)
+      lattice.positions.emplace_back(1.3f * (i + 0.5f * j), 0.9f * j, 0.0f);
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      const int a = j * (kSide + 1) + i;
+      test::addFace(lattice, {a, a + 1, a + kSide + 1});
+      test::addFace(lattice, {a + 1, a + kSide + 2, a + kSide + 1});
+    }
+  const LimitSurface loop(lattice, SubdivisionScheme::Loop);
+  const int inner = 2 * (3 * kSide + 3);
+  const Vec2 centre =
+      (loop.cornerSt(inner, 0) + loop.cornerSt(inner, 1) + loop.cornerSt(inner, 2)) / 3.0f;
+  const SurfacePoint lp = loop.evaluate(inner, centre);
+  EXPECT_NEAR(glm::dot(lp.Pu, lp.Pv), 0.0f, 1e-4f * glm::dot(lp.Pu, lp.Pu));
+  EXPECT_NEAR(glm::length(lp.Pu), glm::length(lp.Pv), 1e-4f * glm::length(lp.Pu));
+  mesh.positions[2] = Vec3(1.0f, 0.15f, 0.05f);  // on edge 0: no area
+  const LimitSurface flat(mesh, SubdivisionScheme::Bilinear);
+  EXPECT_EQ(flat.cornerSt(0, 1), Vec2(1.0f, 0.0f));
+  EXPECT_EQ(flat.cornerSt(0, 2), Vec2(0.0f, 1.0f));
 }
 
 TEST(LimitSurface, CollapsedFacesGiveNoNan) {
