@@ -7,6 +7,7 @@
 #include "meso/core/power.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -161,6 +162,7 @@ void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int ph
   const size_t perView = static_cast<size_t>(nL) * nPhi, n = q.size(), blocks = q.block.size();
   std::vector<float> d(n), c(n), mass(n), reach(blocks);
   std::vector<float> ax(blocks), ay(blocks), az(blocks), below(blocks);
+  std::vector<uint64_t> reached((blocks + 63) / 64);
   for (size_t kb = 0; kb < blocks; ++kb) {
     ax[kb] = q.block[kb].axis.x, ay[kb] = q.block[kb].axis.y, az[kb] = q.block[kb].axis.z;
     below[kb] = q.block[kb].unlitBelow;
@@ -174,22 +176,23 @@ void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int ph
       const float lx = L.x, ly = L.y, lz = L.z;
       for (size_t kb = 0; kb < blocks; ++kb)  // > 0 where the light may reach the block
         reach[kb] = lx * ax[kb] + ly * ay[kb] + lz * az[kb] - below[kb];
-      // The runs of reached blocks, packed one after the other (lane l of a packed block is lane l
-      // of the block).
+      // The runs of reached blocks (found 64 at a time in a bit mask, without a branch per block),
+      // packed one after the other: lane l of a packed block is lane l of the block.
+      std::fill(reached.begin(), reached.end(), uint64_t{0});
+      for (size_t kb = 0; kb < blocks; ++kb)
+        reached[kb / 64] |= static_cast<uint64_t>(reach[kb] >= 0.0f) << (kb % 64);
       size_t packed = 0;
-      for (size_t kb = 0; kb < blocks;) {
-        if (!(reach[kb] >= 0.0f)) {
-          ++kb;
-          continue;
+      for (size_t w = 0; w < reached.size(); ++w)
+        for (uint64_t bits = reached[w]; bits != 0;) {
+          const int start = std::countr_zero(bits);
+          const uint64_t rest = ~(bits >> start);  // the run's length: trailing ones from start
+          const int length = rest == 0 ? 64 - start : std::countr_zero(rest);
+          bits = length + start >= 64 ? 0 : bits & (~uint64_t{0} << (start + length));
+          const size_t first = (w * 64 + start) * kLanes, count = length * kLanes;
+          localTerms(q, first, count, L, H, d.data() + packed, c.data() + packed,
+                     mass.data() + packed);
+          packed += count;
         }
-        size_t end = kb + 1;
-        while (end < blocks && reach[end] >= 0.0f) ++end;
-        const size_t first = kb * kLanes, count = (end - kb) * kLanes;
-        kb = end;
-        localTerms(q, first, count, L, H, d.data() + packed, c.data() + packed,
-                   mass.data() + packed);
-        packed += count;
-      }
       lobeOf(std::span<float>(c.data(), packed));
       // Independent lanes: a reduction the compiler vectorizes without reordering any one sum, so
       // the same bits on every machine.
