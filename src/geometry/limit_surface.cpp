@@ -237,11 +237,12 @@ void evaluateDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Imp
 
 bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {
   n = glm::cross(a, b);
-  const float len = glm::length(n);
-  // Relative test: nearly parallel derivatives give a cross product that is mostly rounding error.
-  if (!(len > 1e-6f * glm::length(a) * glm::length(b)) || !(len > 0.0f) || !std::isfinite(len))
-    return false;
-  n /= len;
+  const float len2 = glm::dot(n, n);
+  // Relative test: nearly parallel derivatives give a cross product that is mostly rounding error
+  // (|n| > 1e-6 |a| |b|, squared: one square root per call, in the hot path of shading and dicing).
+  const double ab2 = static_cast<double>(glm::dot(a, a)) * glm::dot(b, b);
+  if (!(len2 > 1e-12 * ab2) || !(len2 > 0.0f) || !std::isfinite(len2)) return false;
+  n /= std::sqrt(len2);
   return true;
 }
 
