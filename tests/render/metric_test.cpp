@@ -139,6 +139,40 @@ TEST(Metric, OnlyTableRenderersGetTables) {
   }
 }
 
+// Faces without uv carry the relief on their own charts, and a triangle's chart has its own shape:
+// a bilinear ground of 10-unit squares split into triangles along alternating diagonals (their
+// right angles at different corners, as exporters triangulate) is one metric class, the identity
+// shape at length 10 (the unit right triangle as every triangle's chart made sheared classes).
+// Under Loop the same ground is curved in its parameterization (its vertices of valence 4 and 8
+// are extraordinary) and has many classes.
+TEST(Metric, TriangulatedGroundWithoutUvIsOneClass) {
+  const std::filesystem::path file = testing::ProcessTemporaries::add(
+      std::filesystem::temp_directory_path() /
+      ("meso_metric_triangles_" + std::to_string(::getpid()) + ".obj"));
+  {
+    std::ofstream out(file);
+    constexpr int kSide = 4;
+    for (int j = 0; j <= kSide; ++j)
+      for (int i = 0; i <= kSide; ++i) out << "v " << 10 * i - 20 << " " << 10 * j - 20 << " 0\n";
+    for (int j = 0; j < kSide; ++j)
+      for (int i = 0; i < kSide; ++i) {
+        const int a = j * (kSide + 1) + i + 1, b = a + 1, c = a + kSide + 1, d = c + 1;
+        if ((i + j) % 2 == 0)
+          out << "f " << a << " " << b << " " << d << "\nf " << a << " " << d << " " << c << "\n";
+        else
+          out << "f " << a << " " << b << " " << c << "\nf " << b << " " << d << " " << c << "\n";
+      }
+  }
+  Material m;
+  m.relief = {testing::noiseLevel(0.03f, 2.0f, 3)};
+  Scene s = testing::planeScene(file, "bump", m, Vec3(0.4f, 0.5f, -0.7f), "triangles");
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+  ASSERT_EQ(ctx.reliefs[0].metrics.size(), 1u);
+  EXPECT_NEAR(ctx.reliefs[0].metrics[0].lengthPerU, 10.0f, 1e-3f);
+  EXPECT_TRUE(ctx.reliefs[0].metrics[0].shape.identity());
+}
+
 // A render's tables keep only the layout of their histograms (3 MB each at the default resolution;
 // no renderer reads the masses once the BRDF, redistribution and self-shadowing tables are built);
 // `meso tables` (keepHistograms) keeps the masses for its plots. The BRDF is the same either way.
