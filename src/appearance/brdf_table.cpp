@@ -25,9 +25,9 @@ constexpr size_t kLanes = 8;
 // The visible normals of one view slice as quadrature points: each a group of neighbouring
 // histogram bins with their total mass and mass-weighted mean normal (unnormalized, so that the
 // diffuse term, linear in N, stays exact), structure of arrays for loops the compiler vectorizes.
-// The points run theta_N-major within each phi_N column, so that every block of kLanes points is a
-// narrow cone of normals: `block` holds each block's cone (unit axis, and -sin of its half-angle
-// plus a margin), for skipping the blocks a light cannot reach.
+// The points run along theta_N within each phi_N column (phi_N outermost), so every block of kLanes
+// is a narrow cone of normals: `block` holds each block's cone (unit axis, and -sin of its
+// half-angle plus a margin), for skipping the blocks a light cannot reach.
 struct QuadratureNormals {
   std::vector<float> mass, x, y, z, invLength;
   struct Cone {
