@@ -12,17 +12,28 @@ void raiseToPower(std::span<float> x, float e) {
     for (float& v : x) v = std::pow(v, e);
     return;
   }
-  constexpr int kMax = 64;
-  float base[kMax], acc[kMax];
-  for (size_t q0 = 0; q0 < x.size(); q0 += kMax) {
-    const int m = static_cast<int>(std::min(x.size() - q0, static_cast<size_t>(kMax)));
-    for (int q = 0; q < m; ++q) base[q] = x[q0 + q], acc[q] = 1.0f;
-    for (unsigned bits = static_cast<unsigned>(e); bits != 0; bits >>= 1) {
-      if (bits & 1u)
-        for (int q = 0; q < m; ++q) acc[q] *= base[q];
-      for (int q = 0; q < m; ++q) base[q] *= base[q];
+  // Repeated squaring in place: x holds the base, acc the product of the powers taken so far, one
+  // pass over a block per bit of e (the last squaring is skipped).
+  constexpr size_t kBlock = 256;
+  float acc[kBlock];
+  const unsigned bits0 = static_cast<unsigned>(e);
+  for (size_t q0 = 0; q0 < x.size(); q0 += kBlock) {
+    const size_t m = std::min(x.size() - q0, kBlock);
+    float* base = x.data() + q0;
+    bool first = true;
+    for (unsigned bits = bits0;;) {
+      if (bits & 1u) {
+        if (first)
+          for (size_t q = 0; q < m; ++q) acc[q] = base[q];
+        else
+          for (size_t q = 0; q < m; ++q) acc[q] *= base[q];
+        first = false;
+      }
+      bits >>= 1;
+      if (bits == 0) break;
+      for (size_t q = 0; q < m; ++q) base[q] *= base[q];
     }
-    for (int q = 0; q < m; ++q) x[q0 + q] = acc[q];
+    for (size_t q = 0; q < m; ++q) base[q] = acc[q];
   }
 }
 

@@ -5,10 +5,11 @@
 
 namespace meso {
 
-// x[q] = x[q]^e for x in [0, 1]: by repeated squaring when e is a whole number (Phong exponents
-// usually are; std::pow's value to a few float roundings, in loops the compiler vectorizes:
-// std::pow was a third of the shadowing table's cost), else std::pow. No cutoff for small values:
-// where a node's highlight is tiny it still interpolates with the neighbours' that are not.
+// x[q] = x[q]^e for x in [0, 1]: by repeated squaring in place when e is a whole number (Phong
+// exponents usually are; the exact power to about e float roundings, in loops the compiler
+// vectorizes: std::pow was a third of the shadowing table's cost), else std::pow. No cutoff for
+// small values: where a node's highlight is tiny it still interpolates with the neighbours' that
+// are not.
 void raiseToPower(std::span<float> x, float e);
 
 }  // namespace meso
