@@ -12,8 +12,6 @@ using OpenSubdiv::Bfr::Parameterization;
 
 namespace {
 
-float cross2(Vec2 x, Vec2 y) { return x.x * y.y - x.y * y.x; }
-
 // The kite of sub-face i: (0, 0) at V_i, (1, 0) at M_i (towards V_i+1), (1, 1) at the centre C,
 // (0, 1) at M_i-1, with the bilinear map between.
 struct Kite {

@@ -148,8 +148,6 @@ void setPolygonFrame(const ControlMesh& mesh, size_t first, int size,
   face.averageNormal = (len > 0.0f && std::isfinite(len)) ? newell / len : Vec3(0.0f, 0.0f, 1.0f);
 }
 
-float cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
-
 // A tangent frame for points without derivatives, so callers never normalize a zero vector.
 void setTangentFrame(SurfacePoint& sp) {
   const Vec3 a = std::abs(sp.N.x) < 0.9f ? Vec3(1.0f, 0.0f, 0.0f) : Vec3(0.0f, 1.0f, 0.0f);

@@ -19,13 +19,16 @@ inline constexpr float kPi = std::numbers::pi_v<float>;
 inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline float degrees(float radians) { return radians * (180.0f / kPi); }
 
-// True when every component is finite (no NaN, no Inf).
 // Rec. 709 luminance of linear RGB.
 inline float luminance(const Vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
+// True when every component is finite (no NaN, no Inf).
 inline bool isFinite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+
+// The z component of the cross product of two plane vectors (twice the signed area they span).
+inline float cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // Distance from p to the box [lo, hi] (0 inside).
 inline float boxDistance(Vec3 p, Vec3 lo, Vec3 hi) {
