@@ -7,11 +7,11 @@
 #include "meso/core/power.h"
 
 #include <algorithm>
-#include <bit>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
-#include <span>
 
 #include <tbb/parallel_for.h>
 
@@ -22,34 +22,54 @@ namespace {
 // multiple of them).
 constexpr size_t kLanes = 8;
 
+// One block of kLanes floats as a vector (GCC's and Clang's vector extension): one AVX register,
+// or two of the baseline's. Element-wise operations, each as the scalar one. Only functions of this
+// file take or return it (inlined), so its calling convention, which differs between the two
+// instruction sets, never crosses a boundary.
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
+inline Lanes splat(float v) {
+  Lanes r;
+  for (size_t l = 0; l < kLanes; ++l) r[l] = v;
+  return r;
+}
+inline Lanes load(const float* p) {
+  Lanes r;
+  std::memcpy(&r, p, sizeof r);
+  return r;
+}
+
 // The visible normals of one view slice as quadrature points: each a group of neighbouring
 // histogram bins with their total mass and mass-weighted mean normal (unnormalized, so that the
 // diffuse term, linear in N, stays exact), structure of arrays for loops the compiler vectorizes.
 // The points run along theta_N within each phi_N column (phi_N outermost), so every block of kLanes
-// is a narrow cone of normals: `block` holds each block's cone (unit axis, and -sin of its
-// half-angle plus a margin), for skipping the blocks a light cannot reach.
+// is a narrow cone of normals: each block's cone (unit axis, and -sin of its half-angle plus a
+// margin) is kept for skipping the blocks a light cannot reach.
 struct QuadratureNormals {
   std::vector<float> mass, x, y, z, invLength;
-  struct Cone {
-    Vec3 axis{0.0f, 0.0f, 1.0f};
-    float unlitBelow = -2.0f;  // every point of the block is unlit where L . axis < this
-  };
-  std::vector<Cone> block;
+  // Per block: the cone's axis, and unlitBelow: every point of the block is unlit where
+  // L . axis < unlitBelow (-2: never skipped).
+  std::vector<float> axisX, axisY, axisZ, unlitBelow;
   size_t size() const { return mass.size(); }
+  size_t blocks() const { return unlitBelow.size(); }
 };
 
-// The cone around the points [b, b + kLanes) that have mass: a light at more than 90 degrees plus
-// the half-angle from its axis has L.N < 0 on every one of them. The margin (1e-3 radian) keeps the
-// test conservative beyond the float rounding of L.N, so that a skipped block is one whose points
-// would each have added exactly zero.
-QuadratureNormals::Cone coneOf(const QuadratureNormals& q, size_t b) {
+// The cone around the points [b, b + kLanes) that have mass, appended to q's blocks: a light at
+// more than 90 degrees plus the half-angle from its axis has L.N < 0 on every one of them. The
+// margin (1e-3 radian) keeps the test conservative beyond the float rounding of L.N, so that a
+// skipped block is one whose points would each have added exactly zero.
+void appendCone(QuadratureNormals& q, size_t b) {
+  const auto keep = [&q](const glm::dvec3& axis, double unlitBelow) {
+    q.axisX.push_back(static_cast<float>(axis.x)), q.axisY.push_back(static_cast<float>(axis.y));
+    q.axisZ.push_back(static_cast<float>(axis.z));
+    q.unlitBelow.push_back(static_cast<float>(unlitBelow));
+  };
   glm::dvec3 sum(0.0);
   for (size_t l = b; l < b + kLanes; ++l)
     if (q.mass[l] > 0.0f)
       sum += glm::dvec3(q.x[l], q.y[l], q.z[l]) * static_cast<double>(q.invLength[l]);
-  QuadratureNormals::Cone cone;
   const double len = glm::length(sum);
-  if (!(len > 0.0)) return cone;  // nothing to skip or nothing there: never skipped
+  if (!(len > 0.0)) return keep(glm::dvec3(0.0, 0.0, 1.0), -2.0);  // nothing there: never skipped
   const glm::dvec3 axis = sum / len;
   double halfAngle = 0.0;
   for (size_t l = b; l < b + kLanes; ++l)
@@ -58,10 +78,8 @@ QuadratureNormals::Cone coneOf(const QuadratureNormals& q, size_t b) {
       halfAngle = std::max(halfAngle, std::acos(std::clamp(glm::dot(n, axis), -1.0, 1.0)));
     }
   const double reach = halfAngle + 1e-3;
-  if (reach >= 0.5 * std::numbers::pi) return cone;
-  cone.axis = Vec3(axis);
-  cone.unlitBelow = static_cast<float>(-std::sin(reach));
-  return cone;
+  if (reach >= 0.5 * std::numbers::pi) return keep(glm::dvec3(0.0, 0.0, 1.0), -2.0);
+  keep(axis, -std::sin(reach));
 }
 
 QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
@@ -90,7 +108,7 @@ QuadratureNormals quadratureNormals(const VisibleNormalHistogram& distr, int k,
     }
   while (q.size() % kLanes != 0)  // massless padding for the lanes of sumLocalModel
     for (std::vector<float>* v : {&q.mass, &q.x, &q.y, &q.z, &q.invLength}) v->push_back(0.0f);
-  for (size_t b = 0; b < q.size(); b += kLanes) q.block.push_back(coneOf(q, b));
+  for (size_t b = 0; b < q.size(); b += kLanes) appendCone(q, b);
   return q;
 }
 
@@ -131,80 +149,117 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Vie
   return t;
 }
 
-// The clamped (L.N)+ and (H.N)+ of the quadrature normals [first, first + count), their masses
-// beside them (restrict: one loop the compiler vectorizes without run-time alias checks).
-void localTerms(const QuadratureNormals& q, size_t first, size_t count, const Vec3& L,
-                const Vec3& H, float* __restrict dOut, float* __restrict cOut,
-                float* __restrict mOut) {
-  const float *x = q.x.data() + first, *y = q.y.data() + first, *z = q.z.data() + first;
-  const float *inv = q.invLength.data() + first, *m = q.mass.data() + first;
-  const float lx = L.x, ly = L.y, lz = L.z, hx = H.x, hy = H.y, hz = H.z;
-  for (size_t b = 0; b < count; ++b) {  // branch-free, so that it vectorizes
-    const float lDotN = lx * x[b] + ly * y[b] + lz * z[b];
-    const float cosHN = (hx * x[b] + hy * y[b] + hz * z[b]) * inv[b];
-    const float lit = lDotN > 0.0f ? 1.0f : 0.0f;
-    dOut[b] = lit * lDotN;
-    cOut[b] = lit * std::min(std::max(cosHN, 0.0f), 1.0f);
-    mOut[b] = m[b];
-  }
-}
-
 // Figure 2's first branch over the quadrature normals: sums[node] gets sum m (L.N)+ and
-// sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the clamped
-// cosines of one light, in place, into the lobe's values. Blocks whose cone the light cannot reach
-// are left out: each of their points would add exactly +-0 to its lane, so the sums are the same
-// bits as over every point (on a rough relief about half of the pairs are unlit, most of them in
-// blocks left out).
+// sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the kLanes
+// clamped cosines of one block, in place, into the lobe's values. Blocks whose cone the light
+// cannot reach are left out: each of their points would add exactly +-0 to its lane, so the sums
+// are the same bits as over every point (on a rough relief about half of the pairs are unlit, most
+// of them in blocks left out). A block is one vector of kLanes: its terms stay in registers, and
+// lane l of the sums takes the points l, l + kLanes, ... in order (independent lanes: a reduction
+// the compiler vectorizes without reordering any one sum, so the same bits on every machine).
 template <typename LobeOf>
-void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int phiV, const Vec3& V,
-                   LobeOf lobeOf, std::vector<double>& sums) {
+inline void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int phiV,
+                          const Vec3& V, LobeOf lobeOf, std::vector<double>& sums) {
   const int nL = BrdfTable::thetaLNodes(res), nPhi = BrdfTable::phiNodes(res, phiV);
-  const size_t perView = static_cast<size_t>(nL) * nPhi, n = q.size(), blocks = q.block.size();
-  std::vector<float> d(n), c(n), mass(n), reach(blocks);
-  std::vector<float> ax(blocks), ay(blocks), az(blocks), below(blocks);
-  std::vector<uint64_t> reached((blocks + 63) / 64);
-  for (size_t kb = 0; kb < blocks; ++kb) {
-    ax[kb] = q.block[kb].axis.x, ay[kb] = q.block[kb].axis.y, az[kb] = q.block[kb].axis.z;
-    below[kb] = q.block[kb].unlitBelow;
-  }
+  const size_t perView = static_cast<size_t>(nL) * nPhi, blocks = q.blocks();
+  std::vector<float> reach(blocks);
+  std::vector<uint32_t> reached(blocks);
+  const float *ax = q.axisX.data(), *ay = q.axisY.data(), *az = q.axisZ.data();
+  const float* below = q.unlitBelow.data();
+  const float *x = q.x.data(), *y = q.y.data(), *z = q.z.data();
+  const float *inv = q.invLength.data(), *mass = q.mass.data();  // padded to whole blocks
   for (int i = 0; i < nL; ++i)
     for (int j = 0; j < nPhi; ++j) {
       const Vec3 L = lightOfNode(res, phiV, i, j);
       const Vec3 h = V + L;
       const float hl = glm::length(h);
       const Vec3 H = hl > 1e-12f ? h / hl : Vec3(0.0f);
-      const float lx = L.x, ly = L.y, lz = L.z;
-      for (size_t kb = 0; kb < blocks; ++kb)  // > 0 where the light may reach the block
+      const float lx = L.x, ly = L.y, lz = L.z, hx = H.x, hy = H.y, hz = H.z;
+      for (size_t kb = 0; kb < blocks; ++kb)  // >= 0 where the light may reach the block
         reach[kb] = lx * ax[kb] + ly * ay[kb] + lz * az[kb] - below[kb];
-      // The runs of reached blocks (found 64 at a time in a bit mask, without a branch per block),
-      // packed one after the other: lane l of a packed block is lane l of the block.
-      std::fill(reached.begin(), reached.end(), uint64_t{0});
-      for (size_t kb = 0; kb < blocks; ++kb)
-        reached[kb / 64] |= static_cast<uint64_t>(reach[kb] >= 0.0f) << (kb % 64);
-      size_t packed = 0;
-      for (size_t w = 0; w < reached.size(); ++w)
-        for (uint64_t bits = reached[w]; bits != 0;) {
-          const int start = std::countr_zero(bits);
-          const uint64_t rest = ~(bits >> start);  // the run's length: trailing ones from start
-          const int length = rest == 0 ? 64 - start : std::countr_zero(rest);
-          bits = length + start >= 64 ? 0 : bits & (~uint64_t{0} << (start + length));
-          const size_t first = (w * 64 + start) * kLanes, count = length * kLanes;
-          localTerms(q, first, count, L, H, d.data() + packed, c.data() + packed,
-                     mass.data() + packed);
-          packed += count;
-        }
-      lobeOf(std::span<float>(c.data(), packed));
-      // Independent lanes: a reduction the compiler vectorizes without reordering any one sum, so
-      // the same bits on every machine.
-      float diff[kLanes] = {}, spec[kLanes] = {};
-      for (size_t b = 0; b < packed; b += kLanes)
-        for (size_t l = 0; l < kLanes; ++l)
-          diff[l] += mass[b + l] * d[b + l], spec[l] += mass[b + l] * c[b + l];
+      size_t n = 0;  // the reached blocks, listed without a branch per block
+      for (size_t kb = 0; kb < blocks; ++kb) {
+        reached[n] = static_cast<uint32_t>(kb);
+        n += reach[kb] >= 0.0f ? 1 : 0;
+      }
+      const Lanes lxv = splat(lx), lyv = splat(ly), lzv = splat(lz);
+      const Lanes hxv = splat(hx), hyv = splat(hy), hzv = splat(hz);
+      const Lanes zero = splat(0.0f), one = splat(1.0f);
+      Lanes diff = zero, spec = zero;
+      for (size_t r = 0; r < n; ++r) {
+        const size_t p = static_cast<size_t>(reached[r]) * kLanes;
+        const Lanes xv = load(x + p), yv = load(y + p), zv = load(z + p), m = load(mass + p);
+        const Lanes lDotN = lxv * xv + lyv * yv + lzv * zv;
+        const Lanes cosHN = (hxv * xv + hyv * yv + hzv * zv) * load(inv + p);
+        const Lanes lit = lDotN > zero ? one : zero;
+        const Lanes atLeast0 = cosHN < zero ? zero : cosHN;  // std::max(cosHN, 0), NaN kept
+        Lanes c = lit * (one < atLeast0 ? one : atLeast0);   // std::min(.., 1)
+        lobeOf(c);
+        diff += m * (lit * lDotN), spec += m * c;
+      }
       double dSum = 0.0, sSum = 0.0;
       for (size_t l = 0; l < kLanes; ++l) dSum += diff[l], sSum += spec[l];
       sums[static_cast<size_t>(i) * nPhi + j] = dSum;
       sums[perView + static_cast<size_t>(i) * nPhi + j] = sSum;
     }
+}
+
+// The Phong integration of one view slice, compiled twice: for the baseline x86-64 vectors and,
+// where the CPU has them, for AVX2's (twice the lanes). Both do the same float operations in the
+// same order (no fused multiply-add), so the sums are the same bits
+// (`BrdfTable.WideAndBaselineVectorsGiveTheSameBits`).
+// c^e on one block, as raiseToPower takes it (the same float operations per value).
+struct PhongLobe {
+  float e;
+  void operator()(Lanes& c) const {
+    if (!isWholePower(e)) {
+      for (size_t l = 0; l < kLanes; ++l) c[l] = std::pow(c[l], e);
+      return;
+    }
+    Lanes acc = splat(1.0f);  // 1 * c is exactly c: the same bits as starting from the first power
+    for (unsigned bits = static_cast<unsigned>(e);;) {
+      if (bits & 1u) acc *= c;
+      bits >>= 1;
+      if (bits == 0) break;
+      c *= c;
+    }
+    c = acc;
+  }
+};
+
+__attribute__((flatten)) void sumPhongBaseline(const QuadratureNormals& q,
+                                               const BrdfResolution& res, int phiV, const Vec3& V,
+                                               float phong, std::vector<double>& sums) {
+  sumLocalModel(q, res, phiV, V, PhongLobe{phong}, sums);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"), flatten)) void sumPhongAvx2(const QuadratureNormals& q,
+                                                           const BrdfResolution& res, int phiV,
+                                                           const Vec3& V, float phong,
+                                                           std::vector<double>& sums) {
+  sumLocalModel(q, res, phiV, V, PhongLobe{phong}, sums);
+}
+#endif
+
+std::atomic<BrdfVectors> gVectors{BrdfVectors::best};
+
+bool cpuHasAvx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+void sumPhong(const QuadratureNormals& q, const BrdfResolution& res, int phiV, const Vec3& V,
+              float phong, std::vector<double>& sums) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (cpuHasAvx2() && gVectors.load(std::memory_order_relaxed) == BrdfVectors::best)
+    return sumPhongAvx2(q, res, phiV, V, phong, sums);
+#endif
+  sumPhongBaseline(q, res, phiV, V, phong, sums);
 }
 
 // Whole bins within a group's width (at least one).
@@ -214,6 +269,9 @@ int binsWithin(float groupWidth, float binWidth) {
 }
 
 }  // namespace
+
+void setBrdfVectors(BrdfVectors v) { gVectors.store(v); }
+bool brdfHasWiderVectors() { return cpuHasAvx2(); }
 
 int NormalGrouping::thetaNBins(float width) const { return binsWithin(thetaN, width); }
 int NormalGrouping::phiBins(float width) const { return binsWithin(phi, width); }
@@ -233,11 +291,11 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
                                       const SpecularLobe& lobe, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
   return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
-    const auto lobeOf = [&lobe](std::span<float> c) {
-      for (float& v : c) {
-        if (v == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
-        const float s = lobe.value(v);
-        v = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
+    const auto lobeOf = [&lobe](Lanes& c) {
+      for (size_t l = 0; l < kLanes; ++l) {
+        if (c[l] == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
+        const float s = lobe.value(c[l]);
+        c[l] = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
       }
     };
     sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
@@ -248,8 +306,7 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
                                       float phong, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
   return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
-    const auto lobeOf = [phong](std::span<float> c) { raiseToPower(c, phong); };
-    sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
+    sumPhong(quadratureNormals(distr, k, res.finest), res, phiV, V, phong, sums);
   });
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace meso {
 namespace {
@@ -269,6 +270,46 @@ TEST(BrdfTable, BlocksLeftOutHoldNoLitNormal) {
       }
   }
   EXPECT_GT(below, 100u);  // the lights where blocks are left out light some facets
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// The finest level's Phong integration runs in AVX2 where the CPU has it and in the baseline x86-64
+// vectors elsewhere: the same float operations in the same order, so the same tables to the bit
+// (a fused multiply-add or a reordered sum in either would break this), with whole and fractional
+// exponents, on isotropic and view-azimuth tables.
+TEST(BrdfTable, WideAndBaselineVectorsGiveTheSameBits) {
+  if (!brdfHasWiderVectors()) GTEST_SKIP() << "this CPU has no wider vectors than the baseline";
+  VisibleNormalHistogram aniso(HistogramResolution{3, 96, 32, 4});
+  Rng rng(23);
+  for (int k = 0; k < aniso.numSlices(); ++k)
+    for (int n = 0; n < 50000; ++n) {
+      const float t = 0.7f * rng.uniform(), p = 2.0f * kPi * rng.uniform();
+      const Vec3 N(1.6f * std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+      aniso.add(k, glm::normalize(N));
+    }
+  aniso.normalize();
+  const VisibleNormalHistogram iso = fineRoughHistogram();
+  const BrdfResolution res{9, 7};
+  for (const VisibleNormalHistogram* h : {&iso, static_cast<const VisibleNormalHistogram*>(&aniso)})
+    for (float phong : {1.0f, 20.0f, 37.5f, 300.0f}) {
+      setBrdfVectors(BrdfVectors::baseline);
+      const BrdfTable base = BrdfTable::fromDistribution(*h, res, phong);
+      setBrdfVectors(BrdfVectors::best);
+      const BrdfTable wide = BrdfTable::fromDistribution(*h, res, phong);
+      ASSERT_EQ(base.data().size(), wide.data().size());
+      size_t differ = 0, lit = 0;
+      for (size_t e = 0; e < base.data().size(); ++e) {
+        differ += std::memcmp(&base.data()[e], &wide.data()[e], sizeof(float)) != 0;
+        lit += base.data()[e] > 0.0f;
+      }
+      EXPECT_EQ(differ, 0u) << "phong " << phong;
+      EXPECT_GT(lit, base.data().size() / 4) << "phong " << phong;
+    }
 }
 
 }  // namespace

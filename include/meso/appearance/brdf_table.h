@@ -34,6 +34,13 @@ struct NormalGrouping {
   int phiBins(float width) const;
 };
 
+// Which vector instructions the finest level's Phong integration uses: the CPU's widest that meso
+// compiles for (AVX2 on x86-64 where the CPU has it) or the baseline's. The tables are the same
+// bits either way; `baseline` is there to test that.
+enum class BrdfVectors { best, baseline };
+void setBrdfVectors(BrdfVectors v);
+bool brdfHasWiderVectors();  // whether `best` differs from `baseline` on this CPU
+
 struct BrdfResolution {
   int thetaL = 16;  // nodes over [0, pi/2], both ends included; the table continues at the same
                     // spacing to pi (thetaLNodes), for lights below the mean plane that relief
