@@ -22,19 +22,24 @@ namespace {
 // multiple of them).
 constexpr size_t kLanes = 8;
 
-// One block of kLanes floats as a vector (GCC's and Clang's vector extension): one AVX register,
-// or two of the baseline's. Element-wise operations, each as the scalar one. Only functions of this
-// file take or return it (inlined), so its calling convention, which differs between the two
-// instruction sets, never crosses a boundary.
+// Vectors of floats (GCC's and Clang's vector extension) as wide as a register: a block of kLanes
+// is one AVX vector, or two of the baseline's. Element-wise operations, each as the scalar one.
+// Only functions of this file take or return them (inlined), so their calling convention, which
+// differs between the two instruction sets, never crosses a boundary.
 #pragma GCC diagnostic ignored "-Wpsabi"
-typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
-inline Lanes splat(float v) {
-  Lanes r;
-  for (size_t l = 0; l < kLanes; ++l) r[l] = v;
+typedef float Floats4 __attribute__((vector_size(4 * sizeof(float))));
+typedef float Floats8 __attribute__((vector_size(8 * sizeof(float))));
+template <typename V>
+constexpr size_t kWidth = sizeof(V) / sizeof(float);
+template <typename V>
+inline V splat(float v) {
+  V r;
+  for (size_t l = 0; l < kWidth<V>; ++l) r[l] = v;
   return r;
 }
-inline Lanes load(const float* p) {
-  Lanes r;
+template <typename V>
+inline V load(const float* p) {
+  V r;
   std::memcpy(&r, p, sizeof r);
   return r;
 }
@@ -150,16 +155,18 @@ BrdfTable integrate(const VisibleNormalHistogram& distr, BrdfResolution res, Vie
 }
 
 // Figure 2's first branch over the quadrature normals: sums[node] gets sum m (L.N)+ and
-// sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the kLanes
-// clamped cosines of one block, in place, into the lobe's values. Blocks whose cone the light
-// cannot reach are left out: each of their points would add exactly +-0 to its lane, so the sums
-// are the same bits as over every point (on a rough relief about half of the pairs are unlit, most
-// of them in blocks left out). A block is one vector of kLanes: its terms stay in registers, and
-// lane l of the sums takes the points l, l + kLanes, ... in order (independent lanes: a reduction
-// the compiler vectorizes without reordering any one sum, so the same bits on every machine).
-template <typename LobeOf>
+// sums[perView + node] sum m lobe(H.N) over lit facets (as shadeLocal). lobeOf turns the clamped
+// cosines of one block (n vectors), in place, into the lobe's values. Blocks whose cone
+// the light cannot reach are left out: each of their points would add exactly +-0 to its lane, so
+// the sums are the same bits as over every point (on a rough relief about half of the pairs are
+// unlit, most of them in blocks left out). A block is one or two vectors (kLanes floats): its
+// terms stay in registers, and lane l of the sums takes the points l, l + kLanes, ... in order
+// (independent lanes: a reduction the compiler vectorizes without reordering any one sum, so the
+// same bits on every machine).
+template <typename V, typename LobeOf>
 inline void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res, int phiV,
-                          const Vec3& V, LobeOf lobeOf, std::vector<double>& sums) {
+                          const Vec3& V3, LobeOf lobeOf, std::vector<double>& sums) {
+  constexpr size_t kW = kWidth<V>, kSub = kLanes / kW;  // vectors per block
   const int nL = BrdfTable::thetaLNodes(res), nPhi = BrdfTable::phiNodes(res, phiV);
   const size_t perView = static_cast<size_t>(nL) * nPhi, blocks = q.blocks();
   std::vector<float> reach(blocks);
@@ -168,13 +175,14 @@ inline void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res,
   const float* below = q.unlitBelow.data();
   const float *x = q.x.data(), *y = q.y.data(), *z = q.z.data();
   const float *inv = q.invLength.data(), *mass = q.mass.data();  // padded to whole blocks
+  const V zero = splat<V>(0.0f), one = splat<V>(1.0f);
   for (int i = 0; i < nL; ++i)
     for (int j = 0; j < nPhi; ++j) {
       const Vec3 L = lightOfNode(res, phiV, i, j);
-      const Vec3 h = V + L;
+      const Vec3 h = V3 + L;
       const float hl = glm::length(h);
       const Vec3 H = hl > 1e-12f ? h / hl : Vec3(0.0f);
-      const float lx = L.x, ly = L.y, lz = L.z, hx = H.x, hy = H.y, hz = H.z;
+      const float lx = L.x, ly = L.y, lz = L.z;
       for (size_t kb = 0; kb < blocks; ++kb)  // >= 0 where the light may reach the block
         reach[kb] = lx * ax[kb] + ly * ay[kb] + lz * az[kb] - below[kb];
       size_t n = 0;  // the reached blocks, listed without a branch per block
@@ -182,55 +190,73 @@ inline void sumLocalModel(const QuadratureNormals& q, const BrdfResolution& res,
         reached[n] = static_cast<uint32_t>(kb);
         n += reach[kb] >= 0.0f ? 1 : 0;
       }
-      const Lanes lxv = splat(lx), lyv = splat(ly), lzv = splat(lz);
-      const Lanes hxv = splat(hx), hyv = splat(hy), hzv = splat(hz);
-      const Lanes zero = splat(0.0f), one = splat(1.0f);
-      Lanes diff = zero, spec = zero;
+      const V lxv = splat<V>(lx), lyv = splat<V>(ly), lzv = splat<V>(lz);
+      const V hxv = splat<V>(H.x), hyv = splat<V>(H.y), hzv = splat<V>(H.z);
+      V diff[kSub], spec[kSub];
+      for (size_t u = 0; u < kSub; ++u) diff[u] = zero, spec[u] = zero;
       for (size_t r = 0; r < n; ++r) {
-        const size_t p = static_cast<size_t>(reached[r]) * kLanes;
-        const Lanes xv = load(x + p), yv = load(y + p), zv = load(z + p), m = load(mass + p);
-        const Lanes lDotN = lxv * xv + lyv * yv + lzv * zv;
-        const Lanes cosHN = (hxv * xv + hyv * yv + hzv * zv) * load(inv + p);
-        const Lanes lit = lDotN > zero ? one : zero;
-        const Lanes atLeast0 = cosHN < zero ? zero : cosHN;  // std::max(cosHN, 0), NaN kept
-        Lanes c = lit * (one < atLeast0 ? one : atLeast0);   // std::min(.., 1)
-        lobeOf(c);
-        diff += m * (lit * lDotN), spec += m * c;
+        const size_t p0 = static_cast<size_t>(reached[r]) * kLanes;
+        V d[kSub], c[kSub];
+        for (size_t u = 0; u < kSub; ++u) {
+          const size_t p = p0 + u * kW;
+          const V xv = load<V>(x + p), yv = load<V>(y + p), zv = load<V>(z + p);
+          const V lDotN = lxv * xv + lyv * yv + lzv * zv;
+          const V cosHN = (hxv * xv + hyv * yv + hzv * zv) * load<V>(inv + p);
+          const V lit = lDotN > zero ? one : zero;
+          const V atLeast0 = cosHN < zero ? zero : cosHN;  // std::max(cosHN, 0), NaN kept
+          d[u] = lit * lDotN;
+          c[u] = lit * (one < atLeast0 ? one : atLeast0);  // std::min(.., 1)
+        }
+        lobeOf(c, kSub);
+        for (size_t u = 0; u < kSub; ++u) {
+          const V m = load<V>(mass + p0 + u * kW);
+          diff[u] += m * d[u], spec[u] += m * c[u];
+        }
       }
-      double dSum = 0.0, sSum = 0.0;
-      for (size_t l = 0; l < kLanes; ++l) dSum += diff[l], sSum += spec[l];
+      double dSum = 0.0, sSum = 0.0;  // lanes 0 to kLanes - 1 in order
+      for (size_t u = 0; u < kSub; ++u)
+        for (size_t l = 0; l < kW; ++l) dSum += diff[u][l], sSum += spec[u][l];
       sums[static_cast<size_t>(i) * nPhi + j] = dSum;
       sums[perView + static_cast<size_t>(i) * nPhi + j] = sSum;
     }
 }
 
+// c^e on the n <= kLanes / width vectors of a block, as raiseToPower takes it (the same float
+// operations per value).
+struct PhongLobe {
+  explicit PhongLobe(float e)
+      : e(e), whole(isWholePower(e)), bits(whole ? static_cast<unsigned>(e) : 0u) {}
+  float e;
+  bool whole;
+  unsigned bits;
+  template <typename V>
+  void operator()(V* c, size_t n) const {
+    if (!whole) {
+      for (size_t g = 0; g < n; ++g)
+        for (size_t l = 0; l < kWidth<V>; ++l) c[g][l] = std::pow(c[g][l], e);
+      return;
+    }
+    V acc[kLanes / kWidth<V>];  // 1 * c is exactly c: the same bits as from the first power taken
+    for (size_t g = 0; g < n; ++g) acc[g] = splat<V>(1.0f);
+    for (unsigned b = bits;;) {
+      if (b & 1u)
+        for (size_t g = 0; g < n; ++g) acc[g] *= c[g];
+      b >>= 1;
+      if (b == 0) break;
+      for (size_t g = 0; g < n; ++g) c[g] *= c[g];
+    }
+    for (size_t g = 0; g < n; ++g) c[g] = acc[g];
+  }
+};
+
 // The Phong integration of one view slice, compiled twice: for the baseline x86-64 vectors and,
 // where the CPU has them, for AVX2's (twice the lanes). Both do the same float operations in the
 // same order (no fused multiply-add), so the sums are the same bits
 // (`BrdfTable.WideAndBaselineVectorsGiveTheSameBits`).
-// c^e on one block, as raiseToPower takes it (the same float operations per value).
-struct PhongLobe {
-  float e;
-  void operator()(Lanes& c) const {
-    if (!isWholePower(e)) {
-      for (size_t l = 0; l < kLanes; ++l) c[l] = std::pow(c[l], e);
-      return;
-    }
-    Lanes acc = splat(1.0f);  // 1 * c is exactly c: the same bits as starting from the first power
-    for (unsigned bits = static_cast<unsigned>(e);;) {
-      if (bits & 1u) acc *= c;
-      bits >>= 1;
-      if (bits == 0) break;
-      c *= c;
-    }
-    c = acc;
-  }
-};
-
 __attribute__((flatten)) void sumPhongBaseline(const QuadratureNormals& q,
                                                const BrdfResolution& res, int phiV, const Vec3& V,
                                                float phong, std::vector<double>& sums) {
-  sumLocalModel(q, res, phiV, V, PhongLobe{phong}, sums);
+  sumLocalModel<Floats4>(q, res, phiV, V, PhongLobe{phong}, sums);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -238,7 +264,7 @@ __attribute__((target("avx2"), flatten)) void sumPhongAvx2(const QuadratureNorma
                                                            const BrdfResolution& res, int phiV,
                                                            const Vec3& V, float phong,
                                                            std::vector<double>& sums) {
-  sumLocalModel(q, res, phiV, V, PhongLobe{phong}, sums);
+  sumLocalModel<Floats8>(q, res, phiV, V, PhongLobe{phong}, sums);
 }
 #endif
 
@@ -291,14 +317,15 @@ BrdfTable BrdfTable::fromDistribution(const VisibleNormalHistogram& distr, BrdfR
                                       const SpecularLobe& lobe, ViewRows rows) {
   const int phiV = distr.resolution().phiV;
   return integrate(distr, res, rows, [&](int k, const Vec3& V, std::vector<double>& sums) {
-    const auto lobeOf = [&lobe](Lanes& c) {
-      for (size_t l = 0; l < kLanes; ++l) {
-        if (c[l] == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
-        const float s = lobe.value(c[l]);
-        c[l] = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
-      }
+    const auto lobeOf = [&lobe](Floats4* c, size_t n) {
+      for (size_t g = 0; g < n; ++g)
+        for (size_t l = 0; l < kWidth<Floats4>; ++l) {
+          if (c[g][l] == 0.0f) continue;  // unlit, or facing away from H: no highlight, as (H.N)+^n
+          const float s = lobe.value(c[g][l]);
+          c[g][l] = std::isfinite(s) ? std::max(s, 0.0f) : 0.0f;
+        }
     };
-    sumLocalModel(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
+    sumLocalModel<Floats4>(quadratureNormals(distr, k, res.finest), res, phiV, V, lobeOf, sums);
   });
 }
 
