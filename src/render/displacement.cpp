@@ -267,22 +267,34 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
           ? std::max(finestLevel.freqPerU,
                      finestLevel.source->highestFrequency() * finestLevel.scale)
           : finestLevel.freqPerU;
-  const float slopePerU = mode == DisplacementMode::Full && sampling.perWavelength > 0.0f
-                              ? reliefSlopeRmsPerU(relief)
-                              : 0.0f;
+  // The hybrid floors only a height image whose texels carry detail finer than its measured
+  // wavelength (sharp edges, per-texel noise): where it raises that level it dices it by pixels,
+  // which resolves the measured wavelength but not the texel-scale relief that masks itself at
+  // grazing views.
+  const bool imageFloor = mode == DisplacementMode::ByTransition &&
+                          finestLevel.source->texelsPerSide() > 0 &&
+                          floorFreqPerU > finestLevel.freqPerU;
+  const float slopePerU =
+      (mode == DisplacementMode::Full || imageFloor) && sampling.perWavelength > 0.0f
+          ? reliefSlopeRmsPerU(relief)
+          : 0.0f;
+  // At least perWavelength edges per finest wavelength where the relief can mask itself (the most
+  // grazing view of the face against its world rms slope), up to the texel cap.
+  const auto floorFace = [&](int face, const FaceSample& s, float capPerU) {
+    const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU
+                                              : std::numeric_limits<float>::infinity();
+    if (!(s.leastCot >= kMaskingSlopes * slope))
+      out.texelFloor[face] =
+          edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * floorFreqPerU, capPerU),
+                      out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
+  };
   tbb::parallel_for(0, n, [&](int face) {
     FaceSample s;
     if (!sampleFace(surface, face, eye, solid, s)) return;
     if (mode == DisplacementMode::Full) {
       const float capPerU = samplesPerU(finestLevel, sampling);
       out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
-      // World rms slope from slopes per unit of u; a non-finite one (a degenerate face) masks.
-      const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU
-                                                : std::numeric_limits<float>::infinity();
-      if (!(s.leastCot >= kMaskingSlopes * slope))
-        out.texelFloor[face] =
-            edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * floorFreqPerU, capPerU),
-                        out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
+      floorFace(face, s, capPerU);  // a non-finite slope (a degenerate face) masks
       out.needsDicing[face] = 1;
       return;
     }
@@ -306,8 +318,10 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     // redistribution) on this face, so dicing below its texels would buy nothing.
     for (size_t i = relief.levels.size(); i-- > 0;)
       if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
-        out.texelCap[face] =
-            edgeRateFor(s.uvEdge, samplesPerU(relief.levels[i], sampling), 32767.0f);
+        const float capPerU = samplesPerU(relief.levels[i], sampling);
+        out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
+        if (imageFloor && i + 1 == relief.levels.size() && !(maxNu(relief.levels[i]) <= threshold))
+          floorFace(face, s, capPerU);
         break;
       }
   });

@@ -308,6 +308,61 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
 namespace meso {
 namespace {
 
+// A height image whose texels carry detail finer than its level's wavelength (sharp edges,
+// per-texel noise): where the hybrid raises it on a face seen at grazing, the face gets full
+// displacement's floor (relief_samples edges per texel-scale wavelength, up to the texel cap), so
+// that texel-scale relief masks itself as on the converged surface; seen face-on, not raised
+// (far away), or procedural (the pixels resolve its one wavelength where it is raised), it gets
+// none.
+TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
+  ControlMesh mesh;
+  mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
+                    Vec3(-0.5f, 0.5f, 0)};
+  mesh.faceSizes = {4};
+  mesh.faceVertices = {0, 1, 2, 3};
+  mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  mesh.uvIndices = {0, 1, 2, 3};
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  constexpr int kTexels = 64;
+  std::vector<float> texels(kTexels * kTexels);
+  Rng rng(3);
+  for (float& t : texels) t = rng.uniform();  // detail up to the texels' Nyquist limit
+  const auto imageRelief = [&](float freqPerU) {
+    MaterialRelief r;
+    ReliefLevel image;
+    image.source = std::make_unique<HeightTable>(kTexels, kTexels, texels);
+    image.amplitude = 0.02f;
+    image.scale = 1.0f;
+    image.freqPerU = freqPerU;
+    r.levels.push_back(std::move(image));
+    return r;
+  };
+  const MaterialRelief coarse = imageRelief(4.0f);  // a level measured at 4 cycles per u
+  ASSERT_GT(coarse.levels[0].source->highestFrequency(), 4.0f * coarse.levels[0].freqPerU);
+  const ReliefSampling sampling{4.0f};
+  const TransitionSettings ts;
+  const Vec3 grazing(0.0f, -3.0f, 0.2f), faceOn(0.0f, 0.0f, 3.0f);
+  const auto floorOf = [&](const MaterialRelief& r, DisplacementMode mode, Vec3 eye, float ppr) {
+    const FaceDicing d = faceDicing(surface, r, mode, ts, eye, ppr, sampling);
+    return std::pair(d.texelFloor[0], d.needsDicing[0]);
+  };
+  const auto [full, fullDiced] = floorOf(coarse, DisplacementMode::Full, grazing, 2000.0f);
+  EXPECT_EQ(full, kTexels);  // 4 per texel-scale wavelength, capped at one edge per texel
+  const auto [hybrid, raised] = floorOf(coarse, DisplacementMode::ByTransition, grazing, 2000.0f);
+  EXPECT_EQ(raised, 1);
+  EXPECT_EQ(hybrid, full);
+  EXPECT_EQ(floorOf(coarse, DisplacementMode::ByTransition, faceOn, 2000.0f).first, 0);
+  const auto [far, farRaised] = floorOf(coarse, DisplacementMode::ByTransition, grazing, 0.5f);
+  EXPECT_EQ(farRaised, 0);
+  EXPECT_EQ(far, 0);
+  // A level measured at the image's own finest frequency has no detail below its wavelength.
+  const MaterialRelief fine = imageRelief(coarse.levels[0].source->highestFrequency());
+  EXPECT_EQ(floorOf(fine, DisplacementMode::ByTransition, grazing, 2000.0f).first, 0);
+  const MaterialRelief noise = levelsOnly({noiseLevel(0.02f, 1.0f)});
+  EXPECT_EQ(floorOf(noise, DisplacementMode::ByTransition, grazing, 2000.0f).first, 0);
+  EXPECT_GT(floorOf(noise, DisplacementMode::Full, grazing, 2000.0f).first, 0);
+}
+
 // The texel cap of a height image: one edge per texel up to relief_samples 4, then refined with
 // them (a reference that doubles them dices each texel in two), while noise keeps its samples per
 // wavelength.
