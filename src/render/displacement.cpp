@@ -281,8 +281,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   // At least perWavelength edges per finest wavelength where the relief can mask itself (the most
   // grazing view of the face against its world rms slope), up to the texel cap.
   const auto floorFace = [&](int face, const FaceSample& s, float capPerU) {
-    const float slope = s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU
-                                              : std::numeric_limits<float>::infinity();
+    const float slope =
+        s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU : std::numeric_limits<float>::infinity();
     if (!(s.leastCot >= kMaskingSlopes * slope))
       out.texelFloor[face] =
           edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * floorFreqPerU, capPerU),
