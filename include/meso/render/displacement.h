@@ -93,7 +93,8 @@ inline constexpr float kReliefSamplesPerTexel = 4.0f;
 // How finely full displacement samples relief where it is below a pixel.
 struct ReliefSampling {
   // render.relief_samples: at least this many edges per shortest wavelength where sub-pixel relief
-  // can mask itself (the texel floor); 0 = pixel dicing only.
+  // can mask itself (the texel floor; full displacement, and the hybrid where it raises a height
+  // image with detail below its level's wavelength); 0 = pixel dicing only.
   float perWavelength = 0.0f;
   // render.texel_samples: at most this many edges per texel of a height image (the texel cap);
   // 0 = perWavelength / kReliefSamplesPerTexel, at least 1. Above 1 each texel's bilinear patch is
@@ -128,7 +129,10 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // pixel is still resolved by the geometry (0: pixel dicing only), on faces where the relief can
 // mask itself: where the most grazing view of the face's corners and centre has cot(theta_V) below
 // 3 times the relief's world rms slope. Elsewhere under-resolved relief already shows its normals
-// with their true distribution, and the floor would only cost micropolygons.
+// with their true distribution, and the floor would only cost micropolygons. In ByTransition mode
+// the same floor on the faces that raise the finest level when it is a height image whose texels
+// carry detail finer than its wavelength (highestFrequency() * scale above freqPerU): pixel dicing
+// resolves its wavelength where it is raised, not its texel-scale relief.
 // In ByTransition mode also the raise distance: the distance from the eye beyond which that nu
 // (with the face's largest length per u) falls to D + e3 * eps, so that the parts of a face
 // beyond it are diced coarsely (FaceDicing::raiseDistance).
