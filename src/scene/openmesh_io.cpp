@@ -10,12 +10,13 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <cmath>
-#include <map>
+#include <unordered_map>
 #include <utility>
 
 namespace meso {
@@ -30,11 +31,14 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 // Face-varying (u, v) from halfedge texture coordinates (OBJ) or from the vertices' (PLY, OFF),
 // identical values shared.
 void readUvs(const PolyMesh& mesh, bool perVertex, ControlMesh& out) {
-  std::map<std::pair<float, float>, int> index;
+  // Keyed by the values' bits, -0 as +0: equal values are one (u, v), as they compare equal.
+  const auto bitsOf = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
+  std::unordered_map<uint64_t, int> index;
+  index.reserve(mesh.n_vertices());
   for (const auto& f : mesh.faces())
     for (const auto& h : mesh.fh_range(f)) {
       const auto t = perVertex ? mesh.texcoord2D(mesh.to_vertex_handle(h)) : mesh.texcoord2D(h);
-      const auto key = std::make_pair(t[0], t[1]);
+      const uint64_t key = uint64_t{bitsOf(t[0])} << 32 | bitsOf(t[1]);
       auto [it, added] = index.emplace(key, static_cast<int>(out.uvs.size()));
       if (added) out.uvs.emplace_back(t[0], t[1]);
       out.uvIndices.push_back(it->second);

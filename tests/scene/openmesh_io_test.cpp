@@ -53,6 +53,24 @@ TEST_F(MeshIoTest, ObjWithFaceVaryingUvs) {
   EXPECT_EQ(m.positions[m.faceVertices[5]], Vec3(2, 0, 0));
 }
 
+// Equal (u, v) values are one uv index, also when written differently (-0 and 0, 0.50 and 0.5),
+// so that no seam appears where the file has none; different values stay apart, in the order of
+// their first corner.
+TEST_F(MeshIoTest, EqualUvValuesShareOneIndex) {
+  const ControlMesh m =
+      loadControlMesh(write("b.obj",
+                            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                            "vt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 0 1\nvt -0 0\nvt 0.50 -0\n"
+                            "vt 1 0\nvt 1 1\n"
+                            "f 1/1 2/2 3/3 4/4\nf 2/6 5/7 6/8 3/3\nf 4/4 3/3 6/8 1/5\n"));
+  ASSERT_EQ(m.uvIndices.size(), 12u);
+  EXPECT_EQ(m.uvs.size(), 6u);
+  EXPECT_EQ(m.uvIndices[4], m.uvIndices[1]);   // 0.50 -0 is 0.5 0
+  EXPECT_EQ(m.uvIndices[11], m.uvIndices[0]);  // -0 0 is 0 0
+  EXPECT_EQ((std::vector<int>(m.uvIndices.begin(), m.uvIndices.begin() + 6)),
+            (std::vector<int>{0, 1, 2, 3, 1, 4}));
+}
+
 TEST_F(MeshIoTest, ObjWithoutUvsPlyAndOff) {
   const ControlMesh obj = loadControlMesh(write("b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
   EXPECT_FALSE(obj.hasUvs());
