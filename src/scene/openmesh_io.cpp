@@ -16,8 +16,8 @@
 #include <iostream>
 #include <sstream>
 #include <cmath>
-#include <unordered_map>
 #include <utility>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -29,20 +29,40 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 }
 
 // Face-varying (u, v) from halfedge texture coordinates (OBJ) or from the vertices' (PLY, OFF),
-// identical values shared.
+// equal values one index, numbered in the order of their first corner. Equal is by the values'
+// bits with -0 as +0 (as they compare); found by sorting the corners by value, in arrays that go
+// back to the system whole (a node per value, as a map has, would leave the heap fragmented for the
+// rest of the frame).
 void readUvs(const PolyMesh& mesh, bool perVertex, ControlMesh& out) {
-  // Keyed by the values' bits, -0 as +0: equal values are one (u, v), as they compare equal.
   const auto bitsOf = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
-  std::unordered_map<uint64_t, int> index;
-  index.reserve(mesh.n_vertices());
+  std::vector<uint64_t> keys;
+  std::vector<Vec2> values;
+  keys.reserve(mesh.n_halfedges() / 2), values.reserve(mesh.n_halfedges() / 2);
   for (const auto& f : mesh.faces())
     for (const auto& h : mesh.fh_range(f)) {
       const auto t = perVertex ? mesh.texcoord2D(mesh.to_vertex_handle(h)) : mesh.texcoord2D(h);
-      const uint64_t key = uint64_t{bitsOf(t[0])} << 32 | bitsOf(t[1]);
-      auto [it, added] = index.emplace(key, static_cast<int>(out.uvs.size()));
-      if (added) out.uvs.emplace_back(t[0], t[1]);
-      out.uvIndices.push_back(it->second);
+      keys.push_back(uint64_t{bitsOf(t[0])} << 32 | bitsOf(t[1]));
+      values.emplace_back(t[0], t[1]);
     }
+  const size_t n = keys.size();
+  std::vector<uint32_t> order(n);
+  for (size_t c = 0; c < n; ++c) order[c] = static_cast<uint32_t>(c);
+  std::sort(order.begin(), order.end(), [&keys](uint32_t a, uint32_t b) {
+    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+  });
+  std::vector<uint32_t> first(n);  // the first corner with the same value
+  for (size_t r = 0; r < n; ++r)
+    first[order[r]] =
+        r > 0 && keys[order[r]] == keys[order[r - 1]] ? first[order[r - 1]] : order[r];
+  out.uvIndices.resize(n);
+  for (size_t c = 0; c < n; ++c) {
+    if (first[c] == c) {
+      out.uvIndices[c] = static_cast<int>(out.uvs.size());
+      out.uvs.push_back(values[c]);
+    } else {
+      out.uvIndices[c] = out.uvIndices[first[c]];
+    }
+  }
 }
 
 // OpenMesh's readers trust the element counts: check them against the file size before handing
