@@ -267,13 +267,22 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
           ? std::max(finestLevel.freqPerU,
                      finestLevel.source->highestFrequency() * finestLevel.scale)
           : finestLevel.freqPerU;
-  // The hybrid floors only a height image whose texels carry detail finer than its measured
-  // wavelength (sharp edges, per-texel noise): where it raises that level it dices it by pixels,
-  // which resolves the measured wavelength but not the texel-scale relief that masks itself at
-  // grazing views.
-  const bool imageFloor = mode == DisplacementMode::ByTransition &&
-                          finestLevel.source->texelsPerSide() > 0 &&
-                          floorFreqPerU > finestLevel.freqPerU;
+  // The hybrid floors a height image where it raises its finest level, since dicing by pixels
+  // does not resolve a texel grid's relief: a coupled level (its texels carry detail finer than
+  // its measured wavelength: sharp edges, per-texel noise) is raised where its texels are below a
+  // pixel, and its texel-scale relief masks itself at grazing views; the finest band of a split
+  // image is raised where its wavelength of two texels spans D pixels or more, and one edge per
+  // pixel is then about one per texel, whose vertices can fall on texel corners, each the mean
+  // of four texels: the band vanishes from the geometry (kReliefSamplesPerTexel). The coupled
+  // floor stops at the hybrid's own texel limit (kHybridFloorEdgesPerTexel), the other at the
+  // texel cap.
+  const bool imageFloor =
+      mode == DisplacementMode::ByTransition && finestLevel.source->texelsPerSide() > 0;
+  const float hybridFloorCapPerU =
+      floorFreqPerU > finestLevel.freqPerU
+          ? static_cast<float>(finestLevel.source->texelsPerSide()) * finestLevel.scale *
+                sampling.hybridFloorTexelEdges()
+          : std::numeric_limits<float>::infinity();
   const float slopePerU =
       (mode == DisplacementMode::Full || imageFloor) && sampling.perWavelength > 0.0f
           ? reliefSlopeRmsPerU(relief)
@@ -321,7 +330,7 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
         const float capPerU = samplesPerU(relief.levels[i], sampling);
         out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
         if (imageFloor && i + 1 == relief.levels.size() && !(maxNu(relief.levels[i]) <= threshold))
-          floorFace(face, s, capPerU);
+          floorFace(face, s, std::min(capPerU, hybridFloorCapPerU));
         break;
       }
   });

@@ -79,7 +79,8 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       flatUntil = std::max(flatUntil, static_cast<int>(level.partialSumEnd));
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
-      out.H[i] = level.heightAndDerivatives(coord, out.B[i]);
+      out.H[i] = (level.partialSum && out.disp[i] < 1.0f ? *level.partialSum : level)
+                     .heightAndDerivatives(coord, out.B[i]);
       out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
     } else {
       flat = true;

@@ -310,10 +310,10 @@ namespace {
 
 // A height image whose texels carry detail finer than its level's wavelength (sharp edges,
 // per-texel noise): where the hybrid raises it on a face seen at grazing, the face gets full
-// displacement's floor (relief_samples edges per texel-scale wavelength, up to the texel cap), so
-// that texel-scale relief masks itself as on the converged surface; seen face-on, not raised
-// (far away), or procedural (the pixels resolve its one wavelength where it is raised), it gets
-// none.
+// displacement's floor (relief_samples edges per texel-scale wavelength, up to one edge per
+// texel), so that texel-scale relief masks itself as on the converged surface; seen face-on, not
+// raised (far away), or procedural (the pixels resolve its one wavelength where it is raised), it
+// gets none.
 TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
   ControlMesh mesh;
   mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
@@ -347,33 +347,40 @@ TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
     return std::pair(d.texelFloor[0], d.needsDicing[0]);
   };
   const auto [full, fullDiced] = floorOf(coarse, DisplacementMode::Full, grazing, 2000.0f);
-  EXPECT_EQ(full, kTexels);  // 4 per texel-scale wavelength, capped at one edge per texel
+  EXPECT_EQ(full, 2 * kTexels);  // 4 per texel-scale wavelength of two texels
   const auto [hybrid, raised] = floorOf(coarse, DisplacementMode::ByTransition, grazing, 2000.0f);
   EXPECT_EQ(raised, 1);
-  EXPECT_EQ(hybrid, full);
+  EXPECT_EQ(hybrid, kTexels);  // the hybrid's floor stops at one edge per texel
+  // unless render.texel_samples asks for more
+  EXPECT_EQ(faceDicing(surface, coarse, DisplacementMode::ByTransition, ts, grazing, 2000.0f,
+                       ReliefSampling{4.0f, 2.0f})
+                .texelFloor[0],
+            full);
   EXPECT_EQ(floorOf(coarse, DisplacementMode::ByTransition, faceOn, 2000.0f).first, 0);
   const auto [far, farRaised] = floorOf(coarse, DisplacementMode::ByTransition, grazing, 0.5f);
   EXPECT_EQ(farRaised, 0);
   EXPECT_EQ(far, 0);
-  // A level measured at the image's own finest frequency has no detail below its wavelength.
+  // A level measured at the image's own finest frequency (the finest band of a split image) is
+  // floored too, up to the texel cap: one edge per pixel there is about one per texel.
   const MaterialRelief fine = imageRelief(coarse.levels[0].source->highestFrequency());
-  EXPECT_EQ(floorOf(fine, DisplacementMode::ByTransition, grazing, 2000.0f).first, 0);
+  EXPECT_EQ(floorOf(fine, DisplacementMode::ByTransition, grazing, 2000.0f).first, 2 * kTexels);
   const MaterialRelief noise = levelsOnly({noiseLevel(0.02f, 1.0f)});
   EXPECT_EQ(floorOf(noise, DisplacementMode::ByTransition, grazing, 2000.0f).first, 0);
   EXPECT_GT(floorOf(noise, DisplacementMode::Full, grazing, 2000.0f).first, 0);
 }
 
-// The texel cap of a height image: one edge per texel up to relief_samples 4, then refined with
-// them (a reference that doubles them dices each texel in two), while noise keeps its samples per
-// wavelength.
+// The texel cap of a height image: relief_samples edges per shortest wavelength (two texels), at
+// least one per texel, refined with them (a reference that doubles them dices each texel in
+// four), while noise keeps its samples per wavelength.
 TEST(Displacement, HeightImageTexelCapIsRefinedWithReliefSamples) {
   ReliefLevel image;
   image.source = std::make_unique<HeightTable>(32, 16, std::vector<float>(32 * 16, 0.5f));
   image.scale = 3.0f;
   EXPECT_FLOAT_EQ(samplesPerU(image, {0.0f}), 96.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, {4.0f}), 96.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, {8.0f}), 192.0f);
-  EXPECT_FLOAT_EQ(samplesPerU(image, {16.0f}), 384.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {2.0f}), 96.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {4.0f}), 192.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {8.0f}), 384.0f);
+  EXPECT_FLOAT_EQ(samplesPerU(image, {16.0f}), 768.0f);
   // render.texel_samples overrides it, for images only.
   EXPECT_FLOAT_EQ(samplesPerU(image, {4.0f, 8.0f}), 768.0f);
   EXPECT_FLOAT_EQ(samplesPerU(image, {16.0f, 1.0f}), 96.0f);

@@ -4,6 +4,7 @@
 #include "meso/appearance/material_tables.h"
 #include "meso/core/image_io.h"
 #include "meso/render/scene_consistency.h"
+#include "meso/render/transition.h"
 #include "meso/scene/relief_bands.h"
 #include "support/plane_scene.h"
 
@@ -79,6 +80,44 @@ TEST(ImageBands, CoarseLevelsTabulateTheSumOfTheirImagesFinerBands) {
                 1e-5f);
     EXPECT_NEAR(levels[0].partialSum->height(uv), whole.height(uv), 1e-5f);
   }
+}
+
+// A band raised in part rises by disp times its partial sum (the sum its tables remap through
+// theta_W), its finer bands flat; raised whole, by its own band, the next band raised on it.
+TEST(ImageBands, ABandRaisedInPartRaisesItsPartialSum) {
+  const std::vector<ReliefLevelDecl> decls = expandImageBands(imageLevel(twoScaleImage(), 0), 8);
+  ASSERT_EQ(decls.size(), 2u);
+  MaterialRelief relief;
+  for (const ReliefLevelDecl& d : decls) relief.levels.push_back(makeReliefLevel(d));
+  linkImageBands(decls, relief.levels);
+  ASSERT_TRUE(relief.levels[0].partialSum);
+  const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  const TransitionSettings ts;
+  int partly = 0, whole = 0;
+  for (float distance = 0.5f; distance < 5000.0f; distance *= 1.1f) {
+    const Vec3 eye(0.0f, 0.6f * distance, 0.8f * distance);
+    const LevelTransitions t =
+        levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition);
+    if (!(t.disp[0] > 0.0f)) continue;
+    const bool part = t.disp[0] < 1.0f;
+    const ReliefLevel& raisedAs = part ? *relief.levels[0].partialSum : relief.levels[0];
+    Vec2 B;
+    const float H = raisedAs.heightAndDerivatives(sp.uv, B);
+    EXPECT_EQ(t.H[0], H) << distance;
+    EXPECT_EQ(t.B[0], B) << distance;
+    if (part) {
+      EXPECT_EQ(t.disp[1], 0.0f) << distance;  // the finer band is in the sum, not raised
+      EXPECT_EQ(t.raised, 1);
+      ++partly;
+    } else {
+      ++whole;
+    }
+  }
+  EXPECT_GT(partly, 0);
+  EXPECT_GT(whole, 0);
+  // The two differ here: the sum carries the finer band's height.
+  EXPECT_GT(std::abs(relief.levels[0].partialSum->height(sp.uv) - relief.levels[0].height(sp.uv)),
+            1e-4f);
 }
 
 // The BRDF and redistribution renderers draw the banded image as the one-level image (its first

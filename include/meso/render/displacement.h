@@ -86,9 +86,19 @@ class ReliefDisplacement : public VertexDisplacement {
 // sum_i amplitude_i * max |h_i|: no vertex moves further (world units).
 float displacementBound(const MaterialRelief& relief);
 
-// The relief samples (render.relief_samples, default 4) at which a height image is diced to its
-// texels and no finer, unless render.texel_samples says otherwise.
-inline constexpr float kReliefSamplesPerTexel = 4.0f;
+// Relief samples per texel of a height image: its shortest wavelength is two texels, so
+// render.relief_samples edges per wavelength are half as many per texel (2 at the default 4),
+// unless render.texel_samples says otherwise. One edge per texel is not enough: where a face's
+// vertices fall on texel corners, each takes the mean of four texels and the image's Nyquist
+// band vanishes from the geometry (a 1/f photograph-like map on a plane: -3.1% at one edge per
+// texel, +0.2% at two, against eight; docs/validation.md).
+inline constexpr float kReliefSamplesPerTexel = 2.0f;
+
+// The hybrid's floor on a coupled height image (displacement.cpp) stops at one edge per texel,
+// unless render.texel_samples says otherwise: on scenes/bricks.toml two per texel bring its
+// worst depth band from -0.67% to -0.41% of the converged reference for 3.6 times the
+// micropolygons (68 M against 18.8 M, more than full displacement's 24 M at one per texel).
+inline constexpr float kHybridFloorEdgesPerTexel = 1.0f;
 
 // How finely full displacement samples relief where it is below a pixel.
 struct ReliefSampling {
@@ -98,11 +108,15 @@ struct ReliefSampling {
   float perWavelength = 0.0f;
   // render.texel_samples: at most this many edges per texel of a height image (the texel cap);
   // 0 = perWavelength / kReliefSamplesPerTexel, at least 1. Above 1 each texel's bilinear patch is
-  // diced, which still curves and casts shadows below the texel (a converged reference needs 4 to
+  // diced, which still curves and casts shadows below the texel (a converged reference needs 2 to
   // 8 on sharp-edged images: docs/validation.md).
   float perTexel = 0.0f;
   float texelEdges() const {
     return perTexel > 0.0f ? perTexel : std::max(1.0f, perWavelength / kReliefSamplesPerTexel);
+  }
+  // Where the hybrid's floor stops on a height image: render.texel_samples, or one edge per texel.
+  float hybridFloorTexelEdges() const {
+    return perTexel > 0.0f ? perTexel : kHybridFloorEdgesPerTexel;
   }
 };
 
