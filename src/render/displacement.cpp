@@ -278,11 +278,10 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   // texel cap.
   const bool imageFloor =
       mode == DisplacementMode::ByTransition && finestLevel.source->texelsPerSide() > 0;
-  const float hybridFloorCapPerU =
-      floorFreqPerU > finestLevel.freqPerU
-          ? static_cast<float>(finestLevel.source->texelsPerSide()) * finestLevel.scale *
-                sampling.hybridFloorTexelEdges()
-          : std::numeric_limits<float>::infinity();
+  const float hybridFloorCapPerU = floorFreqPerU > finestLevel.freqPerU
+                                       ? static_cast<float>(finestLevel.source->texelsPerSide()) *
+                                             finestLevel.scale * sampling.hybridFloorTexelEdges()
+                                       : std::numeric_limits<float>::infinity();
   const float slopePerU =
       (mode == DisplacementMode::Full || imageFloor) && sampling.perWavelength > 0.0f
           ? reliefSlopeRmsPerU(relief)
