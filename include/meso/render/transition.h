@@ -92,8 +92,8 @@ struct LevelTransitions {
   // (ReliefLevel::height), which the tessellator's offsets reuse. A band of an image raised in
   // part (0 < disp < 1) gives those of its partial sum (ReliefLevel::partialSum): its finer bands
   // stay flat, and the geometry rises by disp times the sum whose tables remap its normal through
-  // theta_W, as that remap assumes (raising the band alone left the sum's finer part out of the
-  // geometry: a 1/f map on a plane was 1.3% too dark where its bands were partly raised).
+  // theta_W, as that remap assumes (raising the band alone leaves the sum's finer part out of the
+  // geometry: a 1/f map on a plane is then 1.3% too dark where its bands are partly raised).
   std::array<Vec2, kMaxReliefLevels> B;
   std::array<float, kMaxReliefLevels> H;
 };
