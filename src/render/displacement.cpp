@@ -267,17 +267,19 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
           ? std::max(finestLevel.freqPerU,
                      finestLevel.source->highestFrequency() * finestLevel.scale)
           : finestLevel.freqPerU;
-  // The hybrid floors a height image where it raises its finest level, since dicing by pixels
-  // does not resolve a texel grid's relief: a coupled level (its texels carry detail finer than
-  // its measured wavelength: sharp edges, per-texel noise) is raised where its texels are below a
-  // pixel, and its texel-scale relief masks itself at grazing views; the finest band of a split
-  // image is raised where its wavelength of two texels spans D pixels or more, and one edge per
-  // pixel is then about one per texel, whose vertices can fall on texel corners, each the mean
-  // of four texels: the band vanishes from the geometry (kReliefSamplesPerTexel). The coupled
-  // floor stops at the hybrid's own texel limit (kHybridFloorEdgesPerTexel), the other at the
-  // texel cap.
+  // The hybrid floors a height image where it raises a band of it, since dicing by pixels does not
+  // resolve a texel grid's relief: a coupled level (its texels carry detail finer than its
+  // measured wavelength: sharp edges, per-texel noise) is raised where its texels are below a
+  // pixel, and its texel-scale relief masks itself at grazing views; a band of a split image is
+  // raised where its measured wavelength spans D pixels or more, but its spectrum reaches half an
+  // octave above that, and the finest band's wavelength is two texels: one edge per pixel is then
+  // about one per texel, whose vertices can fall on texel corners, each the mean of four texels,
+  // and the band vanishes from the geometry (kReliefSamplesPerTexel). The coupled floor stops at
+  // the hybrid's own texel limit (kHybridFloorEdgesPerTexel), a band's at the texel cap.
   const bool imageFloor =
-      mode == DisplacementMode::ByTransition && finestLevel.source->texelsPerSide() > 0;
+      mode == DisplacementMode::ByTransition &&
+      std::any_of(relief.levels.begin(), relief.levels.end(),
+                  [](const ReliefLevel& l) { return l.source->texelsPerSide() > 0; });
   const float hybridFloorCapPerU = floorFreqPerU > finestLevel.freqPerU
                                        ? static_cast<float>(finestLevel.source->texelsPerSide()) *
                                              finestLevel.scale * sampling.hybridFloorTexelEdges()
@@ -288,12 +290,12 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
           : 0.0f;
   // At least perWavelength edges per finest wavelength where the relief can mask itself (the most
   // grazing view of the face against its world rms slope), up to the texel cap.
-  const auto floorFace = [&](int face, const FaceSample& s, float capPerU) {
+  const auto floorFace = [&](int face, const FaceSample& s, float capPerU, float freqPerU) {
     const float slope =
         s.shortestPerU > 0.0f ? slopePerU / s.shortestPerU : std::numeric_limits<float>::infinity();
     if (!(s.leastCot >= kMaskingSlopes * slope))
       out.texelFloor[face] =
-          edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * floorFreqPerU, capPerU),
+          edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * freqPerU, capPerU),
                       out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
   };
   tbb::parallel_for(0, n, [&](int face) {
@@ -302,7 +304,7 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     if (mode == DisplacementMode::Full) {
       const float capPerU = samplesPerU(finestLevel, sampling);
       out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
-      floorFace(face, s, capPerU);  // a non-finite slope (a degenerate face) masks
+      floorFace(face, s, capPerU, floorFreqPerU);  // a non-finite slope (a degenerate face) masks
       out.needsDicing[face] = 1;
       return;
     }
@@ -328,8 +330,13 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
       if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
         const float capPerU = samplesPerU(relief.levels[i], sampling);
         out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
-        if (imageFloor && i + 1 == relief.levels.size() && !(maxNu(relief.levels[i]) <= threshold))
-          floorFace(face, s, std::min(capPerU, hybridFloorCapPerU));
+        const ReliefLevel& level = relief.levels[i];
+        if (imageFloor && level.source->texelsPerSide() > 0 && !(maxNu(level) <= threshold)) {
+          if (i + 1 == relief.levels.size())
+            floorFace(face, s, std::min(capPerU, hybridFloorCapPerU), floorFreqPerU);
+          else
+            floorFace(face, s, capPerU, level.freqPerU);
+        }
         break;
       }
   });

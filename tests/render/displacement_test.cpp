@@ -313,7 +313,8 @@ namespace {
 // displacement's floor (relief_samples edges per texel-scale wavelength, up to one edge per
 // texel), so that texel-scale relief masks itself as on the converged surface; seen face-on, not
 // raised (far away), or procedural (the pixels resolve its one wavelength where it is raised), it
-// gets none.
+// gets none. A band of a split image gets the floor at its own wavelength where it is the finest
+// band raised on the face.
 TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
   ControlMesh mesh;
   mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
@@ -364,6 +365,11 @@ TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
   // floored too, up to the texel cap: one edge per pixel there is about one per texel.
   const MaterialRelief fine = imageRelief(coarse.levels[0].source->highestFrequency());
   EXPECT_EQ(floorOf(fine, DisplacementMode::ByTransition, grazing, 2000.0f).first, 2 * kTexels);
+  // A coarser band of a split image raised where its finer band is not: relief_samples edges per
+  // its own wavelength (4 per u here, on a face one u wide).
+  MaterialRelief split = imageRelief(4.0f);
+  split.levels.push_back(std::move(imageRelief(2000.0f).levels[0]));
+  EXPECT_EQ(floorOf(split, DisplacementMode::ByTransition, grazing, 2000.0f).first, 16);
   const MaterialRelief noise = levelsOnly({noiseLevel(0.02f, 1.0f)});
   EXPECT_EQ(floorOf(noise, DisplacementMode::ByTransition, grazing, 2000.0f).first, 0);
   EXPECT_GT(floorOf(noise, DisplacementMode::Full, grazing, 2000.0f).first, 0);
