@@ -271,11 +271,12 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   // resolve a texel grid's relief: a coupled level (its texels carry detail finer than its
   // measured wavelength: sharp edges, per-texel noise) is raised where its texels are below a
   // pixel, and its texel-scale relief masks itself at grazing views; a band of a split image is
-  // raised where its measured wavelength spans D pixels or more, but its spectrum reaches half an
-  // octave above that, and the finest band's wavelength is two texels: one edge per pixel is then
-  // about one per texel, whose vertices can fall on texel corners, each the mean of four texels,
-  // and the band vanishes from the geometry (kReliefSamplesPerTexel). The coupled floor stops at
-  // the hybrid's own texel limit (kHybridFloorEdgesPerTexel), a band's at the texel cap.
+  // raised where its measured wavelength spans D pixels or more, but its spectrum reaches above
+  // that (a band's edges are half an octave wide), and the finest band's wavelength is two texels:
+  // one edge per pixel is then about one per texel, whose vertices can fall on texel corners, each
+  // the mean of four texels, and the band vanishes from the geometry (kReliefSamplesPerTexel). The
+  // coupled floor stops at the hybrid's own texel limit (kHybridFloorEdgesPerTexel), a band's at
+  // the texel cap.
   const bool imageFloor =
       mode == DisplacementMode::ByTransition &&
       std::any_of(relief.levels.begin(), relief.levels.end(),
