@@ -257,8 +257,10 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     out.raiseDistance.assign(static_cast<size_t>(n), std::numeric_limits<float>::infinity());
   if (relief.levels.empty()) return out;
   const float bound = displacementBound(relief);
-  const float threshold =
-      transition.D + transition.e3 * transition.eps;  // least nu that T can raise
+  // The least nu that T can raise a level at.
+  const auto threshold = [&](const ReliefLevel& level) {
+    return levelD(level, transition) + transition.e3 * transition.eps;
+  };
   // The floor resolves the relief's own finest wavelength: an image level whose T follows a
   // coarser band (coupled bands, scene/relief_bands.h) still has the image's finest detail.
   const ReliefLevel& finestLevel = relief.levels.back();
@@ -318,21 +320,23 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                  ? level.wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / distance
                  : std::numeric_limits<float>::infinity();
     };
-    out.needsDicing[face] = !(maxNu(relief.levels.front()) <= threshold);
+    const ReliefLevel& coarsest = relief.levels.front();
+    out.needsDicing[face] = !(maxNu(coarsest) <= threshold(coarsest));
     if (!out.needsDicing[face]) return;
     // maxNu falls as 1 / distance: no part of the face farther than this from the eye raises its
     // coarsest level (the tessellator dices such parts coarsely).
-    const float raise =
-        relief.levels.front().wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / threshold;
-    if (threshold > 0.0f && raise >= 0.0f) out.raiseDistance[face] = raise;
+    const float raise = coarsest.wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian /
+                        threshold(coarsest);
+    if (threshold(coarsest) > 0.0f && raise >= 0.0f) out.raiseDistance[face] = raise;
     // Texels of the finest level that can be raised here: a finer one is drawn flat (BRDF or
     // redistribution) on this face, so dicing below its texels would buy nothing.
     for (size_t i = relief.levels.size(); i-- > 0;)
-      if (!(maxNu(relief.levels[i]) <= threshold) || i == 0) {
+      if (!(maxNu(relief.levels[i]) <= threshold(relief.levels[i])) || i == 0) {
         const float capPerU = samplesPerU(relief.levels[i], sampling);
         out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);
         const ReliefLevel& level = relief.levels[i];
-        if (imageFloor && level.source->texelsPerSide() > 0 && !(maxNu(level) <= threshold)) {
+        if (imageFloor && level.source->texelsPerSide() > 0 &&
+            !(maxNu(level) <= threshold(level))) {
           if (i + 1 == relief.levels.size())
             floorFace(face, s, std::min(capPerU, hybridFloorCapPerU), floorFreqPerU);
           else

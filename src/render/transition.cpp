@@ -26,10 +26,17 @@ void validateTransitionSettings(const TransitionSettings& s, const char* where) 
 static_assert(kMaxMaterialReliefLevels == kMaxReliefLevels,
               "the scene reader's level limit is the frames' capacity");
 
+float levelD(const ReliefLevel& level, const TransitionSettings& settings) {
+  return level.source && level.source->texelsPerSide() > 0 ? settings.D * kHeightImageDScale
+                                                           : settings.D;
+}
+
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings) {
+  TransitionSettings s = settings;
+  s.D = levelD(level, settings);
   return transitionParameter(level.wavelength() * lengthPerU, pixelsPerRadian, distance,
-                             std::abs(cosThetaV), settings);
+                             std::abs(cosThetaV), s);
 }
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,

@@ -400,3 +400,50 @@ TEST(Displacement, HeightImageTexelCapIsRefinedWithReliefSamples) {
 
 }  // namespace
 }  // namespace meso
+
+namespace meso {
+namespace {
+
+// A level of a height image takes D * kHeightImageDScale (1 at render.D 2), a procedural level D:
+// at the same wavelength, 1.5 pixels per wavelength raises T above 0 for the image and leaves it
+// below for the noise, in levelTransition and in faceDicing's test of whether a face is raised.
+TEST(Displacement, HeightImageLevelsTakeAScaledD) {
+  ReliefLevel image;
+  image.source = std::make_unique<HeightTable>(16, 16, std::vector<float>(16 * 16, 0.5f));
+  image.amplitude = 0.001f;
+  image.freqPerU = 100.0f;
+  MaterialRelief noiseRelief = levelsOnly({noiseLevel(0.001f, 1.0f)});
+  ReliefLevel& noise = noiseRelief.levels[0];
+  noise.freqPerU = 100.0f;
+  const TransitionSettings ts;
+  ASSERT_EQ(ts.D, 2.0f);
+  EXPECT_EQ(levelD(image, ts), 2.0f * kHeightImageDScale);
+  EXPECT_EQ(levelD(noise, ts), 2.0f);
+  // nu = 0.01 * 1000 / (20 / 3) = 1.5 pixels, seen face-on: T = (nu - D) / (1 + eps).
+  const float d = 20.0f / 3.0f;
+  EXPECT_NEAR(levelTransition(image, 1.0f, 1.0f, d, 1000.0f, ts), (1.5f - 1.0f) / 1.1f, 1e-5f);
+  EXPECT_NEAR(levelTransition(noise, 1.0f, 1.0f, d, 1000.0f, ts), (1.5f - 2.0f) / 1.1f, 1e-5f);
+
+  ControlMesh mesh;
+  mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
+                    Vec3(-0.5f, 0.5f, 0)};
+  mesh.faceSizes = {4};
+  mesh.faceVertices = {0, 1, 2, 3};
+  mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  mesh.uvIndices = {0, 1, 2, 3};
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  // From 10 units, at most 0.01 * 1.25 * 1000 / 10 = 1.25 pixels per wavelength: between the least
+  // nu T raises an image level at (1 + e3 eps = 1.03) and a procedural one's (2.03).
+  MaterialRelief imageRelief;
+  imageRelief.levels.push_back(std::move(image));
+  const auto raised = [&](const MaterialRelief& r) {
+    return faceDicing(surface, r, DisplacementMode::ByTransition, ts, Vec3(0.0f, 0.0f, 10.0f),
+                      1000.0f, ReliefSampling{})
+        .needsDicing[0];
+  };
+  EXPECT_EQ(raised(imageRelief), 1);
+  EXPECT_EQ(raised(noiseRelief), 0);
+}
+
+}  // namespace
+}  // namespace meso

@@ -62,8 +62,23 @@ inline TransitionWeights transitionWeights(float T, const TransitionSettings& s)
 // ByTransition: level i is raised by disp_i = ramp(T_i; e3, e4) (auto mode); 0 below e3.
 enum class DisplacementMode { Full, ByTransition };
 
+// A level of a height image takes D times this (render.D 2 gives 1): the relief users bring as
+// images carries its contrast over every octave up to the texels' Nyquist limit, and at D = 2 a
+// band whose shortest wavelength spans 1 to 2 pixels goes to the tables, which keep its mean but
+// not its texture at grazing views. Measured against the converged reference (docs/validation.md,
+// "A photograph-like map and a sculpted map"): the far rows of a 1/f map on a plane keep 0.810 of
+// the reference's local contrast at D = 2 and 0.942 at D = 1, a sculpted map 0.907 and 0.994, the
+// floor of scenes/bricks.toml 0.862 and 0.978, and the 1/f map on a UV sphere is -1.50% and -0.33%
+// in its lowest rows (shadows near the terminator traced, not tabulated). Procedural relief keeps
+// D.
+inline constexpr float kHeightImageDScale = 0.5f;
+
+// D for one level: render.D, times kHeightImageDScale for a level of a height image.
+float levelD(const ReliefLevel& level, const TransitionSettings& settings);
+
 // The transition parameter of a level at a point: T = (nu - D) / (|cos theta_V| + eps) with
-// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3). lengthPerU is
+// nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3) and D = levelD.
+// lengthPerU is
 // the world length of one unit of u at the point along the direction where it is longest,
 // max(|P_u|, |P_v|) of the limit surface (levelTransitions): where the uv is compressed along one
 // direction (a UV sphere towards its poles, a stretched chart), the relief's detail along the other
