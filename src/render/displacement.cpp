@@ -325,8 +325,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
     if (!out.needsDicing[face]) return;
     // maxNu falls as 1 / distance: no part of the face farther than this from the eye raises its
     // coarsest level (the tessellator dices such parts coarsely).
-    const float raise = coarsest.wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian /
-                        threshold(coarsest);
+    const float raise =
+        coarsest.wavelength() * 1.25f * s.lengthPerU * pixelsPerRadian / threshold(coarsest);
     if (threshold(coarsest) > 0.0f && raise >= 0.0f) out.raiseDistance[face] = raise;
     // Texels of the finest level that can be raised here: a finer one is drawn flat (BRDF or
     // redistribution) on this face, so dicing below its texels would buy nothing.
