@@ -57,7 +57,8 @@ Mat3 shapeOperator(const LimitSurface& surface, int face) {
 ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                                        const TransitionSettings& transition, Vec3 eye,
                                        float pixelsPerRadian, std::span<const Light> lights,
-                                       const LimitSurface* surface, SolidSpace solid)
+                                       const LimitSurface* surface, SolidSpace solid,
+                                       const UvSpeed* speed)
     : relief_(relief),
       mode_(mode),
       transition_(transition),
@@ -65,7 +66,8 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       pixelsPerRadian_(pixelsPerRadian),
       bound_(displacementBound(relief)),
       lights_(lights.begin(), lights.end()),
-      solid_(solid) {
+      solid_(solid),
+      speed_(speed && !speed->empty() && !solid.active ? speed : nullptr) {
   if (mode != DisplacementMode::ByTransition) return;
   if (surface) {
     shape_.resize(static_cast<size_t>(surface->numFaces()));
@@ -163,11 +165,12 @@ Vec3 ReliefDisplacement::flatLevelsOffset(const LevelTransitions& t, const Surfa
   return offset;
 }
 
-Vec3 ReliefDisplacement::offset(int face, Vec2, const SurfacePoint& limit) const {
+Vec3 ReliefDisplacement::offset(int face, Vec2 st, const SurfacePoint& limit) const {
   ReliefCoord coord;
   const SurfacePoint sp = reliefChart(limit, solid_, coord);
   const LevelTransitions t =
-      levelTransitions(relief_, sp, coord, eye_, pixelsPerRadian_, transition_, mode_, lights_);
+      levelTransitions(relief_, sp, coord, eye_, pixelsPerRadian_, transition_, mode_, lights_,
+                       TransitionsFor::Geometry, speed_ ? speed_->at(face, st) : 0.0f);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * t.H[i]) * t.frames[i].N;
   if (!visible_.empty()) offset += flatLevelsOffset(t, sp, coord, face);
@@ -247,8 +250,9 @@ int edgeRateFor(float uvEdge, float perU, float limit) {
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, const ReliefSampling& sampling,
-                      const SolidSpace& solid) {
+                      const SolidSpace& solid, const UvSpeed* speed) {
   const int n = surface.numFaces();
+  if (speed && (speed->empty() || solid.active)) speed = nullptr;
   FaceDicing out;
   out.needsDicing.assign(static_cast<size_t>(n), 0);
   out.texelCap.assign(static_cast<size_t>(n), 0);
@@ -304,6 +308,8 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
   tbb::parallel_for(0, n, [&](int face) {
     FaceSample s;
     if (!sampleFace(surface, face, eye, solid, s)) return;
+    // T reads the mesh's UvSpeed, interpolated from the face's corners: none exceeds their largest.
+    if (speed) s.lengthPerU = std::max(s.lengthPerU, speed->faceMax(face));
     if (mode == DisplacementMode::Full) {
       const float capPerU = samplesPerU(finestLevel, sampling);
       out.texelCap[face] = edgeRateFor(s.uvEdge, capPerU, 32767.0f);

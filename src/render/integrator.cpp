@@ -89,6 +89,7 @@ struct SampleHit {
   SurfacePoint sp;
   Vec3 facet{0.0f};   // the hit triangle's unit normal
   Vec3 limitP{0.0f};  // the limit surface's point (sp.P is moved to the raised hit when displaced)
+  float lengthPerU = 0.0f;  // the object's UvSpeed at the hit (0: none), as the tessellator's T
 };
 
 void evaluateHit(const RenderContext& ctx, const Ray& ray, SampleHit& s) {
@@ -96,8 +97,9 @@ void evaluateHit(const RenderContext& ctx, const Ray& ray, SampleHit& s) {
   // A grid hit knows its face and patch coordinates; other triangles read the mesh's arrays.
   const bool fromGrid = s.hit.face >= 0;
   const int face = fromGrid ? s.hit.face : object.mesh.triangleFace[s.hit.triangle];
-  s.sp = object.surface.evaluate(
-      face, fromGrid ? s.hit.st : object.mesh.patchCoords(s.hit.triangle, s.hit.b1, s.hit.b2));
+  const Vec2 st = fromGrid ? s.hit.st : object.mesh.patchCoords(s.hit.triangle, s.hit.b1, s.hit.b2);
+  s.sp = object.surface.evaluate(face, st);
+  s.lengthPerU = object.uvSpeed.at(face, st);
   s.facet = facetNormal(s.hit, s.sp.N);
   s.limitP = s.sp.P;
   if (object.displaced)
@@ -131,7 +133,7 @@ void shadeSample(const RenderContext& ctx, const Ray& ray, float fx, float fy, f
   const ShadeResult r =
       shadeSurface(ctx, object, s.sp, -ray.direction, lights,
                    ctx.facetNormals && object.displaced ? &s.facet : nullptr, &footprint, &s.limitP,
-                   ctx.shadows ? &shadows : nullptr, textured ? &*textured : nullptr);
+                   ctx.shadows ? &shadows : nullptr, textured ? &*textured : nullptr, s.lengthPerU);
   sum.colour += r.colour;
   sum.algorithm += r.algorithm;
   sum.normal += r.normal;

@@ -153,9 +153,11 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
         throw Error(object.mesh.string() + ": " + e.what());
       }
     }();
+    UvSpeed speed =
+        hasRelief(material) && !solid.active && mesh.hasUvs() ? UvSpeed(mesh, surface) : UvSpeed();
     times.tessellate += tess.seconds();
-    ctx.objects.push_back(
-        PreparedObject{std::move(surface), {}, {}, object.material, solid, false});
+    ctx.objects.push_back(PreparedObject{
+        std::move(surface), {}, {}, object.material, solid, false, std::move(speed)});
   }
   Timer tables;
   const std::filesystem::path cacheFolder =
@@ -296,12 +298,13 @@ void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, con
     displacements.emplace_back(
         relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
         ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
-        &object.surface, object.solid);
-    surfaces.push_back({.surface = &object.surface,
-                        .faces = faceDicing(object.surface, relief, d.mode, rs.transition,
-                                            d.view.position, ctx.camera.pixelsPerRadian(),
-                                            {rs.reliefSamples, rs.texelSamples}, object.solid),
-                        .displacement = &displacements.back()});
+        &object.surface, object.solid, &object.uvSpeed);
+    surfaces.push_back(
+        {.surface = &object.surface,
+         .faces = faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
+                             ctx.camera.pixelsPerRadian(), {rs.reliefSamples, rs.texelSamples},
+                             object.solid, &object.uvSpeed),
+         .displacement = &displacements.back()});
   }
   std::vector<AdaptiveTessellation> meshes = tessellateAdaptive(surfaces, d.screen, d.dicing);
   for (size_t i = 0; i < objects.size(); ++i) {

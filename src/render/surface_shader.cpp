@@ -344,7 +344,8 @@ LevelContext levelContext(const RenderContext& ctx, std::span<const Light> light
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                          const SurfacePoint& hit, const Vec3& V, std::span<const Light> lights,
                          const Vec3* facetNormal, const Footprint* footprint, const Vec3* limitP,
-                         const LightShadows* shadows, const Reflectance* reflectance) {
+                         const LightShadows* shadows, const Reflectance* reflectance,
+                         float lengthPerU) {
   // T, weights, disp and the levels' heights come from the limit point (hit.P is the limit surface
   // at the hit's patch coordinates, moved to the raised hit when displaced), exactly as the
   // tessellator raised the geometry; shading happens at the hit.
@@ -376,7 +377,7 @@ ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                 relief, limit, coord, ctx.camera.position(), ctx.camera.pixelsPerRadian(),
                 ctx.scene->render.transition, DisplacementMode::ByTransition,
                 ctx.shadows ? std::span<const Light>(ctx.scene->lights) : std::span<const Light>(),
-                TransitionsFor::Shading)
+                TransitionsFor::Shading, object.solid.active ? 0.0f : lengthPerU)
           : LevelTransitions{};
   const LevelContext c = levelContext(ctx, lights, object, material, sp, coord, V, footprint,
                                       &transitions, relief.metricAt(sp.Pu, sp.Pv), shadows);

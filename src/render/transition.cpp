@@ -42,7 +42,8 @@ float levelTransition(const ReliefLevel& level, float lengthPerU, float cosTheta
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                   const ReliefCoord& coord, const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
-                                  std::span<const Light> lights, TransitionsFor use) {
+                                  std::span<const Light> lights, TransitionsFor use,
+                                  float smoothLengthPerU) {
   LevelTransitions out;
   const int n =
       static_cast<int>(std::min(relief.levels.size(), static_cast<size_t>(kMaxReliefLevels)));
@@ -50,7 +51,8 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
   const Vec3 toEye = eye - sp.P;
   const float distance = glm::length(toEye);
   const Vec3 V = distance > 0.0f && std::isfinite(distance) ? toEye / distance : sp.N;
-  const float lengthPerU = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+  const float lengthPerU =
+      smoothLengthPerU > 0.0f ? smoothLengthPerU : std::max(glm::length(sp.Pu), glm::length(sp.Pv));
   out.frames[0] = SurfaceFrame{sp.Pu, sp.Pv, sp.N};
   // The directions to the lights, once for every level (a few; more are sampled per level).
   constexpr size_t kKeptLights = 8;

@@ -7,6 +7,7 @@
 #include "meso/appearance/visible_height.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/limit_surface.h"
+#include "meso/geometry/uv_speed.h"
 #include "meso/relief/level_frames.h"
 #include "meso/render/transition.h"
 #include "meso/scene/scene.h"
@@ -35,10 +36,12 @@ class ReliefDisplacement : public VertexDisplacement {
   // lights: those whose terminators count in T (levelTransitions); empty without shadows.
   // surface (may be null): the limit surface that offset() is called on, whose own curvature
   // then bounds the visible height of flat levels at its silhouettes (see crestCurvature).
+  // speed (may be null or empty): the surface's UvSpeed, which offset() gives T as its length per
+  // unit of u (the shader passes the same), for relief over (u, v).
   ReliefDisplacement(const MaterialRelief& relief, DisplacementMode mode,
                      const TransitionSettings& transition, Vec3 eye, float pixelsPerRadian,
                      std::span<const Light> lights = {}, const LimitSurface* surface = nullptr,
-                     SolidSpace solid = {});
+                     SolidSpace solid = {}, const UvSpeed* speed = nullptr);
   // Not copied: visible_ may point into ownVisible_.
   ReliefDisplacement(const ReliefDisplacement&) = delete;
   ReliefDisplacement& operator=(const ReliefDisplacement&) = delete;
@@ -58,6 +61,7 @@ class ReliefDisplacement : public VertexDisplacement {
   float bound_ = 0.0f;
   std::vector<Light> lights_;
   SolidSpace solid_;  // the object's, for solid relief (reliefChart)
+  const UvSpeed* speed_ = nullptr;
   // Per level in ByTransition mode: the relief's own (MaterialRelief::visibleHeights) or built
   // here. The crest curvature is that of the raised coarser levels plus, given the surface, the
   // limit surface's own; without it a smooth object's silhouette takes the plane's (larger) value.
@@ -152,9 +156,11 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // beyond it are diced coarsely (FaceDicing::raiseDistance).
 // For solid relief (`solid` active) lengths along the surface are measured in units of solid space
 // (world edge lengths over SolidSpace::lengthPerUnit) instead of in (u, v).
+// speed (may be null or empty): the surface's UvSpeed, whose corners bound the length per u T
+// reads on each face.
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, const ReliefSampling& sampling = {},
-                      const SolidSpace& solid = {});
+                      const SolidSpace& solid = {}, const UvSpeed* speed = nullptr);
 
 }  // namespace meso

@@ -7,6 +7,7 @@
 #include "meso/core/texture_lookup.h"
 #include "meso/core/warnings.h"
 #include "meso/geometry/limit_surface.h"
+#include "meso/geometry/uv_speed.h"
 #include "meso/geometry/ray_scene.h"
 #include "meso/geometry/tessellation.h"
 #include "meso/render/displacement.h"
@@ -34,6 +35,9 @@ struct PreparedObject {
   // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the uniform
   // tessellation of the limit surface (built once).
   bool displaced = false;
+  // The length per unit of u that T reads, continuous across faces (relief over (u, v) on a mesh
+  // with uv; empty otherwise).
+  UvSpeed uvSpeed;
 };
 
 // Wall-clock seconds of the preparation phases, for --stats.

@@ -62,12 +62,13 @@ struct ShadeResult {
 // shadows at all, the unshadowed images bit for bit) is each light's macro visibility at the hit;
 // the relief's tabulated self-shadowing multiplies it where a level is not displaced.
 // reflectance (may be null: the material's constants) is what the colour textures give at the hit
-// (textureReflectance).
+// (textureReflectance). lengthPerU (0: the hit's own max(|P_u|, |P_v|)) is the object's UvSpeed
+// at the hit, which T reads as the tessellator's ReliefDisplacement does.
 ShadeResult shadeSurface(const RenderContext& ctx, const PreparedObject& object,
                          const SurfacePoint& sp, const Vec3& V, std::span<const Light> lights,
                          const Vec3* facetNormal = nullptr, const Footprint* footprint = nullptr,
                          const Vec3* limitP = nullptr, const LightShadows* shadows = nullptr,
-                         const Reflectance* reflectance = nullptr);
+                         const Reflectance* reflectance = nullptr, float lengthPerU = 0.0f);
 
 // The material's reflectance with its colour textures (kd, ks images) looked up at uv, filtered
 // over the footprint (a point lookup where it is not valid). Textures and relief share (u, v):

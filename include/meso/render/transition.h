@@ -122,12 +122,15 @@ struct LevelTransitions {
 // shader reads nothing of them. Geometry: every level (the tessellator's offsets need all frames).
 enum class TransitionsFor { Geometry, Shading };
 // `coord` is where the levels are evaluated (reliefChart); the form without it evaluates relief
-// over (u, v) at sp.uv.
+// over (u, v) at sp.uv. lengthPerU > 0 replaces the point's own max(|P_u|, |P_v|) in T: the
+// mesh's UvSpeed there, continuous across faces (relief over (u, v) only; the tessellator and the
+// shader pass the same).
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                   const ReliefCoord& coord, const Vec3& eye, float pixelsPerRadian,
                                   const TransitionSettings& settings, DisplacementMode mode,
                                   std::span<const Light> lights = {},
-                                  TransitionsFor use = TransitionsFor::Geometry);
+                                  TransitionsFor use = TransitionsFor::Geometry,
+                                  float lengthPerU = 0.0f);
 inline LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
                                          const Vec3& eye, float pixelsPerRadian,
                                          const TransitionSettings& settings, DisplacementMode mode,

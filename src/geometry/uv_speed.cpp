@@ -1,0 +1,71 @@
+#include "meso/geometry/uv_speed.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meso {
+
+UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
+  const int faces = std::min(mesh.numFaces(), surface.numFaces());
+  first_.assign(static_cast<size_t>(faces) + 1, 0);
+  for (int f = 0; f < faces; ++f) first_[f + 1] = first_[f] + mesh.faceSizes[f];
+  const size_t corners = static_cast<size_t>(first_[faces]);
+  std::vector<float> own(corners, 0.0f);
+  cornerSt_.assign(corners, Vec2(0.0f));
+  std::vector<double> sum(mesh.positions.size(), 0.0);
+  std::vector<int> count(mesh.positions.size(), 0);
+  for (int f = 0; f < faces; ++f) {
+    const bool usable = surface.hasLimitSurface(f) && surface.faceSize(f) == mesh.faceSizes[f];
+    for (int k = 0; k < mesh.faceSizes[f]; ++k) {
+      const size_t c = static_cast<size_t>(first_[f] + k);
+      if (!usable) continue;
+      cornerSt_[c] = surface.cornerSt(f, k);
+      const SurfacePoint sp = surface.evaluate(f, cornerSt_[c]);
+      const float length = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+      if (!std::isfinite(length)) continue;
+      own[c] = length;
+      const int v = mesh.faceVertices[c];
+      sum[v] += length;
+      ++count[v];
+    }
+  }
+  corner_.assign(corners, 0.0f);
+  for (size_t c = 0; c < corners; ++c) {
+    const int v = mesh.faceVertices[c];
+    corner_[c] = count[v] > 0 ? static_cast<float>(sum[v] / count[v]) : own[c];
+  }
+}
+
+float UvSpeed::at(int face, Vec2 st) const {
+  if (empty() || face < 0 || face + 1 >= static_cast<int>(first_.size())) return 0.0f;
+  const float* c = &corner_[first_[face]];
+  const Vec2* s = &cornerSt_[first_[face]];
+  const int n = first_[face + 1] - first_[face];
+  if (n == 4) {
+    // Bilinear over the quad's corners (0,0), (1,0), (1,1), (0,1) in patch coordinates.
+    const float x = std::clamp(st.x, 0.0f, 1.0f), y = std::clamp(st.y, 0.0f, 1.0f);
+    if (s[0] == Vec2(0, 0) && s[1] == Vec2(1, 0) && s[2] == Vec2(1, 1) && s[3] == Vec2(0, 1))
+      return (1 - x) * (1 - y) * c[0] + x * (1 - y) * c[1] + x * y * c[2] + (1 - x) * y * c[3];
+  } else if (n == 3) {
+    // Barycentric over the triangle of its corners' patch coordinates.
+    const Vec2 e1 = s[1] - s[0], e2 = s[2] - s[0], p = st - s[0];
+    const float det = e1.x * e2.y - e1.y * e2.x;
+    if (std::abs(det) > 1e-12f) {
+      const float b1 = std::clamp((p.x * e2.y - p.y * e2.x) / det, 0.0f, 1.0f);
+      const float b2 = std::clamp((e1.x * p.y - e1.y * p.x) / det, 0.0f, 1.0f - b1);
+      return (1 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2];
+    }
+  }
+  float mean = 0.0f;
+  for (int k = 0; k < n; ++k) mean += c[k];
+  return n > 0 ? mean / static_cast<float>(n) : 0.0f;
+}
+
+float UvSpeed::faceMax(int face) const {
+  if (empty() || face < 0 || face + 1 >= static_cast<int>(first_.size())) return 0.0f;
+  float m = 0.0f;
+  for (int c = first_[face]; c < first_[face + 1]; ++c) m = std::max(m, corner_[c]);
+  return m;
+}
+
+}  // namespace meso

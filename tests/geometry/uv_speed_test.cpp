@@ -1,0 +1,76 @@
+#include "meso/geometry/uv_speed.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace meso {
+namespace {
+
+// Three unit quads in a row (x = 0 .. 3), their u running at 1, 0.5 and 1 per unit of x: the length
+// per unit of u is 1, 2 and 1 face by face and jumps at the edges x = 1 and x = 2. UvSpeed takes
+// the mean at each vertex (1.5 on those edges) and interpolates it, so that both faces agree on
+// their shared edge, and every face's corners bound it.
+TEST(UvSpeed, IsContinuousAcrossFacesWhoseUvScalesDiffer) {
+  ControlMesh mesh;
+  const float us[] = {0.0f, 1.0f, 1.5f, 2.5f};
+  for (int row = 0; row < 2; ++row)
+    for (int i = 0; i < 4; ++i) {
+      mesh.positions.emplace_back(static_cast<float>(i), static_cast<float>(row), 0.0f);
+      mesh.uvs.emplace_back(us[i], static_cast<float>(row));
+    }
+  for (int f = 0; f < 3; ++f) {
+    test::addFace(mesh, {f, f + 1, f + 5, f + 4});
+    mesh.uvIndices.insert(mesh.uvIndices.end(), {f, f + 1, f + 5, f + 4});
+  }
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const UvSpeed speed(mesh, surface);
+  ASSERT_FALSE(speed.empty());
+  // The point's own length jumps from 1 to 2 across x = 1.
+  const auto own = [&](int face, Vec2 st) {
+    const SurfacePoint sp = surface.evaluate(face, st);
+    return std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+  };
+  // Patch coordinates of the point a fraction t from corner a to corner b of a face.
+  const auto along = [&](int face, int a, int b, float t) {
+    return surface.cornerSt(face, a) + t * (surface.cornerSt(face, b) - surface.cornerSt(face, a));
+  };
+  // Face 0's corners 1 -> 2 are vertices 1 -> 5; face 1's corners 0 -> 3 are the same.
+  for (float t : {0.0f, 0.3f, 0.5f, 1.0f}) {
+    EXPECT_NEAR(own(0, along(0, 1, 2, t)), 1.0f, 1e-4f);
+    EXPECT_NEAR(own(1, along(1, 0, 3, t)), 2.0f, 1e-4f);
+    EXPECT_NEAR(speed.at(0, along(0, 1, 2, t)), 1.5f, 1e-5f) << t;
+    EXPECT_NEAR(speed.at(1, along(1, 0, 3, t)), 1.5f, 1e-5f) << t;
+  }
+  // A vertex of one face alone keeps that face's length; between, the interpolation is linear.
+  EXPECT_NEAR(speed.at(0, surface.cornerSt(0, 0)), 1.0f, 1e-5f);
+  EXPECT_NEAR(speed.at(0, along(0, 0, 1, 0.5f)), 1.25f, 1e-5f);
+  EXPECT_NEAR(speed.at(1, along(1, 0, 1, 0.5f)), 1.5f, 1e-5f);
+  EXPECT_NEAR(speed.faceMax(0), 1.5f, 1e-5f);
+  EXPECT_NEAR(speed.faceMax(1), 1.5f, 1e-5f);
+  // Outside the faces: nothing.
+  EXPECT_EQ(speed.at(-1, Vec2(0.5f)), 0.0f);
+  EXPECT_EQ(speed.at(3, Vec2(0.5f)), 0.0f);
+  EXPECT_EQ(UvSpeed().at(0, Vec2(0.5f)), 0.0f);
+}
+
+// On a Catmull-Clark cube (no uv: each face's own (s, t) chart) every value is finite and positive,
+// and on each face lies within its corners' range.
+TEST(UvSpeed, IsFiniteAndBoundedByItsCornersOnACurvedSurface) {
+  const ControlMesh mesh = test::cube();
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const UvSpeed speed(mesh, surface);
+  for (int f = 0; f < surface.numFaces(); ++f)
+    for (float s : {0.0f, 0.25f, 0.5f, 1.0f})
+      for (float t : {0.0f, 0.7f, 1.0f}) {
+        const float v = speed.at(f, Vec2(s, t));
+        EXPECT_TRUE(std::isfinite(v));
+        EXPECT_GT(v, 0.0f);
+        EXPECT_LE(v, speed.faceMax(f) * (1.0f + 1e-6f));
+      }
+}
+
+}  // namespace
+}  // namespace meso
