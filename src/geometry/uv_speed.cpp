@@ -1,5 +1,7 @@
 #include "meso/geometry/uv_speed.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,23 +14,24 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
   const size_t corners = static_cast<size_t>(first_[faces]);
   std::vector<float> own(corners, 0.0f);
   cornerSt_.assign(corners, Vec2(0.0f));
-  std::vector<double> sum(mesh.positions.size(), 0.0);
-  std::vector<int> count(mesh.positions.size(), 0);
-  for (int f = 0; f < faces; ++f) {
-    const bool usable = surface.hasLimitSurface(f) && surface.faceSize(f) == mesh.faceSizes[f];
+  // Each face's corners in parallel (evaluate is thread-safe), then the vertex means in order.
+  tbb::parallel_for(0, faces, [&](int f) {
+    if (!surface.hasLimitSurface(f) || surface.faceSize(f) != mesh.faceSizes[f]) return;
     for (int k = 0; k < mesh.faceSizes[f]; ++k) {
       const size_t c = static_cast<size_t>(first_[f] + k);
-      if (!usable) continue;
       cornerSt_[c] = surface.cornerSt(f, k);
       const SurfacePoint sp = surface.evaluate(f, cornerSt_[c]);
       const float length = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
-      if (!std::isfinite(length)) continue;
-      own[c] = length;
-      const int v = mesh.faceVertices[c];
-      sum[v] += length;
-      ++count[v];
+      if (std::isfinite(length)) own[c] = length;
     }
-  }
+  });
+  std::vector<double> sum(mesh.positions.size(), 0.0);
+  std::vector<int> count(mesh.positions.size(), 0);
+  for (size_t c = 0; c < corners; ++c)
+    if (own[c] > 0.0f) {
+      sum[static_cast<size_t>(mesh.faceVertices[c])] += own[c];
+      ++count[static_cast<size_t>(mesh.faceVertices[c])];
+    }
   corner_.assign(corners, 0.0f);
   for (size_t c = 0; c < corners; ++c) {
     const int v = mesh.faceVertices[c];
