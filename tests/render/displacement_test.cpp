@@ -308,6 +308,18 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
 namespace meso {
 namespace {
 
+// One unit quad in the plane z = 0, centred on the origin, uv over [0, 1]^2.
+LimitSurface unitQuad() {
+  ControlMesh mesh;
+  mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
+                    Vec3(-0.5f, 0.5f, 0)};
+  mesh.faceSizes = {4};
+  mesh.faceVertices = {0, 1, 2, 3};
+  mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  mesh.uvIndices = {0, 1, 2, 3};
+  return LimitSurface(mesh, SubdivisionScheme::Bilinear);
+}
+
 // A height image whose texels carry detail finer than its level's wavelength (sharp edges,
 // per-texel noise): where the hybrid raises it on a face seen at grazing, the face gets full
 // displacement's floor (relief_samples edges per texel-scale wavelength, up to one edge per
@@ -316,14 +328,7 @@ namespace {
 // gets none. A band of a split image gets the floor at its own wavelength where it is the finest
 // band raised on the face.
 TEST(Displacement, HybridFloorsAHeightImageWithTexelDetailWhereItMasks) {
-  ControlMesh mesh;
-  mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
-                    Vec3(-0.5f, 0.5f, 0)};
-  mesh.faceSizes = {4};
-  mesh.faceVertices = {0, 1, 2, 3};
-  mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
-  mesh.uvIndices = {0, 1, 2, 3};
-  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const LimitSurface surface = unitQuad();
   constexpr int kTexels = 64;
   std::vector<float> texels(kTexels * kTexels);
   Rng rng(3);
@@ -424,14 +429,7 @@ TEST(Displacement, HeightImageLevelsTakeAScaledD) {
   EXPECT_NEAR(levelTransition(image, 1.0f, 1.0f, d, 1000.0f, ts), (1.5f - 1.0f) / 1.1f, 1e-5f);
   EXPECT_NEAR(levelTransition(noise, 1.0f, 1.0f, d, 1000.0f, ts), (1.5f - 2.0f) / 1.1f, 1e-5f);
 
-  ControlMesh mesh;
-  mesh.positions = {Vec3(-0.5f, -0.5f, 0), Vec3(0.5f, -0.5f, 0), Vec3(0.5f, 0.5f, 0),
-                    Vec3(-0.5f, 0.5f, 0)};
-  mesh.faceSizes = {4};
-  mesh.faceVertices = {0, 1, 2, 3};
-  mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
-  mesh.uvIndices = {0, 1, 2, 3};
-  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const LimitSurface surface = unitQuad();
   // From 10 units, at most 0.01 * 1.25 * 1000 / 10 = 1.25 pixels per wavelength: between the least
   // nu T raises an image level at (1 + e3 eps = 1.03) and a procedural one's (2.03).
   MaterialRelief imageRelief;

@@ -78,11 +78,11 @@ float levelD(const ReliefLevel& level, const TransitionSettings& settings);
 
 // The transition parameter of a level at a point: T = (nu - D) / (|cos theta_V| + eps) with
 // nu = wavelength * lengthPerU * pixelsPerRadian / distance (DESIGN.md section 3) and D = levelD.
-// lengthPerU is
-// the world length of one unit of u at the point along the direction where it is longest,
-// max(|P_u|, |P_v|) of the limit surface (levelTransitions): where the uv is compressed along one
-// direction (a UV sphere towards its poles, a stretched chart), the relief's detail along the other
-// is as large on screen as on a unit-speed surface, and it stays displaced while that is resolved.
+// lengthPerU is the world length of one unit of u at the point along the direction where it is
+// longest, max(|P_u|, |P_v|) of the limit surface (levelTransitions): where the uv is compressed
+// along one direction (a UV sphere towards its poles, a stretched chart), the relief's detail along
+// the other is as large on screen as on a unit-speed surface, and it stays displaced while that is
+// resolved.
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings);
 
