@@ -14,18 +14,23 @@ import sys
 import tempfile
 
 
-def pixels(path):
+def channels(path, names):
+    """{(x, y): [values of `names`]} of one image, read with oiiotool --dumpdata."""
     with tempfile.NamedTemporaryFile(suffix=".exr") as tmp:
-        subprocess.run(["oiiotool", path, "--ch", "R,G,B,depth.Z", "-o", tmp.name], check=True)
+        subprocess.run(["oiiotool", path, "--ch", ",".join(names), "-o", tmp.name], check=True)
         out = subprocess.run(["oiiotool", "--dumpdata", tmp.name], check=True,
                              capture_output=True, text=True).stdout
-    values = []
+    values = {}
     for line in out.splitlines():
         m = re.match(r"\s*Pixel \((\d+), (\d+)\):(.*)", line)
         if m:
-            r, g, b, z = (float(v) for v in m.group(3).split())
-            values.append(((r + g + b) / 3.0, z))
+            values[(int(m.group(1)), int(m.group(2)))] = [float(v) for v in m.group(3).split()]
     return values
+
+
+def pixels(path):
+    rgbz = channels(path, ["R", "G", "B", "depth.Z"]).values()
+    return [((r + g + b) / 3.0, z) for r, g, b, z in rgbz]
 
 
 def main(argv):

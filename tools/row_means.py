@@ -7,23 +7,14 @@ Luminance is Rec. 709's, as `meso consistency` compares. The pixels are those wh
 hit a surface (depth.Z > 0) and every other image's alpha is 1 (a transparent film's partly covered
 outline pixels are left out of all), so every image is averaged over the same pixels. Prints, per
 band of rows (and the whole image), each image's difference from the meso image in percent. Reads
-pixels with oiiotool --dumpdata (no Python image modules needed)."""
-import re
-import subprocess
+pixels with band_means.py's oiiotool --dumpdata reader (no Python image modules needed)."""
 import sys
-import tempfile
+
+import band_means  # its oiiotool --dumpdata reader, from this folder
 
 
 def channels(path, names):
-    with tempfile.NamedTemporaryFile(suffix=".exr") as tmp:
-        subprocess.run(["oiiotool", path, "--ch", ",".join(names), "-o", tmp.name], check=True)
-        out = subprocess.run(["oiiotool", "--dumpdata", tmp.name], check=True,
-                             capture_output=True, text=True).stdout
-    values = {}
-    for line in out.splitlines():
-        m = re.match(r"\s*Pixel \((\d+), (\d+)\):(.*)", line)
-        if m:
-            values[(int(m.group(1)), int(m.group(2)))] = [float(v) for v in m.group(3).split()]
+    values = band_means.channels(path, names)
     if not values:
         sys.exit(f"row_means.py: {path}: no pixels read")
     return values

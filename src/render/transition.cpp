@@ -31,12 +31,21 @@ float levelD(const ReliefLevel& level, const TransitionSettings& settings) {
                                                            : settings.D;
 }
 
-float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
-                      float pixelsPerRadian, const TransitionSettings& settings) {
+namespace {
+
+// The settings with D = levelD: looked up once per level (a virtual call on the height source).
+TransitionSettings levelSettings(const ReliefLevel& level, const TransitionSettings& settings) {
   TransitionSettings s = settings;
   s.D = levelD(level, settings);
+  return s;
+}
+
+}  // namespace
+
+float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
+                      float pixelsPerRadian, const TransitionSettings& settings) {
   return transitionParameter(level.wavelength() * lengthPerU, pixelsPerRadian, distance,
-                             std::abs(cosThetaV), s);
+                             std::abs(cosThetaV), levelSettings(level, settings));
 }
 
 LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoint& sp,
@@ -76,10 +85,13 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       lo = std::min(lo, c);
       hi = std::max(hi, c);
     }
-    const float atLo = levelTransition(level, lengthPerU, lo, distance, pixelsPerRadian, settings);
-    out.T[i] = atLo > 0.0f ? atLo
-                           : std::max(atLo, levelTransition(level, lengthPerU, hi, distance,
-                                                            pixelsPerRadian, settings));
+    const TransitionSettings s = levelSettings(level, settings);
+    const float nuWavelength = level.wavelength() * lengthPerU;
+    const float atLo = transitionParameter(nuWavelength, pixelsPerRadian, distance, lo, s);
+    out.T[i] =
+        atLo > 0.0f
+            ? atLo
+            : std::max(atLo, transitionParameter(nuWavelength, pixelsPerRadian, distance, hi, s));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f
                   : flat || i < flatUntil        ? 0.0f
