@@ -38,6 +38,10 @@ bool isAffine(const LimitSurface& surface, int face) {
   // Relative to the face, and at least a few units in the last place of its coordinates (a face
   // 300 units from the origin evaluates to about 3e-5).
   const float tolerance = 1e-5f * size + 8.0f * std::numeric_limits<float>::epsilon() * far;
+  // A bilinear patch on the unit square departs from the plane of corners 0, 1 and 3 by s t times
+  // its twist P0 - P1 + P2 - P3, most at corner 2: the corners decide.
+  if (n == 4 && surface.impl().faces[face].bilinear)
+    return glm::length(P[0] - P[1] + P[2] - P[3]) <= tolerance;
   // st = c0 + x a + y b  =>  P = P0 + x da + y db.
   const auto affine = [&](Vec2 p) {
     const Vec2 d = p - st[0];

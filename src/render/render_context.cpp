@@ -32,14 +32,22 @@ bool raisesRelief(Algorithm a) { return a == Algorithm::Auto || a == Algorithm::
 // differ (a curved surface, whose crests bound the visible height of flat levels:
 // buildVisibleHeights).
 bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
-  bool curved = false;
-  std::optional<Vec3> first;
-  const auto sample = [&](const SurfacePoint& sp) {
-    out.push_back(metricOf(sp.Pu, sp.Pv));
-    if (!first) first = sp.N;
-    curved = curved || !(glm::dot(*first, sp.N) > 1.0f - 1e-6f);
-  };
-  for (int face = 0; face < surface.numFaces(); ++face) {
+  // Faces in parallel, each into its own slots: the samples in face order whatever the threads.
+  const int faces = surface.numFaces();
+  std::vector<size_t> offset(static_cast<size_t>(faces) + 1, 0);
+  for (int face = 0; face < faces; ++face)
+    offset[face + 1] = offset[face] + 2 * static_cast<size_t>(surface.faceSize(face)) + 1;
+  const size_t first = out.size();
+  out.resize(first + offset.back());
+  std::vector<uint8_t> differs(static_cast<size_t>(faces), 0);
+  std::optional<Vec3> N0;  // the normal at the first sample, which every other is compared with
+  if (faces > 0) N0 = surface.evaluate(0, surface.cornerSt(0, 0)).N;
+  tbb::parallel_for(0, faces, [&](int face) {
+    size_t at = first + offset[face];
+    const auto sample = [&](const SurfacePoint& sp) {
+      out[at++] = metricOf(sp.Pu, sp.Pv);
+      differs[face] |= !(glm::dot(*N0, sp.N) > 1.0f - 1e-6f);
+    };
     const int n = surface.faceSize(face);
     Vec2 centre(0.0f);
     for (int k = 0; k < n; ++k) {
@@ -48,8 +56,8 @@ bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
       for (const Vec2 st : {a, 0.5f * (a + b)}) sample(surface.evaluate(face, st));
     }
     sample(surface.evaluate(face, centre));
-  }
-  return curved;
+  });
+  return std::any_of(differs.begin(), differs.end(), [](uint8_t d) { return d != 0; });
 }
 
 // A warning when the mesh lies so far from the origin that float positions are spaced more than

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <utility>
 
 namespace meso {
@@ -129,45 +131,77 @@ std::vector<CameraSettings> sceneCameras(const Scene& scene) {
 ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
                               const MaterialRelief& relief, std::span<const ScreenMetric> screens,
                               float bound) {
-  ViewAngles all, out;
+  ViewAngles all;
   if (relief.metrics.empty() || screens.empty() || !std::isfinite(bound)) return all;
-  float lo = 0.5f * kPi, hi = 0.0f;
-  for (const LimitSurface* surface : surfaces) {
-    const std::vector<uint8_t> flat = affineFaces(*surface);
-    for (int face = 0; face < surface->numFaces(); ++face) {
-      if (!surface->hasLimitSurface(face)) continue;
-      if (!flat[face]) return all;
-      const int n = surface->faceSize(face);
-      std::vector<Vec3> polygon;
-      Vec2 centre(0.0f);
-      for (int k = 0; k < n; ++k) {
-        const Vec2 st = surface->cornerSt(face, k);
-        polygon.push_back(surface->evaluate(face, st).P);
-        centre += st / static_cast<float>(n);
+  // Faces in parallel: minima and maxima, the same whatever the order.
+  struct Partial {
+    float lo = 0.5f * kPi, hi = 0.0f;
+    float sMin = std::numeric_limits<float>::infinity(), sMax = 0.0f;
+    bool curved = false;
+    Partial merged(const Partial& o) const {
+      return {std::min(lo, o.lo), std::max(hi, o.hi), std::min(sMin, o.sMin),
+              std::max(sMax, o.sMax), curved || o.curved};
+    }
+  };
+  const auto faceAngles = [&](const LimitSurface& surface, int face, Partial& out) {
+    const int n = surface.faceSize(face);
+    std::vector<Vec3> polygon;
+    Vec2 centre(0.0f);
+    for (int k = 0; k < n; ++k) {
+      const Vec2 st = surface.cornerSt(face, k);
+      polygon.push_back(surface.evaluate(face, st).P);
+      centre += st / static_cast<float>(n);
+    }
+    // The face's tile map only where a frame sees it (most faces of a large ground none does).
+    std::optional<SurfacePoint> sp;
+    TileMap m;
+    for (const ScreenMetric& screen : screens) {
+      const std::vector<Vec3> seen = inView(polygon, screen, bound);
+      if (seen.size() < 3) continue;
+      if (!sp) {
+        sp = surface.evaluate(face, centre);
+        m = tableTileMap(relief, relief.metricAt(sp->Pu, sp->Pv), sp->Pu, sp->Pv, sp->N);
+        const auto [sMin, sMax] = tangentialScales(m);
+        out.sMin = std::min(out.sMin, sMin);
+        out.sMax = std::max(out.sMax, sMax);
       }
-      const SurfacePoint sp = surface->evaluate(face, centre);
-      const TileMap m = tableTileMap(relief, relief.metricAt(sp.Pu, sp.Pv), sp.Pu, sp.Pv, sp.N);
-      const auto [sMin, sMax] = tangentialScales(m);
-      out.sMin = std::min(out.sMin, sMin);
-      out.sMax = std::max(out.sMax, sMax);
-      for (const ScreenMetric& screen : screens) {
-        const std::vector<Vec3> seen = inView(polygon, screen, bound);
-        if (seen.size() < 3) continue;
-        // Raised relief lies within +-bound of the face along N: the eye moved the other way.
-        for (const float h : {-bound, 0.0f, bound}) {
-          const Vec3 eye = screen.eye - h * sp.N;
-          for (const Vec3& p : seen) hi = std::max(hi, tileThetaV(m, eye - p));
-          if (footInside(seen, sp.N, eye)) {
-            lo = 0.0f;
-            continue;
-          }
-          for (size_t i = 0; i < seen.size(); ++i)
-            lo = std::min(lo, segmentMinimum(m, eye, seen[i], seen[(i + 1) % seen.size()]));
+      // Raised relief lies within +-bound of the face along N: the eye moved the other way.
+      for (const float h : {-bound, 0.0f, bound}) {
+        const Vec3 eye = screen.eye - h * sp->N;
+        for (const Vec3& p : seen) out.hi = std::max(out.hi, tileThetaV(m, eye - p));
+        if (footInside(seen, sp->N, eye)) {
+          out.lo = 0.0f;
+          continue;
         }
+        for (size_t i = 0; i < seen.size(); ++i)
+          out.lo = std::min(out.lo, segmentMinimum(m, eye, seen[i], seen[(i + 1) % seen.size()]));
       }
     }
+  };
+  Partial total;
+  for (const LimitSurface* surface : surfaces) {
+    const std::vector<uint8_t> flat = affineFaces(*surface);
+    total = total.merged(tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, surface->numFaces()), Partial{},
+        [&](const tbb::blocked_range<int>& faces, Partial p) {
+          for (int face = faces.begin(); face < faces.end() && !p.curved; ++face) {
+            if (!surface->hasLimitSurface(face)) continue;
+            if (!flat[face]) {
+              p.curved = true;
+              break;
+            }
+            faceAngles(*surface, face, p);
+          }
+          return p;
+        },
+        [](const Partial& a, const Partial& b) { return a.merged(b); }));
+    if (total.curved) return all;
   }
+  const float lo = total.lo, hi = total.hi;
   if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return all;
+  ViewAngles out;
+  out.sMin = total.sMin;
+  out.sMax = total.sMax;
   out.lo = std::max(lo - kMargin, 0.0f);
   out.hi = std::min(hi + kMargin, 0.5f * kPi);
   out.all = false;

@@ -34,6 +34,24 @@ TEST(FlatFaces, BilinearGridIsTwoTrianglesAFace) {
   EXPECT_EQ(test::countOpenEdges(smooth), 16);  // the grid's border only: watertight inside
 }
 
+// Bilinear quads are decided by their corners (their twist): a sheared grid is flat everywhere; one
+// raised vertex twists exactly the four faces around it, however little above float rounding.
+TEST(FlatFaces, BilinearQuadsAreFlatExactlyWhereUntwisted) {
+  ControlMesh mesh = test::grid(4);
+  for (Vec3& p : mesh.positions) p.x += 0.3f * p.y;  // parallelograms
+  for (float lift : {1e-3f, 0.5f}) {
+    ControlMesh raised = mesh;
+    raised.positions[2 * 5 + 2].z = lift;  // the grid's centre vertex (i = j = 2)
+    const std::vector<uint8_t> affine =
+        affineFaces(LimitSurface(raised, SubdivisionScheme::Bilinear));
+    for (int f = 0; f < 16; ++f) {
+      const int i = f % 4, j = f / 4;
+      const bool aroundCentre = (i == 1 || i == 2) && (j == 1 || j == 2);
+      EXPECT_EQ(affine[f], aroundCentre ? 0 : 1) << "face " << f << ", lift " << lift;
+    }
+  }
+}
+
 // Far from the origin the limit evaluates to within float rounding of the plane, not exactly on it:
 // a ground's far faces are still flat.
 TEST(FlatFaces, FlatFacesFarFromTheOriginAreFlat) {

@@ -22,8 +22,8 @@ struct ViewAngles {
   float lo = 0.0f;
   float hi = 0.5f * kPi;
   bool all = true;
-  // The least and most the faces' tile maps scale tangent directions (1 and 1: the tile's angles
-  // are the world's).
+  // The least and most the tile maps of the faces a screen sees scale tangent directions (1 and 1:
+  // the tile's angles are the world's).
   float sMin = std::numeric_limits<float>::infinity();
   float sMax = 0.0f;
 };
