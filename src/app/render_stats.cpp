@@ -40,6 +40,7 @@ nlohmann::json settingsJson(const Scene& scene, const std::filesystem::path& out
           {"tessellation_rate", scene.render.tessellationRate},
           {"dicing_rate", scene.render.dicingRate},
           {"dicing_metric", choiceName(scene.render.dicingMetric)},
+          {"across_view_cap", scene.render.acrossViewCap},
           {"relief_samples", scene.render.reliefSamples},
           {"max_micropolygons", scene.render.maxMicropolygons},
           {"normals", choiceName(scene.render.normals)},

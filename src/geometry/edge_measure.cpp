@@ -19,20 +19,28 @@ using OpenSubdiv::Far::ConstIndexArray;
 // (it ignores foreshortening).
 // `lo`, `hi`: the box of those points.
 void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
-                      EdgeRateTessellator::Use owner, DicingMetric metric, float tolerance,
-                      EdgeMeasure& m, Vec3& lo, Vec3& hi) {
+                      EdgeRateTessellator::Use owner, const DicingSettings& s, EdgeMeasure& m,
+                      Vec3& lo, Vec3& hi) {
+  const DicingMetric metric = s.metric;
+  const float tolerance = s.coarseTolerance;
   constexpr int kSegments = 4;
   const LimitSurface::Impl& impl = surface.impl();
   const int n = surface.faceSize(owner.face);
   const Vec2 s0 = impl.cornerSt(owner.face, owner.corner);
   const Vec2 s1 = impl.cornerSt(owner.face, (owner.corner + 1) % n);
   Vec3 P[kSegments + 1];
+  Vec3 midN(0.0f);
   lo = Vec3(std::numeric_limits<float>::infinity()), hi = -lo;
   for (int k = 0; k <= kSegments; ++k) {
-    P[k] = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments)).P;
+    const SurfacePoint sp = surface.evaluate(owner.face, glm::mix(s0, s1, float(k) / kSegments));
+    P[k] = sp.P;
+    if (2 * k == kSegments) midN = sp.N;
     lo = glm::min(lo, P[k]);
     hi = glm::max(hi, P[k]);
   }
+  if (s.acrossViewCap < 1.0f)
+    m.capScale =
+        acrossViewCapScale(screen, P[kSegments / 2], midN, P[kSegments] - P[0], s.acrossViewCap);
   float length = 0.0f, deviationPx = 0.0f;
   for (int k = 0; k < kSegments; ++k)
     length += metric == DicingMetric::Projected ? screen.projectedLength(P[k], P[k + 1])
@@ -76,6 +84,20 @@ void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDic
 
 }  // namespace
 
+float acrossViewCapScale(const ScreenMetric& screen, Vec3 p, Vec3 N, Vec3 dir, float across) {
+  const Vec3 toEye = screen.eye - p;
+  const float eyeLength = glm::length(toEye), dirLength = glm::length(dir);
+  if (!(eyeLength > 0.0f) || !(dirLength > 0.0f) || !std::isfinite(eyeLength * dirLength))
+    return 1.0f;
+  const Vec3 w = toEye / eyeLength;
+  const Vec3 tangent = w - glm::dot(w, N) * N;  // |tangent| = sin(theta_V) for a unit N
+  const float sin2 = glm::dot(tangent, tangent);
+  if (!(sin2 > 1e-12f) || !(sin2 <= 1.0f + 1e-4f)) return 1.0f;
+  const float c = glm::dot(dir / dirLength, tangent) / std::sqrt(sin2);
+  const float scale = 1.0f - (1.0f - across) * (1.0f - std::min(c * c, 1.0f)) * sin2;
+  return std::isfinite(scale) ? std::clamp(scale, std::min(across, 1.0f), 1.0f) : 1.0f;
+}
+
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
                               std::vector<float>& distance) {
   const LimitSurface::Impl& impl = surface.impl();
@@ -112,8 +134,7 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
     for (int f : edgeFaces)
       if (inView[f]) m.distance = std::min(m.distance, faceDistance[f]);
     Vec3 lo, hi;
-    measureLimitEdge(surface, screen, engine.edgeOwner(e), settings.metric,
-                     settings.coarseTolerance, m, lo, hi);
+    measureLimitEdge(surface, screen, engine.edgeOwner(e), settings, m, lo, hi);
     const float grow = bound + 0.5f * glm::length(hi - lo);
     m.kind = EdgeMeasure::Coarse;
     bool uncapped = false;
@@ -139,7 +160,10 @@ int edgeRate(const EdgeMeasure& m, const DicingSettings& s, const CapCoarsening&
   int rate = toRate(m.coarseSegments / coarsening, s.maxEdgeRate);
   if (m.kind == EdgeMeasure::Diced) {
     const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
-    rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), limit));
+    // The pixel rate stops at the cap scaled across the view; the floor (a texel image's masking)
+    // at the whole cap.
+    const int scaled = m.cap > 0 ? std::min(scaledCap(limit, m.capScale), limit) : limit;
+    rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), scaled));
     rate = std::max(rate, toRate(static_cast<float>(m.floor) / coarsening, limit));
   }
   return rate;

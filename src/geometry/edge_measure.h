@@ -7,6 +7,8 @@
 #include "limit_surface_impl.h"
 #include "meso/geometry/adaptive_tessellation.h"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace meso {
@@ -21,11 +23,23 @@ struct EdgeMeasure {
   float coarseSegments = 0.0f;  // segments that follow the limit surface to the tolerance
   int cap = 0;                  // largest useful rate of the diced neighbours, 0 = none
   int floor = 0;                // least rate the diced neighbours ask for, 0 = none
+  float capScale = 1.0f;        // share of `cap` the edge keeps (acrossViewCapScale)
   // The nearest distance from the eye of the faces in view it bounds (their patch hulls grown by
   // the displacement bound): the cap coarsens it by CapCoarsening::factor of this, so no edge of a
   // face that reaches nearer than CapCoarsening::beyond is coarsened.
   float distance = 0.0f;
 };
+
+// DicingSettings::acrossViewCap at a point p with normal N for a direction `dir` in the surface:
+// 1 - (1 - across) (1 - c^2) sin^2(theta_V), c the cosine between dir and the view's direction in
+// the tangent plane. 1 where anything is undefined (a degenerate direction or normal).
+float acrossViewCapScale(const ScreenMetric& screen, Vec3 p, Vec3 N, Vec3 dir, float across);
+
+// `cap` scaled by `scale`, at least 1; 0 (no cap) stays 0.
+inline int scaledCap(int cap, float scale) {
+  if (cap <= 0 || !(scale < 1.0f)) return cap;
+  return std::max(1, static_cast<int>(std::ceil(static_cast<float>(cap) * scale)));
+}
 
 // A face is in view when the box of its patch points, grown by the displacement bound, is: the
 // limit patch lies in the convex hull of its patch points (B-spline and Gregory bases are

@@ -3,6 +3,7 @@
 // densest point in view, also where it lies out of view or recedes far in depth.
 #include "face_split.h"
 
+#include "edge_measure.h"
 #include "limit_surface_impl.h"
 
 #include <tbb/parallel_for.h>
@@ -65,6 +66,15 @@ Cell measureCell(const CellSamples& c, const ScreenMetric& screen, const DicingS
   if (!std::isfinite(cell.distance)) cell.distance = 0.0f;
   density = seen > 0.0f ? seen : front;
   if (!std::isfinite(density)) density = 0.0f;
+  if (s.acrossViewCap < 1.0f) {
+    const Vec3 du = c.P[1][2] - c.P[1][0], dv = c.P[2][1] - c.P[0][1];
+    const Vec3 n = glm::cross(du, dv);
+    const float length = glm::length(n);
+    if (length > 0.0f && std::isfinite(length)) {
+      cell.capScaleU = acrossViewCapScale(screen, c.P[1][1], n / length, du, s.acrossViewCap);
+      cell.capScaleV = acrossViewCapScale(screen, c.P[1][1], n / length, dv, s.acrossViewCap);
+    }
+  }
   for (int k = 0; k < 3; ++k) {
     const Vec3 u[3] = {c.P[k][0], c.P[k][1], c.P[k][2]}, v[3] = {c.P[0][k], c.P[1][k], c.P[2][k]};
     const bool projected = s.metric == DicingMetric::Projected;
@@ -152,6 +162,7 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
     for (int i = 0; i < split.nu; ++i) {
       bool diced = false;
       float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
+      float scaleU = 0.0f, scaleV = 0.0f;  // the largest of its cells' (acrossViewCapScale)
       float nearest = std::numeric_limits<float>::infinity();
       std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
       for (int b = 0; b < fv; ++b)
@@ -159,6 +170,8 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
           const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
           diced = diced || c.diced;
           nearest = std::min(nearest, c.distance);
+          scaleU = std::max(scaleU, c.capScaleU);
+          scaleV = std::max(scaleV, c.capScaleV);
           rowU[b] += c.lengthU;
           rowCoarseU[b] += c.coarseU;
           colV[a] += c.lengthV;
@@ -173,9 +186,17 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
       // in view that need no dicing.
       int u = toRate(coarseU / coarsening, limitU), v = toRate(coarseV / coarsening, limitV);
       if (diced) {
+        // The pixel rate stops at the cap scaled across the view, the floor at the whole cap (as
+        // edgeRate does for mesh edges).
+        const int pixelLimitU =
+            face.cap > 0 ? (scaledCap(edgeLimit, scaleU) + split.nu - 1) / split.nu : limitU;
+        const int pixelLimitV =
+            face.cap > 0 ? (scaledCap(edgeLimit, scaleV) + split.nv - 1) / split.nv : limitV;
         const float scale = s.dicingRate * coarsening;
-        u = std::max({u, toRate(lengthU / scale, limitU), toRate(floorU / coarsening, limitU)});
-        v = std::max({v, toRate(lengthV / scale, limitV), toRate(floorV / coarsening, limitV)});
+        u = std::max({u, toRate(lengthU / scale, std::min(pixelLimitU, limitU)),
+                      toRate(floorU / coarsening, limitU)});
+        v = std::max({v, toRate(lengthV / scale, std::min(pixelLimitV, limitV)),
+                      toRate(floorV / coarsening, limitV)});
       }
       split.askU[j * split.nu + i] = u;
       split.askV[j * split.nu + i] = v;

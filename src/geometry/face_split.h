@@ -62,6 +62,8 @@ struct SplitPlan {
     // From the eye to the box of its samples grown as for `diced` (a lower bound of the distance
     // of its displaced surface); a sub-quad is coarsened by the cap as its nearest cell.
     float distance = 0.0f;
+    // Shares of the texel cap along u and v (acrossViewCapScale at the cell's centre).
+    float capScaleU = 1.0f, capScaleV = 1.0f;
   };
   struct Face {
     int nu = 1, nv = 1;  // cells along u and v; 1 x 1: never split

@@ -284,6 +284,8 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
   d.dicing.maxEdgeRate = 4096;
   d.dicing.maxMicropolygons = static_cast<size_t>(rs.maxMicropolygons);
   d.dicing.gridsOnly = true;  // hits in grids know their face and st (40 bytes a micropolygon)
+  // The displacement reference and renderer keep the whole cap in every direction.
+  if (d.mode == DisplacementMode::ByTransition) d.dicing.acrossViewCap = rs.acrossViewCap;
   return d;
 }
 

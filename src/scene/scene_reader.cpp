@@ -165,6 +165,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   }
   s.dicingRate = static_cast<float>(r.number("dicing_rate", s.dicingRate, 0.01, 1000.0));
   s.dicingMetric = r.choice("dicing_metric", s.dicingMetric);
+  s.acrossViewCap = static_cast<float>(r.number("across_view_cap", s.acrossViewCap, 0.05, 1.0));
   s.reliefSamples = static_cast<float>(r.number("relief_samples", s.reliefSamples, 0.0, 16.0));
   s.texelSamples = static_cast<float>(r.number("texel_samples", s.texelSamples, 0.0, 16.0));
   s.maxMicropolygons = r.integer("max_micropolygons", s.maxMicropolygons, 1000, int64_t{1} << 40);

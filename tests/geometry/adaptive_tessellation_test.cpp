@@ -155,6 +155,66 @@ TEST(AdaptiveTessellation, IsotropicMetricResolvesGrazingViews) {
   EXPECT_LT(iso.offScreen, iso.micropolygons / 2);
 }
 
+// The mean extents along x and along y of the triangles whose centroids lie in [x0, x1] x [y0, y1].
+Vec2 meanExtents(const TessellatedMesh& mesh, float x0, float x1, float y0, float y1) {
+  Vec2 sum(0.0f);
+  int n = 0;
+  for (size_t t = 0; t < mesh.numTriangles(); ++t) {
+    Vec3 lo(1e30f), hi(-1e30f);
+    for (int k = 0; k < 3; ++k) {
+      lo = glm::min(lo, mesh.positions[mesh.indices[3 * t + k]]);
+      hi = glm::max(hi, mesh.positions[mesh.indices[3 * t + k]]);
+    }
+    const Vec3 c = 0.5f * (lo + hi);
+    if (c.x < x0 || c.x > x1 || c.y < y0 || c.y > y1) continue;
+    sum += Vec2(hi.x - lo.x, hi.y - lo.y);
+    ++n;
+  }
+  return n > 0 ? sum / static_cast<float>(n) : Vec2(0.0f);
+}
+
+// DicingSettings::acrossViewCap: where the texel cap binds (near the eye), a grazing view keeps the
+// whole cap along the view (y) and about half of it across (x); a view from straight above keeps
+// nearly the whole cap both ways (sin^2(theta_V) weighs the change), and the rates never exceed
+// the isotropic ones. The face interiors follow their edges (Bfr's inner rates).
+TEST(AdaptiveTessellation, AcrossViewCapHalvesTheCapAcrossAGrazingViewOnly) {
+  const LimitSurface surface(test::grid(24), SubdivisionScheme::Bilinear);
+  FaceDicing capped;
+  capped.texelCap.assign(surface.numFaces(), 16);
+  DicingSettings iso;
+  iso.splitFaces = false;
+  DicingSettings aniso = iso;
+  aniso.acrossViewCap = 0.5f;
+  const ScreenMetric grazing = ScreenMetric::lookAt(
+      Vec3(12.0f, -0.5f, 0.6f), Vec3(12.0f, 24.0f, 0.35f), Vec3(0, 0, 1), 40.0f, 160, 90);
+  const AdaptiveTessellation a = tessellateAdaptive(surface, grazing, iso, capped, nullptr);
+  const AdaptiveTessellation b = tessellateAdaptive(surface, grazing, aniso, capped, nullptr);
+  ASSERT_EQ(a.edgeRates.size(), b.edgeRates.size());
+  for (size_t e = 0; e < a.edgeRates.size(); ++e) EXPECT_LE(b.edgeRates[e], a.edgeRates[e]);
+  // In front of the eye, 2.5 to 4.5 units ahead: the cap binds (cells 1/16 a side in both).
+  const Vec2 ea = meanExtents(a.mesh, 11.0f, 13.0f, 2.5f, 4.5f);
+  const Vec2 eb = meanExtents(b.mesh, 11.0f, 13.0f, 2.5f, 4.5f);
+  EXPECT_NEAR(ea.x, 1.0f / 16.0f, 0.01f);
+  EXPECT_NEAR(ea.y, 1.0f / 16.0f, 0.01f);
+  EXPECT_NEAR(eb.y, 1.0f / 16.0f, 0.01f);  // along the view: the whole cap
+  EXPECT_GT(eb.x, 1.6f * eb.y);            // across: about half of it (9 of 16 here)
+  EXPECT_LT(eb.x, 2.1f * eb.y);
+  EXPECT_LT(b.stats.micropolygons, a.stats.micropolygons);
+
+  // From 10 units straight above the middle the cap binds everywhere in view, and theta_V stays
+  // within 37 degrees (the view's corners): edges keep at least 1 - 0.5 sin^2(37 deg) = 0.82 of
+  // the cap, 14 of 16.
+  const ScreenMetric above = ScreenMetric::lookAt(
+      Vec3(12.0f, 12.0f, 10.0f), Vec3(12.0f, 12.0f, 0.0f), Vec3(0, 1, 0), 40.0f, 640, 360);
+  const AdaptiveTessellation c = tessellateAdaptive(surface, above, iso, capped, nullptr);
+  const AdaptiveTessellation d = tessellateAdaptive(surface, above, aniso, capped, nullptr);
+  EXPECT_EQ(c.stats.maxEdgeRate, 16);
+  for (size_t e = 0; e < c.edgeRates.size(); ++e) {
+    EXPECT_LE(d.edgeRates[e], c.edgeRates[e]);
+    EXPECT_GE(d.edgeRates[e], std::min(c.edgeRates[e], 14)) << "edge " << e;
+  }
+}
+
 // Facet normals of the displaced plane approach the exact normal of the height field as
 // micropolygons shrink (Chan 2002: facets only converge; shading uses the limit frames instead).
 float meanFacetAngle(const TessellatedMesh& mesh, const HeightField& field) {

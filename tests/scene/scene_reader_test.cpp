@@ -106,6 +106,7 @@ eps = 0.2
 thresholds = [-2, -0.5, 0.5, 2]
 dicing_rate = 0.5
 dicing_metric = "projected"
+across_view_cap = 0.75
 normals = "facet"
 )");
   EXPECT_EQ(s.camera.position, Vec3(1, 2, 3));
@@ -144,6 +145,7 @@ normals = "facet"
   EXPECT_FLOAT_EQ(s.render.transition.e4, 2.0f);
   EXPECT_FLOAT_EQ(s.render.dicingRate, 0.5f);
   EXPECT_EQ(s.render.dicingMetric, DicingMetric::Projected);
+  EXPECT_FLOAT_EQ(s.render.acrossViewCap, 0.75f);
   EXPECT_EQ(s.render.normals, ShadingNormals::Facet);
 }
 
@@ -155,6 +157,7 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
   EXPECT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.render.algorithm, Algorithm::Auto);
   EXPECT_EQ(s.render.dicingMetric, DicingMetric::Isotropic);
+  EXPECT_FLOAT_EQ(s.render.acrossViewCap, 0.5f);
   // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2,
   // 0).
   const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);
@@ -234,6 +237,10 @@ TEST_F(SceneReaderTest, EnumsReferencesAndDuplicatesAreChecked) {
                 .find(at(2, 14, "render.thresholds") +
                       "expected [e1, e2, e3, e4] with e1 < e2 < 0 < e3 < e4"),
             std::string::npos);
+  EXPECT_NE(
+      errorOf(std::string("[render]\nacross_view_cap = 0\n") + kObject)
+          .find(at(2, 19, "render.across_view_cap") + "expected a number in [0.05, 1], got 0"),
+      std::string::npos);
 }
 
 // split_octaves: one level per octave of the noise, in order, each with its octave range; wrong

@@ -39,6 +39,14 @@ struct DicingSettings {
   // st (TriangleGrid::kNotInMesh). The renderer's setting; code that walks the mesh's triangles
   // leaves it off.
   bool gridsOnly = false;
+  // Anisotropic caps at grazing views: the share of a diced face's texel cap that edges running
+  // across the view keep, 1 - (1 - acrossViewCap) (1 - c^2) sin^2(theta_V) (c: the cosine between
+  // the edge and the view's direction in the tangent plane). Seen head-on, or along the view, the
+  // whole cap. Below 1 only for the hybrid (render.across_view_cap, 0.5: 4 edges per shortest
+  // wavelength across where the cap is 8; docs/performance.md): along the view the relief's
+  // samples decide what the grazing rays hit; across it the shading normals, evaluated from the
+  // relief at each hit, carry the detail.
+  float acrossViewCap = 1.0f;
 };
 
 // What the caller knows per base face (vectors indexed by face; empty means the default for all).

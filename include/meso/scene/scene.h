@@ -193,6 +193,9 @@ struct RenderSettings {
   TransitionSettings transition;
   float dicingRate = 1.0f;  // micropolygon edge length in pixels where displaced
   DicingMetric dicingMetric = DicingMetric::Isotropic;  // how that length is measured
+  // The hybrid: the share of a face's texel cap that edges running across a grazing view keep
+  // (DicingSettings::acrossViewCap; 1: the whole cap both ways, as full displacement).
+  float acrossViewCap = 0.5f;
   // Full displacement: at least this many micropolygon edges per shortest wavelength of the
   // finest relief level wherever it is diced, also where that is below a pixel (0 = off).
   float reliefSamples = 4.0f;
