@@ -123,6 +123,7 @@ class EdgeRateTessellator {
   struct Sample {
     int face;
     Vec2 st;
+    int copyOf = -1;  // >= 0: not evaluated, a copy of that point (a whole-face grid's border)
   };
   // Buffers of one task, reused from face to face.
   struct FaceScratch {
@@ -152,6 +153,14 @@ class EdgeRateTessellator {
   void placeBoundary(size_t k, const std::vector<int>& edgeRates, FaceScratch& scratch);
   GridShape interiorGrid(int face, const OpenSubdiv::Bfr::Tessellation& tess,
                          const FaceScratch& scratch) const;
+  // R when the face is a quad of rate R on every edge and grids are asked for: its points are then
+  // one (R + 1) x (R + 1) grid, border included (copies of the shared border points, so that the
+  // Embree grid holds the whole face and no border triangles are stored); else 0.
+  int wholeGridRate(int face, const OpenSubdiv::Bfr::Tessellation& tess,
+                    const FaceScratch& scratch) const;
+  // The points and the grid of such a face, its triangles (in grid order) unless gridsOnly_.
+  size_t emitWholeGrid(size_t k, int rate, FaceScratch& scratch, TessellatedMesh& out,
+                       TriangleGrid* grid);
   // Triangles of the pattern's interior grid that only the grid holds (0 unless gridsOnly_).
   size_t gridOnlyFacets(int face, const OpenSubdiv::Bfr::Tessellation& tess,
                         const FaceScratch& scratch) const;
@@ -186,6 +195,9 @@ class EdgeRateTessellator {
   // numFacets_ counts the triangles stored in the mesh, numGridOnly_ those only grids hold.
   std::vector<size_t> numPoints_, numFacets_, numGridOnly_, pointOffset_, facetOffset_;
   bool gridsOnly_ = false;
+  // Grids asked for (tessellate with `grids`): quads of one rate R on every edge are a whole grid
+  // of (R + 1)^2 points, their border copies of the shared points (wholeGridRate).
+  bool wholeGrids_ = false;
   std::vector<int> vertexPoint_, edgePoint_;  // output point of each vertex, first of each edge
   std::vector<Sample> samples_;               // where each output point lies
 };

@@ -98,6 +98,13 @@ size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates,
                           continue;
                         }
                         const Tessellation tess = faceTessellation(f, edgeRates, scratch);
+                        if (const int r = wholeGridRate(f, tess, scratch); r > 0) {
+                          const size_t side = static_cast<size_t>(r) + 1;
+                          numPoints_[k] = ownedBoundaryPoints(f, edgeRates) + side * side;
+                          numGridOnly_[k] = gridsOnly_ ? 2 * size_t(r) * size_t(r) : 0;
+                          numFacets_[k] = 2 * size_t(r) * size_t(r) - numGridOnly_[k];
+                          continue;
+                        }
                         numPoints_[k] = ownedBoundaryPoints(f, edgeRates) +
                                         static_cast<size_t>(tess.GetNumInteriorCoords());
                         numGridOnly_[k] = gridOnlyFacets(f, tess, scratch);
@@ -175,6 +182,16 @@ EdgeRateTessellator::GridShape EdgeRateTessellator::interiorGrid(int face, const
   return shape;
 }
 
+int EdgeRateTessellator::wholeGridRate(int face, const Tessellation& tess,
+                                       const FaceScratch& scratch) const {
+  if (!wholeGrids_ || !tess.IsUniform() || scratch.rates.size() != 4 ||
+      impl_.faces[face].param.GetType() != OpenSubdiv::Bfr::Parameterization::QUAD)
+    return 0;
+  const int r = scratch.rates[0];
+  // Embree grids are at most 32767 points a side; Bfr's uniform quad has 2 r^2 triangles.
+  return r >= 1 && r < 32767 && tess.GetNumFacets() == 2 * r * r ? r : 0;
+}
+
 size_t EdgeRateTessellator::gridOnlyFacets(int face, const Tessellation& tess,
                                            const FaceScratch& scratch) const {
   if (!gridsOnly_) return 0;
@@ -249,6 +266,10 @@ void EdgeRateTessellator::emitFace(size_t k, const std::vector<int>& edgeRates,
                                    FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) {
   const Tessellation tess = faceTessellation(faces_[k], edgeRates, scratch);
   beginFace(k, tess, edgeRates, false, scratch);
+  if (const int r = wholeGridRate(faces_[k], tess, scratch); r > 0) {
+    emitWholeGrid(k, r, scratch, out, grid);
+    return;
+  }
   const int interiorBase = static_cast<int>(pointOffset_[k + 1]) - tess.GetNumInteriorCoords();
   emitPattern(faces_[k], tess, scratch, interiorBase, facetOffset_[k], out, grid);
 }
@@ -305,12 +326,63 @@ size_t EdgeRateTessellator::emitPattern(int f, const Tessellation& tess, FaceScr
   return t;
 }
 
+// The uniform pattern's coordinates are the points (i / r, j / r): slot j (r + 1) + i of the
+// face's block. Interior points are evaluated there; border slots copy the shared point the
+// boundary placed (evaluated once, by the face that owns it), so the grid's border is bit for bit
+// its neighbours' and the surface stays watertight.
+size_t EdgeRateTessellator::emitWholeGrid(size_t k, int rate, FaceScratch& scratch,
+                                          TessellatedMesh& out, TriangleGrid* grid) {
+  const int f = faces_[k];
+  const int side = rate + 1;
+  const size_t base = pointOffset_[k + 1] - size_t(side) * size_t(side);
+  const int numCoords = static_cast<int>(scratch.st.size());
+  const int numBoundary = 4 * rate;
+  scratch.gridCoord.assign(size_t(side) * size_t(side), -1);
+  for (int j = 0; j < numCoords; ++j) {
+    const int u = static_cast<int>(std::lround(scratch.coords[2 * j] * rate));
+    const int v = static_cast<int>(std::lround(scratch.coords[2 * j + 1] * rate));
+    const size_t slot = size_t(v) * size_t(side) + size_t(u);
+    scratch.gridCoord[slot] = j;
+    if (j >= numBoundary) {
+      scratch.point[j] = static_cast<int>(base + slot);
+      samples_[base + slot] = {.face = f, .st = scratch.st[j]};
+    } else {
+      samples_[base + slot] = {.face = f, .st = scratch.st[j], .copyOf = scratch.point[j]};
+    }
+  }
+  MESO_DCHECK(
+      std::none_of(scratch.gridCoord.begin(), scratch.gridCoord.end(), [](int c) { return c < 0; }),
+      "a uniform quad's pattern fills its grid");
+  size_t t = facetOffset_[k];
+  *grid = {static_cast<uint32_t>(base), static_cast<uint32_t>(t), static_cast<uint16_t>(side),
+           static_cast<uint16_t>(side)};
+  const std::vector<int>& g = scratch.gridCoord;
+  const bool known = setGridPatchCoords(f, g, scratch.st, *grid);
+  if (gridsOnly_) {
+    if (!known)
+      throw NotBilinearGrid("the grid of face " + std::to_string(f) +
+                            " is not bilinear in its patch coordinates");
+    grid->firstTriangle = TriangleGrid::kNotInMesh;
+    return t;
+  }
+  // The mesh's triangles use the shared border points, so the mesh alone is watertight too.
+  for (int v = 0; v < rate; ++v)
+    for (int u = 0; u < rate; ++u) {
+      const int p00 = g[v * side + u], p10 = g[v * side + u + 1];
+      const int p01 = g[(v + 1) * side + u], p11 = g[(v + 1) * side + u + 1];
+      writeTriangle(out, t++, f, p00, p10, p01, scratch.point, scratch.st, false);
+      writeTriangle(out, t++, f, p11, p01, p10, scratch.point, scratch.st, false);
+    }
+  return t;
+}
+
 void EdgeRateTessellator::evaluatePoints(const VertexDisplacement* displacement,
                                          TessellatedMesh& out) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, samples_.size(), 256),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         const Sample& s = samples_[i];
+                        if (s.copyOf >= 0) continue;
                         const SurfacePoint sp = surface_.evaluate(s.face, s.st);
                         out.positions[i] =
                             displacement ? sp.P + displacement->offset(s.face, s.st, sp) : sp.P;
@@ -323,6 +395,7 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
                                                 std::vector<TriangleGrid>* grids,
                                                 const std::vector<FaceSplit>& splits) {
   if (!grids) gridsOnly_ = false;  // without grids every triangle is stored
+  wholeGrids_ = grids != nullptr;  // counts the same triangles, more points
   const size_t numFacets = countFacets(edgeRates, splits);
   const size_t numStored = facetOffset_.back();
   const size_t numPoints = pointOffset_.back();
@@ -360,6 +433,9 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
   }
   out.positions.resize(numPoints);
   evaluatePoints(displacement, out);
+  tbb::parallel_for(size_t(0), samples_.size(), [&](size_t i) {
+    if (samples_[i].copyOf >= 0) out.positions[i] = out.positions[samples_[i].copyOf];
+  });
   std::vector<Sample>().swap(samples_);  // the caller keeps the mesh, not the samples
   return out;
 }

@@ -536,9 +536,70 @@ TEST(AdaptiveTessellation, FarCameraWithoutViewMatchesUniformRateOne) {
   EXPECT_EQ(t.stats.facesCulled, surface.numFaces());
   EXPECT_EQ(t.stats.offScreenMicropolygons, t.stats.micropolygons);
   const TessellatedMesh u = tessellateUniform(surface, 1);
-  EXPECT_TRUE(sameBits(t.mesh.positions, u.positions));
-  EXPECT_TRUE(sameBits(t.mesh.indices, u.indices));
-  EXPECT_TRUE(sameBits(t.mesh.cornerSt, u.cornerSt));
+  // The same triangles a face, the same corners and st; quads are whole grids here (their corners
+  // copied into a block of four points, their diagonal the grid's), so compare per face.
+  ASSERT_EQ(t.mesh.numTriangles(), u.numTriangles());
+  using Corner = std::tuple<float, float, float, float, float>;
+  const auto corners = [](const TessellatedMesh& m) {
+    std::map<int, std::vector<Corner>> out;
+    for (size_t k = 0; k < m.numTriangles(); ++k)
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 p = m.positions[m.indices[3 * k + j]];
+        const Vec2 st = m.cornerSt[3 * k + j];
+        out[m.triangleFace[k]].emplace_back(p.x, p.y, p.z, st.x, st.y);
+      }
+    for (auto& [face, list] : out) {
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    return out;
+  };
+  EXPECT_EQ(corners(t.mesh), corners(u));
+  size_t wholeGrids = 0;
+  for (const TriangleGrid& g : t.grids) wholeGrids += g.width == 2 && g.height == 2;
+  EXPECT_GT(wholeGrids, 0u);
+}
+
+// Quads of one rate on every edge are whole Embree grids, border included: with gridsOnly no
+// triangle of theirs is stored, and each grid's border points are copies, bit for bit, of the
+// points the neighbours share (so rays cannot leak between grids).
+TEST(AdaptiveTessellation, UniformQuadsAreWholeGrids) {
+  const LimitSurface surface(test::grid(4), SubdivisionScheme::Bilinear);
+  const ScreenMetric screen = ScreenMetric::lookAt(Vec3(2.0f, 2.0f, 40.0f), Vec3(2.0f, 2.0f, 0.0f),
+                                                   Vec3(0, 1, 0), 30.0f, 160, 90);
+  FaceDicing faces;
+  faces.texelCap.assign(surface.numFaces(), 6);
+  faces.texelFloor.assign(surface.numFaces(), 6);  // every edge at rate 6
+  DicingSettings settings;
+  settings.gridsOnly = true;
+  const test::WaveDisplacement wave;
+  const AdaptiveTessellation t = tessellateAdaptive(surface, screen, settings, faces, &wave);
+  EXPECT_EQ(t.stats.minEdgeRate, 6);
+  EXPECT_EQ(t.stats.maxEdgeRate, 6);
+  EXPECT_EQ(t.mesh.numTriangles(), 0u);
+  EXPECT_EQ(t.mesh.gridOnlyTriangles, 16u * 72u);
+  ASSERT_EQ(t.grids.size(), 16u);
+  // The shared points: the 5 x 5 vertices and 5 points on each of 40 edges, outside the blocks.
+  std::vector<char> inBlock(t.mesh.positions.size(), 0);
+  for (const TriangleGrid& g : t.grids) std::fill_n(inBlock.begin() + g.firstVertex, 49, 1);
+  std::vector<Vec3> shared;
+  for (size_t i = 0; i < inBlock.size(); ++i)
+    if (!inBlock[i]) shared.push_back(t.mesh.positions[i]);
+  EXPECT_EQ(shared.size(), 25u + 40u * 5u);
+  EXPECT_EQ(t.mesh.positions.size(), shared.size() + 16u * 49u);
+  for (const TriangleGrid& g : t.grids) {
+    EXPECT_EQ(g.width, 7);
+    EXPECT_EQ(g.height, 7);
+    EXPECT_EQ(g.firstTriangle, TriangleGrid::kNotInMesh);
+    for (int j = 0; j < 7; ++j)
+      for (int i = 0; i < 7; ++i) {
+        if (i > 0 && i < 6 && j > 0 && j < 6) continue;  // interior: the grid's own points
+        const Vec3 p = t.mesh.positions[g.firstVertex + size_t(j) * 7 + size_t(i)];
+        const auto same = [&](const Vec3& q) { return std::memcmp(&p, &q, sizeof(Vec3)) == 0; };
+        EXPECT_TRUE(std::any_of(shared.begin(), shared.end(), same))
+            << "grid of face " << g.face << ", point (" << i << ", " << j << ")";
+      }
+  }
 }
 
 TEST(AdaptiveTessellation, TexelCapAndMaxEdgeRateBoundTheRates) {
