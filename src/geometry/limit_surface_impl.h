@@ -158,6 +158,10 @@ class EdgeRateTessellator {
   // Embree grid holds the whole face and no border triangles are stored); else 0.
   int wholeGridRate(int face, const OpenSubdiv::Bfr::Tessellation& tess,
                     const FaceScratch& scratch) const;
+  // The grid of scratch.gridCoord's coordinates (row by row) from firstVertex on, listed in *grid,
+  // and its triangles from t on in Embree's order unless gridsOnly_; returns the next triangle.
+  size_t emitGrid(int face, size_t firstVertex, int width, int height, size_t t,
+                  FaceScratch& scratch, TessellatedMesh& out, TriangleGrid* grid) const;
   // The points and the grid of such a face, its triangles (in grid order) unless gridsOnly_.
   size_t emitWholeGrid(size_t k, int rate, FaceScratch& scratch, TessellatedMesh& out,
                        TriangleGrid* grid);

@@ -215,6 +215,21 @@ void writeTriangle(TessellatedMesh& out, size_t t, int face, int c0, int c1, int
   out.triangleFace[t] = face;
 }
 
+// The cells of a width x height grid of coordinates (`coord`, row by row), two triangles a cell
+// split as Embree splits grid cells (TriangleGrid), from triangle t on; returns the next triangle.
+size_t writeGridCells(TessellatedMesh& out, size_t t, int face, const std::vector<int>& coord,
+                      int width, int height, const std::vector<int>& point,
+                      const std::vector<Vec2>& st) {
+  for (int v = 0; v + 1 < height; ++v)
+    for (int u = 0; u + 1 < width; ++u) {
+      const int p00 = coord[v * width + u], p10 = coord[v * width + u + 1];
+      const int p01 = coord[(v + 1) * width + u], p11 = coord[(v + 1) * width + u + 1];
+      writeTriangle(out, t++, face, p00, p10, p01, point, st, false);
+      writeTriangle(out, t++, face, p11, p01, p10, point, st, false);
+    }
+  return t;
+}
+
 // The grid's face and its st corners (TriangleGrid), when every grid point's st is their bilinear
 // blend to 5% of the grid's smaller step in st, or 4e-6. Interior grids of quads are bilinear, in
 // Bfr's coordinates and in the split faces' sub-quads, whose corners need not form a rectangle, up
@@ -304,26 +319,26 @@ size_t EdgeRateTessellator::emitPattern(int f, const Tessellation& tess, FaceScr
     writeTriangle(out, t++, f, c[0], c[1], c[2], scratch.point, scratch.st, true);
   }
   if (shape.width == 0) return t;
-  *grid = {static_cast<uint32_t>(interiorBase), static_cast<uint32_t>(t),
-           static_cast<uint16_t>(shape.width), static_cast<uint16_t>(shape.height)};
+  return emitGrid(f, static_cast<size_t>(interiorBase), shape.width, shape.height, t, scratch, out,
+                  grid);
+}
+
+// With gridsOnly_ hits in the grid take their face and st from it alone, so it must know them.
+size_t EdgeRateTessellator::emitGrid(int f, size_t firstVertex, int width, int height, size_t t,
+                                     FaceScratch& scratch, TessellatedMesh& out,
+                                     TriangleGrid* grid) const {
+  *grid = {static_cast<uint32_t>(firstVertex), static_cast<uint32_t>(t),
+           static_cast<uint16_t>(width), static_cast<uint16_t>(height)};
   const std::vector<int>& g = scratch.gridCoord;
   const bool known = setGridPatchCoords(f, g, scratch.st, *grid);
   if (gridsOnly_) {
-    // Hits in the grid then take their face and st from it alone, so it must know them.
     if (!known)
-      throw NotBilinearGrid("the interior grid of face " + std::to_string(f) +
+      throw NotBilinearGrid("the grid of face " + std::to_string(f) +
                             " is not bilinear in its patch coordinates");
     grid->firstTriangle = TriangleGrid::kNotInMesh;
     return t;
   }
-  for (int v = 0; v + 1 < shape.height; ++v)
-    for (int u = 0; u + 1 < shape.width; ++u) {
-      const int p00 = g[v * shape.width + u], p10 = g[v * shape.width + u + 1];
-      const int p01 = g[(v + 1) * shape.width + u], p11 = g[(v + 1) * shape.width + u + 1];
-      writeTriangle(out, t++, f, p00, p10, p01, scratch.point, scratch.st, false);
-      writeTriangle(out, t++, f, p11, p01, p10, scratch.point, scratch.st, false);
-    }
-  return t;
+  return writeGridCells(out, t, f, g, width, height, scratch.point, scratch.st);
 }
 
 // The uniform pattern's coordinates are the points (i / r, j / r): slot j (r + 1) + i of the
@@ -353,27 +368,9 @@ size_t EdgeRateTessellator::emitWholeGrid(size_t k, int rate, FaceScratch& scrat
   MESO_DCHECK(
       std::none_of(scratch.gridCoord.begin(), scratch.gridCoord.end(), [](int c) { return c < 0; }),
       "a uniform quad's pattern fills its grid");
-  size_t t = facetOffset_[k];
-  *grid = {static_cast<uint32_t>(base), static_cast<uint32_t>(t), static_cast<uint16_t>(side),
-           static_cast<uint16_t>(side)};
-  const std::vector<int>& g = scratch.gridCoord;
-  const bool known = setGridPatchCoords(f, g, scratch.st, *grid);
-  if (gridsOnly_) {
-    if (!known)
-      throw NotBilinearGrid("the grid of face " + std::to_string(f) +
-                            " is not bilinear in its patch coordinates");
-    grid->firstTriangle = TriangleGrid::kNotInMesh;
-    return t;
-  }
-  // The mesh's triangles use the shared border points, so the mesh alone is watertight too.
-  for (int v = 0; v < rate; ++v)
-    for (int u = 0; u < rate; ++u) {
-      const int p00 = g[v * side + u], p10 = g[v * side + u + 1];
-      const int p01 = g[(v + 1) * side + u], p11 = g[(v + 1) * side + u + 1];
-      writeTriangle(out, t++, f, p00, p10, p01, scratch.point, scratch.st, false);
-      writeTriangle(out, t++, f, p11, p01, p10, scratch.point, scratch.st, false);
-    }
-  return t;
+  // The mesh's triangles (without gridsOnly_) use the shared border points, so the mesh alone is
+  // watertight too.
+  return emitGrid(f, base, side, side, facetOffset_[k], scratch, out, grid);
 }
 
 void EdgeRateTessellator::evaluatePoints(const VertexDisplacement* displacement,
