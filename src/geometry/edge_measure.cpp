@@ -162,7 +162,7 @@ int edgeRate(const EdgeMeasure& m, const DicingSettings& s, const CapCoarsening&
     const int limit = m.cap > 0 ? std::min(m.cap, s.maxEdgeRate) : s.maxEdgeRate;
     // The pixel rate stops at the cap scaled across the view; the floor (a texel image's masking)
     // at the whole cap.
-    const int scaled = m.cap > 0 ? std::min(scaledCap(limit, m.capScale), limit) : limit;
+    const int scaled = m.cap > 0 ? scaledCap(limit, m.capScale) : limit;
     rate = std::max(rate, toRate(m.lengthPx / (s.dicingRate * coarsening), scaled));
     rate = std::max(rate, toRate(static_cast<float>(m.floor) / coarsening, limit));
   }

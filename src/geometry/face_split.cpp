@@ -193,10 +193,10 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
         const int pixelLimitV =
             face.cap > 0 ? (scaledCap(edgeLimit, scaleV) + split.nv - 1) / split.nv : limitV;
         const float scale = s.dicingRate * coarsening;
-        u = std::max({u, toRate(lengthU / scale, std::min(pixelLimitU, limitU)),
-                      toRate(floorU / coarsening, limitU)});
-        v = std::max({v, toRate(lengthV / scale, std::min(pixelLimitV, limitV)),
-                      toRate(floorV / coarsening, limitV)});
+        u = std::max(
+            {u, toRate(lengthU / scale, pixelLimitU), toRate(floorU / coarsening, limitU)});
+        v = std::max(
+            {v, toRate(lengthV / scale, pixelLimitV), toRate(floorV / coarsening, limitV)});
       }
       split.askU[j * split.nu + i] = u;
       split.askV[j * split.nu + i] = v;
