@@ -100,18 +100,11 @@ float acrossViewCapScale(const ScreenMetric& screen, Vec3 p, Vec3 N, Vec3 dir, f
 
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
                               std::vector<float>& distance) {
-  const LimitSurface::Impl& impl = surface.impl();
   std::vector<char> inView(surface.numFaces(), 0);
   distance.assign(inView.size(), 0.0f);
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {
-    const LimitSurface::Impl::Face& face = impl.faces[f];
-    if (!face.surface.IsValid()) return;
-    Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
-    const float* p = &impl.patchPoints[face.patchOffset];
-    for (int i = 0; i < face.surface.GetNumPatchPoints(); ++i, p += 3) {
-      lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
-      hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
-    }
+    Vec3 lo, hi;
+    if (!surface.faceBox(f, lo, hi)) return;
     inView[f] = screen.boxInView(lo, hi, grow);
     const float d = boxDistance(screen.eye, lo - Vec3(grow), hi + Vec3(grow));
     distance[f] = std::isfinite(d) ? d : 0.0f;

@@ -228,14 +228,8 @@ void chooseSplit(const Cell* cells, SplitPlan::Face& face, const DicingSettings&
 // kSplitDensityRatio of each other.
 bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, const FaceDicing& faces,
                   int f, float bound) {
-  const LimitSurface::Impl& impl = surface.impl();
-  const LimitSurface::Impl::Face& face = impl.faces[f];
-  Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
-  const float* p = &impl.patchPoints[face.patchOffset];
-  for (int i = 0; i < face.surface.GetNumPatchPoints(); ++i, p += 3) {
-    lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
-    hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
-  }
+  Vec3 lo, hi;
+  if (!surface.faceBox(f, lo, hi)) return false;
   for (int c = 0; c < 8; ++c)
     if (!screen.pointInView(Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)))
       return false;
@@ -248,7 +242,7 @@ bool evenlyInView(const LimitSurface& surface, const ScreenMetric& screen, const
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) {
       const Vec2 uv(0.5f * float(i), 0.5f * float(j));
-      const float d = screen.pixelDensity(surface.evaluate(f, impl.bfrToChart(f, uv)).P);
+      const float d = screen.pixelDensity(surface.evaluate(f, surface.impl().bfrToChart(f, uv)).P);
       least = std::min(least, d);
       most = std::max(most, d);
     }

@@ -165,6 +165,7 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
 
   const int numFaces = mesh.numFaces();
   impl_->faces.resize(numFaces);
+  OpenSubdiv::Bfr::Surface<float> surface;
   size_t first = 0;
   for (int f = 0; f < numFaces; ++f) {
     Impl::Face& face = impl_->faces[f];
@@ -179,21 +180,30 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     }
     setPolygonFrame(mesh, first, n, face);
     first += static_cast<size_t>(n);
-    if (!factory.InitVertexSurface(f, &face.surface)) continue;  // a hole or non-manifold face
+    if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
+    face.numPatchPoints = surface.GetNumPatchPoints();
     face.patchOffset = impl_->patchPoints.size();
-    impl_->patchPoints.resize(face.patchOffset + 3 * face.surface.GetNumPatchPoints());
-    face.surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
-                                    &impl_->patchPoints[face.patchOffset], PointDesc(3));
-    if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &face.uvSurface, 0)) continue;
+    impl_->patchPoints.resize(face.patchOffset + 3 * face.numPatchPoints);
+    surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
+                               &impl_->patchPoints[face.patchOffset], PointDesc(3));
+    face.bilinear = isBilinearQuad<3>(surface, impl_->patchPoints, face.patchOffset);
+    if (!face.bilinear) {
+      face.surface = static_cast<int>(impl_->surfaces.size());
+      impl_->surfaces.push_back(surface);
+    }
+    if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
+    face.hasUv = true;
     face.uvPatchOffset = impl_->uvPatchPoints.size();
-    impl_->uvPatchPoints.resize(face.uvPatchOffset + 2 * face.uvSurface.GetNumPatchPoints());
-    face.uvSurface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2),
-                                      &impl_->uvPatchPoints[face.uvPatchOffset], PointDesc(2));
+    impl_->uvPatchPoints.resize(face.uvPatchOffset + 2 * surface.GetNumPatchPoints());
+    surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2),
+                               &impl_->uvPatchPoints[face.uvPatchOffset], PointDesc(2));
+    face.uvBilinear = isBilinearQuad<2>(surface, impl_->uvPatchPoints, face.uvPatchOffset);
+    if (!face.uvBilinear) {
+      face.uvSurface = static_cast<int>(impl_->surfaces.size());
+      impl_->surfaces.push_back(surface);
+    }
   }
-  for (Impl::Face& face : impl_->faces) {
-    face.bilinear = isBilinearQuad<3>(face.surface, impl_->patchPoints, face.patchOffset);
-    face.uvBilinear = isBilinearQuad<2>(face.uvSurface, impl_->uvPatchPoints, face.uvPatchOffset);
-  }
+  impl_->surfaces.shrink_to_fit();
 }
 
 LimitSurface::~LimitSurface() = default;
@@ -202,7 +212,7 @@ LimitSurface& LimitSurface::operator=(LimitSurface&&) noexcept = default;
 
 int LimitSurface::numFaces() const { return static_cast<int>(impl_->faces.size()); }
 
-bool LimitSurface::hasLimitSurface(int face) const { return impl_->faces[face].surface.IsValid(); }
+bool LimitSurface::hasLimitSurface(int face) const { return impl_->faces[face].valid(); }
 
 int LimitSurface::faceSize(int face) const { return impl_->faces[face].param.GetFaceSize(); }
 
@@ -210,15 +220,36 @@ Vec2 LimitSurface::cornerSt(int face, int corner) const { return impl_->cornerSt
 
 bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
   const Impl::Face& f = impl_->faces[face];
-  if (!f.surface.IsValid()) return false;
+  if (!f.valid()) return false;
   lo = Vec3(std::numeric_limits<float>::infinity());
   hi = -lo;
   const float* p = &impl_->patchPoints[f.patchOffset];
-  for (int i = 0; i < f.surface.GetNumPatchPoints(); ++i, p += 3) {
+  for (int i = 0; i < f.numPatchPoints; ++i, p += 3) {
     lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
     hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
   }
   return true;
+}
+
+size_t LimitSurface::memoryBytes() const {
+  const Impl& i = *impl_;
+  double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face) +
+                 double(i.surfaces.capacity()) * sizeof(OpenSubdiv::Bfr::Surface<float>) +
+                 double(i.patchPoints.capacity() + i.uvPatchPoints.capacity()) * sizeof(float) +
+                 double(i.chartPoints.capacity()) * sizeof(Vec2);
+  // Vtr::Level's arrays (opensubdiv/vtr/level.h): per face its corner count and offset and a tag;
+  // per corner its vertex and edge and its places in the edge's and the vertex's face lists (an
+  // index and a local index each); per edge 2 vertices, a face count and offset, a sharpness, a
+  // tag and its places in its 2 vertices' edge lists; per vertex two counts and offsets, a
+  // sharpness and a tag. A uv channel (vtr/fvarLevel.h) adds per corner a value and a sibling, per
+  // edge a tag, per vertex a sibling count and offset, and per value an index, a tag and a crease.
+  const OpenSubdiv::Far::TopologyLevel& base = i.refiner->GetLevel(0);
+  const double faces = base.GetNumFaces(), corners = base.GetNumFaceVertices(),
+               edges = base.GetNumEdges(), vertices = base.GetNumVertices();
+  bytes += 9.0 * faces + 20.0 * corners + 33.0 * edges + 22.0 * vertices;
+  if (i.refiner->GetNumFVarChannels() > 0)
+    bytes += 5.0 * corners + edges + 5.0 * vertices + 12.0 * base.GetNumFVarValues(0);
+  return static_cast<size_t>(bytes);
 }
 
 namespace {
@@ -229,8 +260,8 @@ void evaluateDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Imp
   if (f.bilinear)
     bilinearQuad<3>(&impl.patchPoints[f.patchOffset], c, &P.x, &dPdc0.x, &dPdc1.x);
   else
-    f.surface.Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x, &dPdc0.x,
-                       &dPdc1.x);
+    impl.surfaces[f.surface].Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x,
+                                      &dPdc0.x, &dPdc1.x);
 }
 
 bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {
@@ -277,8 +308,8 @@ bool textureDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl
   if (f.uvBilinear)
     bilinearQuad<2>(&impl.uvPatchPoints[f.uvPatchOffset], c, &sp.uv.x, &dUv0.x, &dUv1.x);
   else
-    f.uvSurface.Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2), &sp.uv.x,
-                         &dUv0.x, &dUv1.x);
+    impl.surfaces[f.uvSurface].Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2),
+                                        &sp.uv.x, &dUv0.x, &dUv1.x);
   const float det = cross2(dUv0, dUv1);
   // A folded or collapsed uv map has no inverse; the caller then keeps patch derivatives.
   if (!(std::abs(det) > 1e-8f * glm::length(dUv0) * glm::length(dUv1)) || !(det != 0.0f))
@@ -297,7 +328,7 @@ SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
   MESO_DCHECK(face >= 0 && face < numFaces(), "a base face of this surface");
   const Impl::Face& f = impl_->faces[face];
   SurfacePoint sp;
-  if (!f.surface.IsValid()) {
+  if (!f.valid()) {
     sp.P = f.centroid;
     sp.N = f.averageNormal;
     sp.uv = st;
@@ -309,8 +340,8 @@ SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
   Vec3 dPdc0, dPdc1;
   evaluateDerivatives(*impl_, f, c, sp.P, dPdc0, dPdc1);
   sp.N = limitNormal(*impl_, face, st, dPdc0, dPdc1);
-  if (f.uvSurface.IsValid() && textureDerivatives(*impl_, f, c, dPdc0, dPdc1, sp)) return sp;
-  if (!f.uvSurface.IsValid()) sp.uv = impl_->bfrToChart(face, c);  // st, clamped into the face
+  if (f.hasUv && textureDerivatives(*impl_, f, c, dPdc0, dPdc1, sp)) return sp;
+  if (!f.hasUv) sp.uv = impl_->bfrToChart(face, c);  // st, clamped into the face
   // Chain rule through the chart: column k of dcdst is d(Bfr uv)/d(st_k).
   sp.Pu = dPdc0 * dcdst[0][0] + dPdc1 * dcdst[0][1];
   sp.Pv = dPdc0 * dcdst[1][0] + dPdc1 * dcdst[1][1];

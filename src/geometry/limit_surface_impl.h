@@ -35,12 +35,14 @@ namespace meso {
 void appendFaceChart(int n, const Vec3* corners, std::vector<Vec2>& chart);
 
 struct LimitSurface::Impl {
+  // Per base face. A bilinear quad (the faces of a ground grid) keeps no Bfr surface (128 bytes
+  // each, for positions and for uv): it is evaluated from its 4 patch points alone.
   struct Face {
     OpenSubdiv::Bfr::Parameterization param;
-    // Positions; invalid where the face has no limit surface.
-    OpenSubdiv::Bfr::Surface<float> surface;
-    // Face-varying (u, v); invalid without uvs.
-    OpenSubdiv::Bfr::Surface<float> uvSurface;
+    int numPatchPoints = 0;  // 0: the face has no limit surface (a hole or non-manifold face)
+    // Index in `surfaces` of the Bfr surfaces of the positions and of the face-varying (u, v); -1
+    // where the patch is bilinear (below) or, for uv, where the mesh has none.
+    int surface = -1, uvSurface = -1;
     size_t patchOffset = 0;  // first float of this face's patch points
     size_t uvPatchOffset = 0;
     int chartOffset =
@@ -49,14 +51,17 @@ struct LimitSurface::Impl {
     // checked against Bfr when the surface is made): evaluated directly, without Bfr's generic
     // basis and point combination (the hybrid's shading evaluates the limit surface at every hit).
     bool bilinear = false, uvBilinear = false;
+    bool hasUv = false;  // the face has face-varying (u, v)
     Vec3 centroid{0.0f};
     Vec3 averageNormal{0.0f, 0.0f, 1.0f};  // fallback where the limit normal is undefined
+    bool valid() const { return numPatchPoints > 0; }
   };
 
   std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner;
   std::vector<Face> faces;
-  std::vector<float> patchPoints;    // 3 floats per point
-  std::vector<float> uvPatchPoints;  // 2 floats per point
+  std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;  // those of faces that are not bilinear
+  std::vector<float> patchPoints;                         // 3 floats per point
+  std::vector<float> uvPatchPoints;                       // 2 floats per point
   std::vector<Vec2> chartPoints;
 
   // Bfr coordinates of meso's st (clamped into the face) and their Jacobian d(Bfr uv)/d(st).

@@ -64,6 +64,11 @@ float UvSpeed::at(int face, Vec2 st) const {
   return n > 0 ? mean / static_cast<float>(n) : 0.0f;
 }
 
+size_t UvSpeed::memoryBytes() const {
+  return first_.capacity() * sizeof(int) + corner_.capacity() * sizeof(float) +
+         cornerSt_.capacity() * sizeof(Vec2);
+}
+
 float UvSpeed::faceMax(int face) const {
   if (empty() || face < 0 || face + 1 >= static_cast<int>(first_.size())) return 0.0f;
   float m = 0.0f;

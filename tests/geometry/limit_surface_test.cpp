@@ -4,6 +4,7 @@
 #include "meso/core/error.h"
 
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <array>
@@ -418,6 +419,44 @@ TEST(LimitSurface, IsMovable) {
   LimitSurface c(test::grid(1), SubdivisionScheme::Bilinear);
   c = std::move(b);
   EXPECT_EQ(c.evaluate(2, Vec2(0.3f, 0.4f)).P, p);
+}
+
+// Heap bytes in use (the main arena and mappings of their own).
+size_t heapInUse() {
+  const struct mallinfo2 m = mallinfo2();
+  return m.uordblks + m.hblkhd;
+}
+
+// memoryBytes, which --memory-limit counts before micropolygons are diced, against the heap that
+// the surface holds once built: a grid (bilinear, with uv, as a ground is) and a Catmull-Clark
+// torus (a Bfr surface per face). A bilinear quad keeps no Bfr surface: the uv grid holds about
+// 410 bytes a face, most of it OpenSubdiv's topology.
+TEST(LimitSurface, MemoryBytesMatchTheHeapItHolds) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer keeps its own heap";
+#endif
+  ControlMesh ground = test::grid(300);
+  for (const Vec3& p : ground.positions) ground.uvs.emplace_back(p.x / 300.0f, p.y / 300.0f);
+  ground.uvIndices = ground.faceVertices;
+  const struct {
+    const char* name;
+    ControlMesh mesh;
+    SubdivisionScheme scheme;
+  } cases[] = {{"uv grid", ground, SubdivisionScheme::Bilinear},
+               {"grid", test::grid(300), SubdivisionScheme::Bilinear},
+               {"torus", test::torus(300, 100, 3.0f, 1.0f), SubdivisionScheme::CatmullClark}};
+  for (const auto& c : cases) {
+    const size_t before = heapInUse();
+    const LimitSurface surface(c.mesh, c.scheme);
+    const double held = double(heapInUse()) - double(before);
+    const double estimate = double(surface.memoryBytes());
+    std::printf("%s: %.1f MB held, %.1f MB estimated, %.1f bytes a face\n", c.name, held / 1e6,
+                estimate / 1e6, estimate / c.mesh.numFaces());
+    EXPECT_NEAR(estimate / held, 1.0, 0.1) << c.name;
+    if (c.mesh.hasUvs()) {  // its 2 Bfr surfaces would add 256 bytes a face
+      EXPECT_LT(held / c.mesh.numFaces(), 500.0);
+    }
+  }
 }
 
 }  // namespace

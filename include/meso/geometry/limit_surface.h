@@ -42,6 +42,10 @@ class LimitSurface {
   // The box of the face's patch points, which contains its limit patch (convex hull property).
   // False for a face without a limit surface.
   bool faceBox(int face, Vec3& lo, Vec3& hi) const;
+  // The bytes it holds: its own arrays (their capacity), the Bfr surfaces of faces that are not
+  // bilinear quads, and OpenSubdiv's base-level topology estimated from its counts of faces,
+  // corners, edges and vertices (within 10% of the heap it takes on grids and tori, tested).
+  size_t memoryBytes() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }

@@ -27,6 +27,8 @@ class UvSpeed {
   float at(int face, Vec2 st) const;
   // The largest of the face's corners: no point of the face exceeds it.
   float faceMax(int face) const;
+  // The bytes its arrays hold.
+  size_t memoryBytes() const;
 
  private:
   std::vector<int> first_;      // per face: its first corner in corner_ (faces + 1 entries)
