@@ -2,9 +2,6 @@
 
 #include "meso/core/memory_budget.h"
 
-#include <algorithm>
-#include <cstdio>
-
 namespace meso::app {
 
 double filmBytes(int width, int height) {
@@ -26,7 +23,7 @@ double levelTablesBytes(const TableResolution& r, std::string* key) {
   return histograms + brdf + relief;
 }
 
-void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bool withFilm) {
+double checkRenderMemory(const Scene& scene, uint64_t limitBytes, bool withFilm) {
   const std::string file = scene.file.string();
   const double film = withFilm ? filmBytes(scene.camera.width, scene.camera.height) : 0.0;
   requireMemoryWithin(limitBytes, film, file, "camera.resolution",
@@ -41,17 +38,7 @@ void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bo
                       "the appearance tables of " + std::to_string(levels) +
                           " relief level(s) at [render.tables] " + formatMib(tables) +
                           ", and the film " + formatMib(film));
-  const double left = static_cast<double>(limitBytes) - film - tables;
-  const int64_t fits = static_cast<int64_t>(std::max(0.0, left) / kBytesPerMicropolygon);
-  if (fits < scene.render.maxMicropolygons) {
-    if (levels > 0)  // only a scene with relief displaces anything
-      warnings.add("render.max_micropolygons: lowered from " +
-                   std::to_string(scene.render.maxMicropolygons) + " to " +
-                   std::to_string(std::max<int64_t>(fits, 1000)) +
-                   " so that the micropolygons fit in the memory limit of " +
-                   formatMib(static_cast<double>(limitBytes)) + " (--memory-limit)");
-    scene.render.maxMicropolygons = std::max<int64_t>(fits, 1000);
-  }
+  return film + tables;
 }
 
 }  // namespace meso::app

@@ -2,12 +2,10 @@
 // appearance tables, micropolygons); checked against the limit of core/memory_budget.h.
 #pragma once
 
-#include "meso/core/warnings.h"
 #include "meso/scene/scene.h"
 
 #include <cstdint>
 #include <string>
-#include <vector>
 
 namespace meso::app {
 
@@ -20,9 +18,9 @@ double filmBytes(int width, int height);
 double levelTablesBytes(const TableResolution& r, std::string* key);
 
 // Refuses (meso::Error naming the key) a scene whose film or tables exceed `limitBytes`
-// (--memory-limit), and lowers render.max_micropolygons to what fits beside them (the cap becomes
-// a memory cap), adding a warning when it does. withFilm false: only the tables (meso tables
-// renders nothing).
-void checkRenderMemory(Scene& scene, uint64_t limitBytes, Warnings& warnings, bool withFilm = true);
+// (--memory-limit), and returns their estimate, which prepareRenderContext takes off the limit with
+// the limit surfaces before it fits the micropolygon cap (PrepareOptions::reservedBytes).
+// withFilm false: only the tables (meso tables renders nothing).
+double checkRenderMemory(const Scene& scene, uint64_t limitBytes, bool withFilm = true);
 
 }  // namespace meso::app

@@ -81,7 +81,11 @@ class RenderRun {
     ctx_.emplace(prepareRenderContext(scene_, prep_,
                                       {.buildFrame = false,
                                        .progress = !o_.quiet,
-                                       .memoryLimitBytes = context_.memoryLimitBytes}));
+                                       .memoryLimitBytes = context_.memoryLimitBytes,
+                                       .reservedBytes = reservedBytes_}));
+    // The cap the frames are diced under, for --stats.
+    if (ctx_->maxMicropolygons < static_cast<size_t>(scene_.render.maxMicropolygons))
+      scene_.render.maxMicropolygons = static_cast<int64_t>(ctx_->maxMicropolygons);
     warnObjectsOutOfView();
     if (!animated_) noteFrameGeometry(prepareFrame(*ctx_, scene_.camera, prep_));
     reportWarnings();
@@ -102,10 +106,7 @@ class RenderRun {
                    "meso: warning: %s has no lights: the image is black except for the "
                    "materials' ambient term ka\n",
                    o_.scene.string().c_str());
-    Warnings memoryWarnings;
-    checkRenderMemory(scene_, context_.memoryLimitBytes, memoryWarnings);
-    for (const std::string& w : memoryWarnings.list())
-      std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
+    reservedBytes_ = checkRenderMemory(scene_, context_.memoryLimitBytes);
     output_ = o_.output.empty() ? defaultOutput(o_.scene) : o_.output;
     if (!hasExrExtension(output_))
       throw Error(output_.string() +
@@ -269,6 +270,7 @@ class RenderRun {
   const RunContext context_;
   Timer total_;
   Scene scene_;
+  double reservedBytes_ = 0.0;  // the film and tables, as checkRenderMemory estimated them
   std::filesystem::path output_;
   std::string ffmpeg_;
   bool animated_ = false;

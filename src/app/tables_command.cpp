@@ -77,8 +77,7 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   // Every table a render of the scene may read, whatever its algorithm: a scene set to bump or
   // displacement builds none of its own (render_context.cpp), but `--algorithm auto` would.
   scene.render.algorithm = Algorithm::Auto;
-  Warnings memoryWarnings;
-  checkRenderMemory(scene, context.memoryLimitBytes, memoryWarnings, false);
+  const double reserved = checkRenderMemory(scene, context.memoryLimitBytes, false);
   if (!o.noPlots) createOutputFolder(o.outDir, "-o");
   // The same tables a render of the scene builds: every material objects use, one set per metric
   // class their surfaces need (docs/metric.md).
@@ -86,7 +85,8 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
   const RenderContext ctx = prepareRenderContext(scene, times,
                                                  {.buildFrame = false,
                                                   .keepHistograms = !o.noPlots,
-                                                  .memoryLimitBytes = context.memoryLimitBytes});
+                                                  .memoryLimitBytes = context.memoryLimitBytes,
+                                                  .reservedBytes = reserved});
   for (const std::string& w : ctx.warnings.list())
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...

@@ -74,7 +74,7 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface) {
 }
 
 TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t memoryLimitBytes,
-                                 const std::string& where) {
+                                 const std::string& where, double heldBytes) {
   if (rate < 1)
     throw Error("tessellation rate must be at least 1 (got " + std::to_string(rate) + ")");
   EdgeRateTessellator tessellator(surface);
@@ -82,25 +82,28 @@ TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t
   const std::vector<uint8_t> affine = affineFaces(surface);
   const auto& base = surface.impl().refiner->GetLevel(0);
   // Bfr at rate R: 2 R^2 triangles a quad, R^2 a triangle, n R^2 / 2 an n-gon (n quads of R / 2);
-  // a flat face at rate 1: n - 2 (counted as n, an upper bound).
+  // a flat face at rate 1: 2 triangles a quad, n - 2 otherwise (counted as n, an upper bound).
   double triangles = 0.0;
   int curved = 0;
   for (int f = 0; f < surface.numFaces(); ++f) {
     if (!surface.hasLimitSurface(f)) continue;
     const int n = surface.faceSize(f);
     if (affine[f]) {
-      triangles += n;
+      triangles += n == 4 ? 2 : n;
       continue;
     }
     ++curved;
     triangles += (n == 3 ? 1.0 : n == 4 ? 2.0 : 0.5 * n) * double(rate) * double(rate);
     for (int e : base.GetFaceEdges(f)) rates[e] = rate;
   }
-  requireMemoryWithin(memoryLimitBytes, triangles * kBytesPerMicropolygon, where,
+  requireMemoryWithin(memoryLimitBytes, heldBytes + triangles * kBytesPerMicropolygon, where,
                       "render.tessellation_rate",
                       "about " + std::to_string(static_cast<long long>(triangles)) +
                           " triangles at rate " + std::to_string(rate) + " on " +
-                          std::to_string(curved) + " curved faces, drawn undisplaced");
+                          std::to_string(curved) + " curved faces, drawn undisplaced" +
+                          (heldBytes > 0.0 ? ", beside " + formatMib(heldBytes) +
+                                                 " of film, tables and limit surfaces"
+                                           : ""));
   return tessellator.tessellate(rates, nullptr);
 }
 

@@ -117,6 +117,47 @@ bool RenderContext::viewDependent() const {
   return false;
 }
 
+namespace {
+
+// What --memory-limit leaves for the frames' geometry once the film and tables (estimated by the
+// command: options.reservedBytes), the objects' limit surfaces and, for displaced objects, the
+// dicing's own arrays per face are held (ctx.heldBytes): undisplaced tessellation beyond it is
+// refused, and the micropolygon cap is lowered to fit in it.
+void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
+  double surfaces = 0.0, dicing = 0.0, largest = 0.0;
+  size_t largestObject = 0;
+  int64_t faces = 0;
+  for (size_t k = 0; k < ctx.objects.size(); ++k) {
+    const PreparedObject& o = ctx.objects[k];
+    const double bytes = double(o.surface.memoryBytes()) + double(o.uvSpeed.memoryBytes());
+    surfaces += bytes;
+    if (o.displaced) dicing += kDicingBytesPerFace * o.surface.numFaces();
+    faces += o.surface.numFaces();
+    if (bytes > largest) largest = bytes, largestObject = k;
+  }
+  ctx.heldBytes = options.reservedBytes + surfaces + dicing;
+  const double limit = static_cast<double>(options.memoryLimitBytes);
+  const std::string what = "the limit surfaces of " + std::to_string(faces) + " control faces " +
+                           formatMib(surfaces) +
+                           (dicing > 0.0 ? ", their dicing " + formatMib(dicing) : "") +
+                           ", the film and tables " + formatMib(options.reservedBytes);
+  if (!ctx.objects.empty())
+    requireMemoryWithin(options.memoryLimitBytes, ctx.heldBytes,
+                        ctx.scene->objects[largestObject].mesh.string(), "mesh", what);
+  const RenderSettings& rs = ctx.scene->render;
+  const int64_t fits = std::max<int64_t>(
+      static_cast<int64_t>(std::max(0.0, limit - ctx.heldBytes) / kBytesPerMicropolygon), 1000);
+  if (fits >= rs.maxMicropolygons) return;
+  ctx.maxMicropolygons = static_cast<size_t>(fits);
+  if (dicing > 0.0)
+    ctx.warnings.add("render.max_micropolygons: lowered from " +
+                     std::to_string(rs.maxMicropolygons) + " to " + std::to_string(fits) +
+                     " so that the micropolygons fit in the memory limit of " + formatMib(limit) +
+                     " (--memory-limit) beside " + what);
+}
+
+}  // namespace
+
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                                    const PrepareOptions& options) {
   RenderContext ctx{&scene,
@@ -257,6 +298,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
   times.tables += tables.seconds();
   for (PreparedObject& o : ctx.objects)
     o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();
+  fitGeometryInMemory(ctx, options);
   if (options.buildFrame) prepareFrame(ctx, scene.camera, times);
   return ctx;
 }
@@ -282,7 +324,8 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
   d.dicing.dicingRate = rs.dicingRate;
   d.dicing.metric = rs.dicingMetric;
   d.dicing.maxEdgeRate = 4096;
-  d.dicing.maxMicropolygons = static_cast<size_t>(rs.maxMicropolygons);
+  d.dicing.maxMicropolygons =
+      std::min(static_cast<size_t>(rs.maxMicropolygons), ctx.maxMicropolygons);
   d.dicing.gridsOnly = true;  // hits in grids know their face and st (40 bytes a micropolygon)
   // The displacement reference and renderer keep the whole cap in every direction.
   if (d.mode == DisplacementMode::ByTransition) d.dicing.acrossViewCap = rs.acrossViewCap;
@@ -353,8 +396,9 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     if (object.displaced)
       displaced.push_back(k);
     else if (object.mesh.numTriangles() == 0)
-      object.mesh = tessellateSmooth(object.surface, ctx.scene->render.tessellationRate,
-                                     ctx.memoryLimitBytes, ctx.scene->objects[k].mesh.string());
+      object.mesh =
+          tessellateSmooth(object.surface, ctx.scene->render.tessellationRate, ctx.memoryLimitBytes,
+                           ctx.scene->objects[k].mesh.string(), ctx.heldBytes);
   }
   if (!displaced.empty()) displaceObjects(ctx, displaced, d, stats);
   stats.tessellateSeconds = tess.seconds();

@@ -342,13 +342,14 @@ TEST_F(HostileTest, MeshProblemsNameTheFile) {
       std::string::npos)
       << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
-  write("relief.toml",
-        "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
-        "  amplitude = 0.01\n  scale = 4.0\n" +
-            scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
-            "\"\n[render.tables]\n"
-            "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
-            "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
+  const std::string reliefScene =
+      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+      "  amplitude = 0.01\n  scale = 4.0\n" +
+      scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
+      "\"\n[render.tables]\n"
+      "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
+      "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n";
+  write("relief.toml", reliefScene);
   r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("quad.obj: the mesh has no texture coordinates (vt)"), std::string::npos)
@@ -415,17 +416,50 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
     EXPECT_LT(r.seconds, 5.0);
   }
 
-  write("relief.toml",
-        "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
-        "  amplitude = 0.01\n  scale = 4.0\n" +
-            scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
-            "\"\n[render.tables]\n"
-            "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
-            "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n");
+  const std::string reliefScene =
+      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+      "  amplitude = 0.01\n  scale = 4.0\n" +
+      scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
+      "\"\n[render.tables]\n"
+      "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
+      "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n";
+  write("relief.toml", reliefScene);
   r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr") +
           " --algorithm displacement --memory-limit 64");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("render.max_micropolygons: lowered from 80000000 to "), std::string::npos)
+      << r.output;
+
+  // The control mesh counts too: its limit surface (about 400 bytes a face) and, displaced, its
+  // dicing (560): a grid of 22 500 faces needs about 19 MiB before any micropolygon.
+  std::string grid;
+  for (int j = 0; j <= 150; ++j)
+    for (int i = 0; i <= 150; ++i)
+      grid += "v " + std::to_string(i / 75.0 - 1) + " " + std::to_string(j / 75.0 - 1) + " 0\n";
+  for (int j = 0; j < 150; ++j)
+    for (int i = 0; i < 150; ++i) {
+      const int a = j * 151 + i + 1;
+      grid += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
+              std::to_string(a + 152) + " " + std::to_string(a + 151) + "\n";
+    }
+  write("grid.obj", grid);
+  std::string gridScene = reliefScene;
+  gridScene.replace(gridScene.find("quad.obj"), 8, "grid.obj");
+  write("grid.toml", gridScene);
+  r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
+          " --algorithm displacement --memory-limit 16");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find((dir_ / "grid.obj").string() + ": mesh: needs an estimated 1"),  // 19 MiB
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("the limit surfaces of 22500 control faces"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out/g.exr"));
+  r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
+          " --algorithm displacement --memory-limit 40");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("(--memory-limit) beside the limit surfaces of 22500 control faces"),
+            std::string::npos)
       << r.output;
 }
 

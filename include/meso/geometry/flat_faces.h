@@ -24,10 +24,10 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface);
 // flat ground of 8 x 8-unit faces is 2 triangles a face instead of 2 rate^2, and curved faces (and
 // the edges they share with flat ones) keep `rate`. The same surface in view as tessellateUniform
 // up to rounding. Refused (meso::Error naming `where` and render.tessellation_rate) before any
-// triangle is made when its triangles, at kBytesPerMicropolygon each, would exceed
-// `memoryLimitBytes` (--memory-limit).
+// triangle is made when its triangles, at kBytesPerMicropolygon each, beside `heldBytes` already
+// held (film, tables, limit surfaces), would exceed `memoryLimitBytes` (--memory-limit).
 TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate,
                                  uint64_t memoryLimitBytes = defaultMemoryLimitBytes(),
-                                 const std::string& where = "");
+                                 const std::string& where = "", double heldBytes = 0.0);
 
 }  // namespace meso

@@ -97,9 +97,14 @@ struct RenderContext {
     return scene->lights.size() +
            (environment ? static_cast<size_t>(scene->render.lightSamples) : size_t{0});
   }
-  // The command's --memory-limit: geometry drawn undisplaced beyond it is refused before it is
-  // made (displaced geometry is held to render.max_micropolygons, which the command lowers to fit).
+  // The command's --memory-limit.
   uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
+  // What is held of it before a frame's geometry is made: the film and tables (as the command
+  // estimated them), the objects' limit surfaces and the dicing's arrays per face. Undisplaced
+  // geometry that would not fit beside it is refused before it is made; displaced micropolygons
+  // are held to maxMicropolygons (the lower of render.max_micropolygons and what fits).
+  double heldBytes = 0.0;
+  size_t maxMicropolygons = std::numeric_limits<size_t>::max();
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).
@@ -116,6 +121,9 @@ struct PrepareOptions {
   // The command's --memory-limit: images (height, NDF, colour, environment) larger than it allows
   // are refused before they are decoded.
   uint64_t memoryLimitBytes = defaultMemoryLimitBytes();
+  // What the command estimated for the film and tables (checkRenderMemory): taken off
+  // memoryLimitBytes, with the limit surfaces, before micropolygons are diced.
+  double reservedBytes = 0.0;
 };
 
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that
