@@ -86,7 +86,8 @@ void runTables(const TablesCommandOptions& o, const RunContext& context) {
                                                  {.buildFrame = false,
                                                   .keepHistograms = !o.noPlots,
                                                   .memoryLimitBytes = context.memoryLimitBytes,
-                                                  .reservedBytes = reserved});
+                                                  .reservedBytes = reserved,
+                                                  .dices = false});
   for (const std::string& w : ctx.warnings.list())
     std::fprintf(stderr, "meso: warning: %s\n", w.c_str());
   std::vector<std::string> plots;  // CSV, PNG, CSV, PNG, ...

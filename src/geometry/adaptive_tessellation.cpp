@@ -25,6 +25,66 @@
 
 namespace meso {
 
+bool mayShadowView(const Vec3& lo, const Vec3& hi, const ScreenMetric& screen,
+                   const DicingSettings::ShadowCasters& casters) {
+  const Vec3 &slo = casters.sceneLo, &shi = casters.sceneHi;
+  // The part of a swept box inside the scene's box, where the points it may shadow lie.
+  const auto sweptInView = [&](const Vec3& a, const Vec3& b) {
+    const Vec3 l0 = glm::max(a, slo), h0 = glm::min(b, shi);
+    return l0.x <= h0.x && l0.y <= h0.y && l0.z <= h0.z &&
+           screen.boxInView(l0, h0, 2.0f * screen.nearDistance);  // points nearer than its near
+                                                                  // plane are seen too
+  };
+  for (const Vec3& l : casters.directions) {
+    // The points this box may shadow are x - t l (x in the box, t >= 0) inside the scene's box:
+    // per axis, x - t l overlaps [slo, shi] for t l in [lo - shi, hi - slo].
+    float t0 = 0.0f, t1 = std::numeric_limits<float>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      const float below = lo[a] - shi[a], above = hi[a] - slo[a];
+      if (l[a] > 0.0f) {
+        t0 = std::max(t0, below / l[a]);
+        t1 = std::min(t1, above / l[a]);
+      } else if (l[a] < 0.0f) {
+        t0 = std::max(t0, above / l[a]);
+        t1 = std::min(t1, below / l[a]);
+      } else if (below > 0.0f || above < 0.0f) {
+        t1 = -1.0f;
+      }
+    }
+    if (!(t0 <= t1)) {
+      if (std::isnan(t0) || std::isnan(t1)) return true;
+      continue;
+    }
+    if (!std::isfinite(t1)) return true;
+    if (sweptInView(glm::min(lo - t0 * l, lo - t1 * l), glm::max(hi - t0 * l, hi - t1 * l)))
+      return true;
+  }
+  for (const Vec3& p : casters.points) {
+    if (glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi))) return true;
+    // The points it may shadow are p + s (x - p), s >= 1, inside the scene's box: within the hull
+    // of the box's corners seen from p at s = 1 and at the largest s where a corner's ray from p
+    // leaves the scene's box.
+    float far = 1.0f;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 d = Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z) - p;
+      float exit = std::numeric_limits<float>::infinity();
+      for (int a = 0; a < 3; ++a)
+        if (d[a] != 0.0f)
+          exit = std::min(exit, std::max((slo[a] - p[a]) / d[a], (shi[a] - p[a]) / d[a]));
+      far = std::max(far, exit);
+    }
+    if (!std::isfinite(far)) return true;
+    Vec3 swept0 = lo, swept1 = hi;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 d = Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z) - p;
+      swept0 = glm::min(swept0, p + far * d);
+      swept1 = glm::max(swept1, p + far * d);
+    }
+    if (sweptInView(swept0, swept1)) return true;
+  }
+  return false;
+}
+
 namespace {
 
 void validate(const LimitSurface& surface, const DicingSettings& s, const FaceDicing& faces) {
@@ -75,7 +135,10 @@ SurfaceDicing measureSurface(const AdaptiveSurface& in, const ScreenMetric& scre
   const float bound = in.displacement ? std::max(in.displacement->bound(), 0.0f) : 0.0f;
   std::vector<float> faceDistance;
   d.inView = facesInView(*in.surface, screen, bound, faceDistance);
-  d.engine = std::make_unique<EdgeRateTessellator>(*in.surface);
+  std::vector<char> keep;  // empty: every face
+  if (settings.shadowCasters)
+    keep = facesKept(*in.surface, screen, bound, d.inView, *settings.shadowCasters);
+  d.engine = std::make_unique<EdgeRateTessellator>(*in.surface, keep.empty() ? nullptr : &keep);
   d.engine->setGridsOnly(settings.gridsOnly);
   d.measures = measureEdges(*in.surface, *d.engine, screen, settings, in.faces, d.inView,
                             faceDistance, bound);

@@ -112,6 +112,20 @@ std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& s
   return inView;
 }
 
+std::vector<char> facesKept(const LimitSurface& surface, const ScreenMetric& screen, float grow,
+                            const std::vector<char>& inView,
+                            const DicingSettings::ShadowCasters& casters) {
+  std::vector<char> keep(inView);
+  tbb::parallel_for(0, surface.numFaces(), [&](int f) {
+    Vec3 lo, hi;
+    if (keep[f] || !surface.faceBox(f, lo, hi)) return;
+    // In view but nearer than the near plane, which rays from the eye do not have.
+    keep[f] = screen.boxInView(lo, hi, grow + 2.0f * screen.nearDistance) ||
+              mayShadowView(lo - Vec3(grow), hi + Vec3(grow), screen, casters);
+  });
+  return keep;
+}
+
 std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
                                       const EdgeRateTessellator& engine, const ScreenMetric& screen,
                                       const DicingSettings& settings, const FaceDicing& faces,

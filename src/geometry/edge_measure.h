@@ -48,6 +48,12 @@ inline int scaledCap(int cap, float scale) {
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
                               std::vector<float>& distance);
 
+// Per face: 1 where it is in view (inView) or, out of view, may block a shadow ray of the frame
+// (mayShadowView with its box grown by `grow`); the faces the frame's geometry needs.
+std::vector<char> facesKept(const LimitSurface& surface, const ScreenMetric& screen, float grow,
+                            const std::vector<char>& inView,
+                            const DicingSettings::ShadowCasters& casters);
+
 // An edge is diced for the faces in view that need dicing and may raise relief near it: its
 // points' box grown by the displacement bound plus half its diagonal (the limit edge between the
 // points sags by far less). `bound` is the displacement bound.

@@ -91,7 +91,10 @@ struct TriangleGrid;       // meso/geometry/ray_scene.h
 // the same whatever the number of threads.
 class EdgeRateTessellator {
  public:
-  explicit EdgeRateTessellator(const LimitSurface& surface);
+  // `keep` (one entry per base face; null: every face): the faces to tessellate; the others get no
+  // points or triangles, and the kept faces share points among themselves alone.
+  explicit EdgeRateTessellator(const LimitSurface& surface,
+                               const std::vector<char>* keep = nullptr);
 
   // Where a face first reaches a mesh vertex or edge: that face creates the output points there.
   struct Use {

@@ -24,7 +24,7 @@ namespace meso {
 using OpenSubdiv::Bfr::Tessellation;
 using OpenSubdiv::Far::ConstIndexArray;
 
-EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
+EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface, const std::vector<char>* keep)
     : surface_(surface),
       impl_(surface.impl()),
       base_(impl_.refiner->GetLevel(0)),
@@ -34,7 +34,7 @@ EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface)
       edgePoint_(base_.GetNumEdges(), -1) {
   // The first face in index order to reach a vertex or edge creates its points (tutorial_2_2).
   for (int f = 0; f < surface.numFaces(); ++f) {
-    if (!surface.hasLimitSurface(f)) continue;
+    if (!surface.hasLimitSurface(f) || (keep && !(*keep)[f])) continue;
     faces_.push_back(f);
     const ConstIndexArray verts = base_.GetFaceVertices(f);
     const ConstIndexArray edges = base_.GetFaceEdges(f);

@@ -131,7 +131,7 @@ void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
     const PreparedObject& o = ctx.objects[k];
     const double bytes = double(o.surface.memoryBytes()) + double(o.uvSpeed.memoryBytes());
     surfaces += bytes;
-    if (o.displaced) dicing += kDicingBytesPerFace * o.surface.numFaces();
+    if (o.displaced && options.dices) dicing += kDicingBytesPerFace * o.surface.numFaces();
     faces += o.surface.numFaces();
     if (bytes > largest) largest = bytes, largestObject = k;
   }
@@ -154,6 +154,22 @@ void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
                      std::to_string(rs.maxMicropolygons) + " to " + std::to_string(fits) +
                      " so that the micropolygons fit in the memory limit of " + formatMib(limit) +
                      " (--memory-limit) beside " + what);
+}
+
+void setSceneBox(RenderContext& ctx) {
+  Vec3 lo(std::numeric_limits<float>::infinity()), hi(-lo);
+  for (const PreparedObject& o : ctx.objects) {
+    const float grow =
+        o.displaced ? std::max(displacementBound(ctx.reliefs[o.material]), 0.0f) : 0.0f;
+    Vec3 flo, fhi;
+    for (int f = 0; f < o.surface.numFaces(); ++f)
+      if (o.surface.faceBox(f, flo, fhi)) {
+        lo = glm::min(lo, flo - Vec3(grow));
+        hi = glm::max(hi, fhi + Vec3(grow));
+      }
+  }
+  ctx.sceneLo = lo;
+  ctx.sceneHi = hi;
 }
 
 }  // namespace
@@ -299,6 +315,7 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
   for (PreparedObject& o : ctx.objects)
     o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();
   fitGeometryInMemory(ctx, options);
+  setSceneBox(ctx);
   if (options.buildFrame) prepareFrame(ctx, scene.camera, times);
   return ctx;
 }
@@ -313,6 +330,26 @@ struct FrameDicing {
   DisplacementMode mode;
   DicingSettings dicing;
 };
+
+// What the frame's shadow rays may reach (DicingSettings::ShadowCasters): unset (every face kept)
+// when some light's rays cannot be bounded so (an environment, a point light with a radius), or
+// when a test asks for every face.
+std::optional<DicingSettings::ShadowCasters> shadowCasters(const RenderContext& ctx) {
+  if (ctx.keepFacesOutOfView || ctx.environment) return std::nullopt;
+  if (!glm::all(glm::lessThanEqual(ctx.sceneLo, ctx.sceneHi))) return std::nullopt;
+  DicingSettings::ShadowCasters c{
+      .sceneLo = ctx.sceneLo, .sceneHi = ctx.sceneHi, .directions = {}, .points = {}};
+  if (!ctx.shadows) return c;  // no shadow rays: nothing out of view is needed
+  for (const Light& light : ctx.scene->lights) {
+    if (light.type == LightType::Directional)
+      c.directions.push_back(-light.direction);
+    else if (light.type == LightType::Point && light.radius == 0.0f)
+      c.points.push_back(light.position);
+    else
+      return std::nullopt;
+  }
+  return c;
+}
 
 FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings) {
   const RenderSettings& rs = ctx.scene->render;
@@ -329,6 +366,7 @@ FrameDicing frameDicing(const RenderContext& ctx, const CameraSettings& settings
   d.dicing.gridsOnly = true;  // hits in grids know their face and st (40 bytes a micropolygon)
   // The displacement reference and renderer keep the whole cap in every direction.
   if (d.mode == DisplacementMode::ByTransition) d.dicing.acrossViewCap = rs.acrossViewCap;
+  d.dicing.shadowCasters = shadowCasters(ctx);
   return d;
 }
 

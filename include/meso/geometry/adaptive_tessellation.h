@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -53,7 +54,26 @@ struct DicingSettings {
   // samples decide what the grazing rays hit; across it the shading normals, evaluated from the
   // relief at each hit, carry the detail.
   float acrossViewCap = 1.0f;
+  // Faces out of view serve only the frame's shadow rays. With shadowCasters set, a face out of
+  // view is kept (as one-cell grids) only where its box, grown by the displacement bound, may
+  // block a shadow ray from a point of the scene's box that a ray from the eye may reach, that is
+  // where the box swept towards the frame's points (away from each light, within the scene's box)
+  // meets the view (mayShadowView); the other faces out of view get no geometry. Unset: every face
+  // is kept (an environment light, a light with a radius, or a caller that traces other rays).
+  struct ShadowCasters {
+    Vec3 sceneLo{0.0f}, sceneHi{0.0f};  // every object's box, grown by its displacement bound
+    std::vector<Vec3> directions;       // towards each directional light (unit)
+    std::vector<Vec3> points;           // each point light's position (radius 0)
+  };
+  std::optional<ShadowCasters> shadowCasters;
 };
+
+// Whether a box (a face's, grown by its displacement bound) out of view may block a shadow ray that
+// starts at a point of the scene's box in view: for each light, the box swept towards the points
+// it may shadow (along the light's rays, within the scene's box) meets the view. Conservative:
+// true whenever it cannot tell.
+bool mayShadowView(const Vec3& lo, const Vec3& hi, const ScreenMetric& screen,
+                   const DicingSettings::ShadowCasters& casters);
 
 // What the caller knows per base face (vectors indexed by face; empty means the default for all).
 struct FaceDicing {

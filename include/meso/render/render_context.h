@@ -105,6 +105,12 @@ struct RenderContext {
   // are held to maxMicropolygons (the lower of render.max_micropolygons and what fits).
   double heldBytes = 0.0;
   size_t maxMicropolygons = std::numeric_limits<size_t>::max();
+  // Every object's box (its limit surface's patch points), grown by its displacement bound where
+  // it is displaced: where the frame's points lie (DicingSettings::ShadowCasters).
+  Vec3 sceneLo{0.0f}, sceneHi{0.0f};
+  // True: displaced objects keep every face out of view (as one-cell grids), not only those that
+  // may shadow the view; for tests that compare the two.
+  bool keepFacesOutOfView = false;
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).
@@ -124,6 +130,7 @@ struct PrepareOptions {
   // What the command estimated for the film and tables (checkRenderMemory): taken off
   // memoryLimitBytes, with the limit surfaces, before micropolygons are diced.
   double reservedBytes = 0.0;
+  bool dices = true;  // false: no frame is diced (meso tables), so dicing memory is not counted
 };
 
 // Loads every object's mesh, builds its limit surface and the relief tables of the materials that
