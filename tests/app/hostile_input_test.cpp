@@ -77,6 +77,15 @@ class HostileTest : public meso::testing::TempDirTest {
            "[[objects]]\nmesh = \"quad.obj\"\nscheme = \"bilinear\"\n" +
            extra;
   }
+  // A relief (two octaves of noise) on the quad, with small tables cached under the test folder.
+  std::string reliefScene() const {
+    return "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
+           "  amplitude = 0.01\n  scale = 4.0\n" +
+           scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
+           "\"\n[render.tables]\n"
+           "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = "
+           "64\nmesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n";
+  }
   std::string path3() const {
     return scene() +
            "[path]\nframes = 3\n[[path.keys]]\ntime = 0\nposition = [0, 0, 3]\n[[path.keys]]\n"
@@ -342,14 +351,7 @@ TEST_F(HostileTest, MeshProblemsNameTheFile) {
       std::string::npos)
       << r.output;
   EXPECT_EQ(filesUnder(dir_ / "out"), 0);
-  const std::string reliefScene =
-      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
-      "  amplitude = 0.01\n  scale = 4.0\n" +
-      scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
-      "\"\n[render.tables]\n"
-      "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
-      "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n";
-  write("relief.toml", reliefScene);
+  write("relief.toml", reliefScene());
   r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr"));
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("quad.obj: the mesh has no texture coordinates (vt)"), std::string::npos)
@@ -416,14 +418,7 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
     EXPECT_LT(r.seconds, 5.0);
   }
 
-  const std::string reliefScene =
-      "[[materials]]\nname = \"m\"\n  [[materials.relief]]\n  noise = { octaves = 2 }\n"
-      "  amplitude = 0.01\n  scale = 4.0\n" +
-      scene("material = \"m\"\n") + "[render]\ncache_dir = \"" + (dir_ / "cache").string() +
-      "\"\n[render.tables]\n"
-      "theta_v_bins = 4\ntheta_n_bins = 16\nphi_bins = 8\nazimuths = 4\nrays_per_view = 64\n"
-      "mesh_resolution = 16\nbrdf_theta_l = 4\nbrdf_phi = 4\n";
-  write("relief.toml", reliefScene);
+  write("relief.toml", reliefScene());
   r = run("render " + quoted(dir_ / "relief.toml") + " -q -o " + quoted(dir_ / "out/a.exr") +
           " --algorithm displacement --memory-limit 64");
   EXPECT_EQ(r.status, 0) << r.output;
@@ -443,7 +438,7 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
               std::to_string(a + 152) + " " + std::to_string(a + 151) + "\n";
     }
   write("grid.obj", grid);
-  std::string gridScene = reliefScene;
+  std::string gridScene = reliefScene();
   gridScene.replace(gridScene.find("quad.obj"), 8, "grid.obj");
   write("grid.toml", gridScene);
   r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
