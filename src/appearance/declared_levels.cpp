@@ -7,6 +7,7 @@
 #include "meso/relief/height_table.h"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 namespace meso {
@@ -56,6 +57,10 @@ ReliefLevel makeReliefLevel(const ReliefLevelDecl& d, uint64_t memoryLimitBytes)
     level.scale = d.scale / static_cast<const SolidSlice&>(*level.source).side();
   }
   level.freqPerU = d.freq > 0.0f ? d.freq : level.source->highestFrequency() * level.scale;
+  const float lowest = level.source->lowestFrequency();
+  level.octaveSpan = lowest > 0.0f && std::isfinite(lowest)
+                         ? std::max(1.0f, level.source->highestFrequency() / lowest)
+                         : 1.0f;
   level.midlevel = d.midlevel ? *d.midlevel : level.source->meanHeight();
   return level;
 }

@@ -155,6 +155,12 @@ float FractalNoise::highestFrequency() const {
   return static_cast<float>(octaves_.back().frequency);
 }
 
+float FractalNoise::lowestFrequency() const {
+  double lowest = octaves_.front().frequency;
+  for (const Octave& o : octaves_) lowest = std::min(lowest, static_cast<double>(o.frequency));
+  return static_cast<float>(lowest);
+}
+
 uint64_t FractalNoise::fingerprint() const {
   Hasher h;
   h.string("FractalNoise/2").value(options_.seed);  // /2: the lattice hash of this version

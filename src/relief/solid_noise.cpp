@@ -174,6 +174,12 @@ Vec3 SolidNoise::gradient(Vec3 q) const {
 
 float SolidNoise::highestFrequency() const { return static_cast<float>(octaves_.back().frequency); }
 
+float SolidNoise::lowestFrequency() const {
+  double lowest = octaves_.front().frequency;
+  for (const Octave& o : octaves_) lowest = std::min(lowest, static_cast<double>(o.frequency));
+  return static_cast<float>(lowest);
+}
+
 float SolidNoise::maxAbsHeight() const {
   double sum = 0.0;
   for (const Octave& o : octaves_) sum += std::abs(static_cast<double>(o.weight));

@@ -44,7 +44,8 @@ TransitionSettings levelSettings(const ReliefLevel& level, const TransitionSetti
 
 float levelTransition(const ReliefLevel& level, float lengthPerU, float cosThetaV, float distance,
                       float pixelsPerRadian, const TransitionSettings& settings) {
-  return transitionParameter(level.wavelength() * lengthPerU, pixelsPerRadian, distance,
+  return transitionParameter(level.wavelength() * lengthPerU,
+                             level.longestWavelength() * lengthPerU, pixelsPerRadian, distance,
                              std::abs(cosThetaV), levelSettings(level, settings));
 }
 
@@ -78,7 +79,8 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
     const SurfaceFrame& f = out.frames[i];
     // T is the largest over the view and the lights (the terminator, like the silhouette, section
     // 4.2). (nu - D) / (|cos| + eps) is monotone in |cos| (falling when nu > D, rising when
-    // nu < D), so the largest T is T at the smallest or the largest |cos|: one evaluation.
+    // nu < D; 0 between the level's shortest and longest wavelengths), so the largest T is T at
+    // the smallest or the largest |cos|: one evaluation.
     float lo = std::abs(glm::dot(f.N, V)), hi = lo;
     for (size_t k = 0; k < lights.size(); ++k) {
       const float c = std::abs(glm::dot(f.N, k < kept ? L[k] : sampleLight(lights[k], sp.P).L));
@@ -86,12 +88,12 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       hi = std::max(hi, c);
     }
     const TransitionSettings s = levelSettings(level, settings);
-    const float nuWavelength = level.wavelength() * lengthPerU;
-    const float atLo = transitionParameter(nuWavelength, pixelsPerRadian, distance, lo, s);
-    out.T[i] =
-        atLo > 0.0f
-            ? atLo
-            : std::max(atLo, transitionParameter(nuWavelength, pixelsPerRadian, distance, hi, s));
+    const float shortest = level.wavelength() * lengthPerU;
+    const float longest = level.longestWavelength() * lengthPerU;
+    const float atLo = transitionParameter(shortest, longest, pixelsPerRadian, distance, lo, s);
+    out.T[i] = atLo > 0.0f ? atLo
+                           : std::max(atLo, transitionParameter(shortest, longest, pixelsPerRadian,
+                                                                distance, hi, s));
     out.weights[i] = transitionWeights(out.T[i], settings);
     out.disp[i] = mode == DisplacementMode::Full ? 1.0f
                   : flat || i < flatUntil        ? 0.0f

@@ -67,6 +67,19 @@ TEST(FractalNoise, PeriodicNoiseTiles) {
     EXPECT_NEAR(n.height(q), n.height(q + Vec2(1.0f, 0.0f)), 1e-4f);
   }
   EXPECT_FLOAT_EQ(n.highestFrequency(), 21.0f);  // round(3 * 1.9^3)
+  EXPECT_FLOAT_EQ(n.lowestFrequency(), 3.0f);    // the first octave
+}
+
+TEST(FractalNoise, LowestFrequencyIsTheFirstOctaveKept) {
+  FractalNoiseOptions o;
+  o.octaves = 3;
+  const FractalNoise whole(o);
+  EXPECT_FLOAT_EQ(whole.lowestFrequency(), 4.0f);
+  EXPECT_FLOAT_EQ(whole.highestFrequency(), 16.0f);
+  o.firstOctave = 1;
+  const FractalNoise upper(o);
+  EXPECT_FLOAT_EQ(upper.lowestFrequency(), 8.0f);
+  EXPECT_FLOAT_EQ(upper.highestFrequency(), 16.0f);
 }
 
 TEST(FractalNoise, DeterministicPerSeed) {

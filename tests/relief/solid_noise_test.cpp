@@ -97,6 +97,7 @@ TEST(SolidNoise, SliceTilesAndIsTheNoiseOnItsPlane) {
     EXPECT_NEAR(gs.y, 6.0f * g.y, 1e-3f * (1.0f + std::abs(gs.y)));
   }
   EXPECT_FLOAT_EQ(slice.highestFrequency(), 6.0f * 8.0f);
+  EXPECT_FLOAT_EQ(slice.lowestFrequency(), 6.0f * 1.0f);  // octaves of 1, 2, 4 and 8 cells
   // A tilted tile whose axes are periods: (1, 2, 2) / 3 and (2, 1, -2) / 3 times 18.
   const SolidSlice tilted(o, Vec3(1, 2, 2) / 3.0f, Vec3(2, 1, -2) / 3.0f, 18.0f);
   for (int k = 0; k < 50; ++k) {

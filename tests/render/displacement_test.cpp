@@ -425,7 +425,9 @@ TEST(Displacement, HeightImageLevelsTakeAScaledD) {
   image.source = std::make_unique<HeightTable>(16, 16, std::vector<float>(16 * 16, 0.5f));
   image.amplitude = 0.001f;
   image.freqPerU = 100.0f;
-  MaterialRelief noiseRelief = levelsOnly({noiseLevel(0.001f, 1.0f)});
+  // One octave: T of its only wavelength (several octaves hold T at 0 while their longest spans
+  // more than D pixels: Transition.OctavesThatSpanPixelsKeepTheTablesAway).
+  MaterialRelief noiseRelief = levelsOnly({noiseLevel(0.001f, 1.0f, 1)});
   ReliefLevel& noise = noiseRelief.levels[0];
   noise.freqPerU = 100.0f;
   const TransitionSettings ts;

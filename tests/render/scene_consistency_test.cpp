@@ -157,5 +157,38 @@ TEST(SceneConsistency, BrdfOfVisibleReliefFailsTheDetailCheck) {
       << csv;
 }
 
+// Three octaves whose shortest wavelength spans about a pixel and whose longest several, under a
+// low light: the hybrid redistributes them (T = 0 between the two) and keeps the reference's local
+// contrast and mean, where the BRDF table, which T of the shortest wavelength alone would pick
+// (nu < D), keeps the mean and draws no texture.
+TEST(SceneConsistency, AutoKeepsTheContrastOfOctavesThatSpanPixels) {
+  Scene s = smallScene();
+  s.materials[0].relief = {testing::noiseLevel(0.06f, 0.5f, 3)};
+  s.lights[0].direction = glm::normalize(Vec3(0.8f, 0.3f, -0.5f));
+  s.camera.position = {0.0f, -6.0f, 7.0f};
+  s.camera.width = 96;
+  s.camera.height = 64;
+  s.camera.spp = 4;
+  SceneConsistencyOptions o;
+  o.algorithms = {Algorithm::Auto, Algorithm::Brdf};
+  o.bands = 2;
+  o.referenceDicing = 0.25f;
+  const SceneConsistencyReport r = sceneConsistency(s, o);
+  ASSERT_EQ(r.regions.size(), 3u);
+  for (const ConsistencyRegion& region : r.regions) {
+    std::printf(
+        "[ figure ] %s: reference contrast %.4f; auto mean %+.2f%%, contrast ratio %.3f; "
+        "brdf mean %+.2f%%, contrast ratio %.3f\n",
+        region.name.c_str(), region.contrast[0], 100.0 * (region.mean[2] / region.mean[0] - 1.0),
+        region.contrastRatio[2], 100.0 * (region.mean[3] / region.mean[0] - 1.0),
+        region.contrastRatio[3]);
+    EXPECT_GT(region.contrast[0], 5.0 * kReliefContrastFloor) << region.name;
+    EXPECT_NEAR(region.mean[2] / region.mean[0], 1.0, 0.01) << region.name;
+    EXPECT_TRUE(asDetailed(region.contrastRatio[2])) << region.name;
+    EXPECT_LT(region.contrastRatio[3], 0.5) << region.name;
+  }
+  EXPECT_EQ(r.notDetailed, std::vector<std::string>{"brdf"});
+}
+
 }  // namespace
 }  // namespace meso

@@ -67,6 +67,74 @@ TEST(Transition, WeightsAreContinuousInDistanceAndAngle) {
   }
 }
 
+// A level of several octaves: the paper's T of its shortest wavelength where that is positive,
+// 0 while its shortest wavelength spans fewer than D pixels and its longest more, and the T of its
+// longest beyond; one octave gives eq. (10) itself.
+TEST(Transition, OctavesThatSpanPixelsKeepTheTablesAway) {
+  const TransitionSettings s;  // D = 2
+  const float shortest = 0.01f, longest = 0.04f, p = 1000.0f, c = 0.5f;
+  // d = 2: nu = 5 and 20 px: the paper's T of the shortest.
+  EXPECT_EQ(transitionParameter(shortest, longest, p, 2.0f, c, s),
+            transitionParameter(shortest, p, 2.0f, c, s));
+  // d = 10: nu = 1 and 4 px: redistribution, where the shortest alone gives (1 - 2) / 0.6.
+  EXPECT_EQ(transitionParameter(shortest, longest, p, 10.0f, c, s), 0.0f);
+  EXPECT_NEAR(transitionParameter(shortest, p, 10.0f, c, s), -1.0f / 0.6f, 1e-5f);
+  // d = 40: nu = 0.25 and 1 px: the T of the longest, (1 - 2) / 0.6.
+  EXPECT_NEAR(transitionParameter(shortest, longest, p, 40.0f, c, s), -1.0f / 0.6f, 1e-5f);
+  // One octave: eq. (10).
+  for (float d : {0.5f, 2.0f, 5.0f, 10.0f, 40.0f, 1e9f})
+    EXPECT_EQ(transitionParameter(shortest, shortest, p, d, c, s),
+              transitionParameter(shortest, p, d, c, s));
+  // Continuous and non-increasing with distance, finite at the extremes.
+  float prev = transitionParameter(shortest, longest, p, 2.0f, c, s);
+  for (int i = 1; i <= 100000; ++i) {
+    const float d = 2.0f + 60.0f * static_cast<float>(i) / 100000.0f;
+    const float T = transitionParameter(shortest, longest, p, d, c, s);
+    ASSERT_LE(T, prev) << d;
+    ASSERT_LT(prev - T, 1e-2f) << d;
+    prev = T;
+  }
+  for (float d : {0.0f, 1e-9f, 1e30f})
+    for (float cosV : {0.0f, 1e-7f, 1.0f})
+      EXPECT_TRUE(std::isfinite(transitionParameter(shortest, longest, p, d, cosV, s)));
+}
+
+// levelTransitions reads the octaves of a noise level: three octaves of lacunarity 2 span
+// wavelengths 4 : 1, and where the shortest spans half a pixel the level is redistributed, not a
+// table; split into octaves (one octave each) the finest goes to its table there.
+TEST(Transition, ANoiseLevelsOctavesSpanItsWavelengths) {
+  const ReliefLevel whole = makeReliefLevel(testing::noiseLevel(0.01f, 1.0f, 3));
+  EXPECT_FLOAT_EQ(whole.octaveSpan, 4.0f);
+  EXPECT_FLOAT_EQ(whole.longestWavelength(), 4.0f * whole.wavelength());
+  ReliefLevelDecl finest = testing::noiseLevel(0.01f, 1.0f, 3);
+  finest.firstOctave = 2;
+  const ReliefLevel octave = makeReliefLevel(finest);
+  EXPECT_FLOAT_EQ(octave.octaveSpan, 1.0f);
+  EXPECT_FLOAT_EQ(octave.wavelength(), whole.wavelength());
+  MaterialRelief a, b;
+  a.levels.push_back(makeReliefLevel(testing::noiseLevel(0.01f, 1.0f, 3)));
+  b.levels.push_back(makeReliefLevel(finest));
+  const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
+  const TransitionSettings ts;
+  const float p = 500.0f;
+  // Seen from above at the distance where the shortest wavelength spans half a pixel (and the
+  // longest D = 2 pixels).
+  const float d = whole.wavelength() * p / 0.5f;
+  const Vec3 eye(0.0f, 0.0f, d);
+  const LevelTransitions ta = levelTransitions(a, sp, eye, p, ts, DisplacementMode::ByTransition);
+  const LevelTransitions tb = levelTransitions(b, sp, eye, p, ts, DisplacementMode::ByTransition);
+  EXPECT_EQ(ta.T[0], 0.0f);
+  EXPECT_EQ(ta.weights[0].brdf, 0.0f);
+  EXPECT_EQ(ta.disp[0], 0.0f);
+  EXPECT_NEAR(tb.T[0], (0.5f - 2.0f) / 1.1f, 1e-4f);
+  EXPECT_EQ(tb.weights[0].brdf, 1.0f);
+  // Eight times as far, the longest spans a quarter pixel: the table, as for one octave there.
+  const LevelTransitions far =
+      levelTransitions(a, sp, 8.0f * eye, p, ts, DisplacementMode::ByTransition);
+  EXPECT_NEAR(far.T[0], (0.25f - 2.0f) / 1.1f, 1e-4f);
+  EXPECT_EQ(far.weights[0].brdf, 1.0f);
+}
+
 TEST(Transition, RegionsFollowTheThresholds) {
   const TransitionSettings s;
   EXPECT_EQ(transitionWeights(-1.5f, s).brdf, 1.0f);

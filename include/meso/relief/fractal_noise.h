@@ -42,6 +42,8 @@ class FractalNoise : public HeightSource {
   float heightAndGradient(Vec2 p, Vec2& gradient) const override;
   // The last octave's frequency: baseFrequency * lacunarity^(octaves - 1) (rounded when periodic).
   float highestFrequency() const override;
+  // The lowest octave's frequency (of octaves firstOctave ..).
+  float lowestFrequency() const override;
   uint64_t fingerprint() const override;
   // sum over octaves of |gain^o| times sqrt(2)/2, the largest value of 2D gradient noise with unit
   // gradients (reached only where all four corner gradients point at the sample).

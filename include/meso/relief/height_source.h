@@ -28,6 +28,10 @@ class HeightSource {
   }
   // Highest frequency with significant energy, in cycles per tile (per unit of x), freq / S.
   virtual float highestFrequency() const = 0;
+  // Lowest frequency whose octave carries the source's slopes, cycles per tile: a sum of octaves
+  // (fBm) gives its first; a source of one band, or whose spectrum runs down to its period (an
+  // image), gives highestFrequency() (its band's width is left to the level's D: levelD).
+  virtual float lowestFrequency() const { return highestFrequency(); }
   // Hash of everything that shapes height() and gradient(): part of the table cache key.
   virtual uint64_t fingerprint() const = 0;
   // An upper bound of |h| over the whole plane (table units): the displacement bound of a level is

@@ -27,6 +27,9 @@ struct ReliefLevel {
   float amplitude = 0.0f;
   float scale = 1.0f;
   float freqPerU = 1.0f;  // highest frequency in cycles per unit of u
+  // Highest over lowest frequency of the source's octaves (HeightSource::lowestFrequency), >= 1:
+  // 4 for three octaves of lacunarity 2, 1 for one octave or an image band.
+  float octaveSpan = 1.0f;
   float midlevel = 0.0f;  // the table value that stays on the surface (default the source's mean)
   // Schilling's slope and roughness pyramids, built only for the bump renderer
   // (buildSlopePyramids).
@@ -47,6 +50,9 @@ struct ReliefLevel {
 
   // Shortest wavelength lambda_i = 1 / (freq_i S_i) in units of u (DESIGN.md section 3).
   float wavelength() const { return 1.0f / freqPerU; }
+  // Longest wavelength whose octave carries the level's slopes, in units of u: where it spans
+  // fewer than D pixels the level goes to its BRDF table (levelTransitions).
+  float longestWavelength() const { return octaveSpan / freqPerU; }
   // World displacement amplitude * (h(S u, S v) - midlevel): centred, so the smooth surface that
   // bump, redistribution and BRDF draw is the relief's mean plane.
   float height(Vec2 uv) const { return amplitude * (source->height(scale * uv) - midlevel); }

@@ -53,6 +53,8 @@ class SolidNoise {
   float heightAndGradient(Vec3 q, Vec3& gradient) const;
   // The last octave's frequency, lattice cells per unit of q.
   float highestFrequency() const;
+  // The lowest octave's frequency (of octaves firstOctave ..), lattice cells per unit of q.
+  float lowestFrequency() const;
   // sum over octaves of |gain^o| times sqrt(3)/2, the bound of 3-D gradient noise with unit
   // gradients.
   float maxAbsHeight() const;
@@ -88,6 +90,7 @@ class SolidSlice : public HeightSource {
   float heightAndGradient(Vec2 p, Vec2& g) const override;
   // side * the noise's highest frequency: lattice cells per tile along any line.
   float highestFrequency() const override;
+  float lowestFrequency() const override { return side_ * noise_.lowestFrequency(); }
   uint64_t fingerprint() const override;
   float maxAbsHeight() const override { return noise_.maxAbsHeight(); }
   float side() const { return side_; }

@@ -35,6 +35,21 @@ inline float transitionParameter(float wavelength, float pixelsPerRadian, float 
   return std::clamp(num / denom, -kLimit, kLimit);
 }
 
+// T of a level whose octaves span wavelengths `shortest` to `longest` (longest >= shortest): as
+// above with the shortest where that is positive (nu_short > D: how far to raise the geometry, the
+// paper's T), else min(0, T of the longest). So T is 0 (redistribution) while the shortest
+// wavelength spans fewer than D pixels and the longest more, and the BRDF table takes over only
+// where the longest spans fewer than D: a table keeps a pixel's mean, and while a coarse octave
+// still spans pixels the pixel filter keeps its pixel-to-pixel variation, which bump normals
+// redistributed per sample keep and a table does not (docs/terrain.md, "Local contrast at
+// 320x180"). Continuous and non-decreasing in nu; equal to the form above for one octave.
+inline float transitionParameter(float shortest, float longest, float pixelsPerRadian,
+                                 float distance, float cosThetaV, const TransitionSettings& s) {
+  const float t = transitionParameter(shortest, pixelsPerRadian, distance, cosThetaV, s);
+  if (t >= 0.0f || !(longest > shortest)) return t;
+  return std::min(0.0f, transitionParameter(longest, pixelsPerRadian, distance, cosThetaV, s));
+}
+
 // The C1 ramp used for every blend: 0 at a, 1 at b, smoothstep between (derivative 0 at both ends,
 // so weights are continuous in T with a continuous slope).
 inline float ramp(float t, float a, float b) {
