@@ -35,16 +35,32 @@ long long objIndex(const LineReader& r, const Token& t, std::string_view text, l
   return index;
 }
 
+// A checked number as float, rounded once from its text as OpenMesh's `stream >> float` rounds it.
+float singleOf(const Token& t, double checked) {
+  float v = 0.0f;
+  const auto [ptr, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), v);
+  return ec == std::errc() ? v : static_cast<float>(checked);  // (under- or overflow)
+}
+
 MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& file) {
   MeshTextCounts counts;
+  ObjContents& obj = counts.obj;
   counts.checked = true;
-  {  // Totals first: faces may refer to vertices that come later.
+  {  // Totals first: faces may refer to vertices that come later; the contents' arrays are made
+     // to size (grown by doubling, the freed blocks stay in the heap for the rest of the run).
     LineReader r(bytes, file);
     std::vector<Token> t;
+    size_t faces = 0, corners = 0;
     while (r.next(t)) {
       if (t[0].text == "v") ++counts.vertices;
       if (t[0].text == "vt") ++counts.texcoords;
+      if (t[0].text == "f") ++faces, corners += t.size() - 1;
     }
+    obj.positions.reserve(static_cast<size_t>(counts.vertices));
+    obj.texcoords.reserve(static_cast<size_t>(counts.texcoords));
+    obj.faceSizes.reserve(faces);
+    obj.corners.reserve(corners);
+    obj.cornerTexcoords.reserve(corners);
   }
   static const std::set<std::string_view> kKnown = {
       "vn",       "vp",     "o",          "g",         "s",     "l",     "p",     "usemtl",
@@ -55,34 +71,61 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
   LineReader r(bytes, file);
   std::vector<Token> t;
   long long v = 0, vt = 0;
+  // The first corner with a texture coordinate and the first without: a file must give every
+  // corner one or none (OpenMesh leaves the (u, v) of a corner without one uninitialized).
+  FileLoc withUv, withoutUv;
   while (r.next(t)) {
     const std::string_view key = t[0].text;
     if (key == "v") {
       if (t.size() < 4)
         r.fail(t[0].column, "v",
                "expected x y z, got " + std::to_string(t.size() - 1) + " numbers");
-      for (size_t i = 1; i < t.size() && i <= 4; ++i) number(r, t[i], "v");
+      std::array<float, 3> p{};
+      for (size_t i = 1; i < t.size() && i <= 4; ++i) {
+        const double x = number(r, t[i], "v");
+        if (i <= 3) p[i - 1] = singleOf(t[i], x);
+      }
+      obj.positions.push_back(p);
       ++v;
     } else if (key == "vt") {
-      if (t.size() < 2) r.fail(t[0].column, "vt", "expected u [v [w]]");
-      for (size_t i = 1; i < t.size() && i <= 3; ++i) number(r, t[i], "vt");
+      if (t.size() < 3)
+        r.fail(t[0].column, "vt",
+               "expected u v [w], got " + std::to_string(t.size() - 1) + " number");
+      std::array<float, 2> uv{};
+      for (size_t i = 1; i < t.size() && i <= 3; ++i) {
+        const double x = number(r, t[i], "vt");
+        if (i <= 2) uv[i - 1] = singleOf(t[i], x);
+      }
+      obj.texcoords.push_back(uv);
       ++vt;
     } else if (key == "f") {
       if (t.size() < 4)
         r.fail(t[0].column, "f",
                "expected a face of at least 3 vertices, got " + std::to_string(t.size() - 1));
-      std::set<long long> seen;
+      std::set<long long> seen;  // large faces only; small ones scan their corners
+      const size_t firstCorner = obj.corners.size();
       for (size_t i = 1; i < t.size(); ++i) {
         const std::string_view c = t[i].text;
         const size_t s1 = c.find('/');
         const long long vi = objIndex(r, t[i], c.substr(0, s1), v, counts.vertices, "vertex");
-        if (!seen.insert(vi).second)
+        const bool twice = t.size() > 33
+                               ? !seen.insert(vi).second
+                               : std::find(obj.corners.begin() + firstCorner, obj.corners.end(),
+                                           static_cast<int>(vi - 1)) != obj.corners.end();
+        if (twice)
           r.fail(t[i].column, "f", "vertex " + std::to_string(vi) + " appears twice in the face");
-        if (s1 == std::string_view::npos) continue;
-        const std::string_view rest = c.substr(s1 + 1);
+        obj.corners.push_back(static_cast<int>(vi - 1));
+        obj.cornerTexcoords.push_back(-1);
+        const std::string_view rest =
+            s1 == std::string_view::npos ? std::string_view() : c.substr(s1 + 1);
         const std::string_view tex = rest.substr(0, rest.find('/'));
-        if (!tex.empty()) objIndex(r, t[i], tex, vt, counts.texcoords, "texture coordinate");
+        FileLoc& first = tex.empty() ? withoutUv : withUv;
+        if (first.line == 0) first = {file.string(), r.line(), t[i].column};
+        if (!tex.empty())
+          obj.cornerTexcoords.back() = static_cast<int>(
+              objIndex(r, t[i], tex, vt, counts.texcoords, "texture coordinate") - 1);
       }
+      obj.faceSizes.push_back(static_cast<int>(t.size() - 1));
       ++counts.faces;
     } else if (!kKnown.count(key)) {
       if (!printable(key))
@@ -94,6 +137,12 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
   if (counts.faces == 0)
     throw Error(file.string() + ": mesh has no faces (" + std::to_string(counts.vertices) +
                 " vertices and no \"f\" line)");
+  if (withUv.line > 0 && withoutUv.line > 0)
+    throw Error(withoutUv, "f",
+                "a face corner without a texture coordinate, where line " +
+                    std::to_string(withUv.line) +
+                    " gives one: give every corner a texture coordinate (v/vt), or none");
+  if (withUv.line == 0) obj.texcoords.clear();  // "vt" lines that no face uses: no (u, v)
   return counts;
 }
 

@@ -19,9 +19,10 @@ struct Token {
   int column;  // 1-based
 };
 
-// The whitespace-separated tokens of a line, up to a '#' comment.
-inline std::vector<Token> tokenize(std::string_view line) {
-  std::vector<Token> tokens;
+// The whitespace-separated tokens of a line, up to a '#' comment, into `tokens` (its storage
+// reused from line to line).
+inline void tokenize(std::string_view line, std::vector<Token>& tokens) {
+  tokens.clear();
   size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
@@ -30,7 +31,6 @@ inline std::vector<Token> tokenize(std::string_view line) {
     while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
     tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
   }
-  return tokens;
 }
 
 inline std::string shown(std::string_view t) {
@@ -61,7 +61,7 @@ class LineReader {
       ++line_;
       if (line.find('\0') != std::string_view::npos)
         fail(1, "", "unexpected binary data (a NUL byte) in a text mesh file");
-      tokens = tokenize(line);
+      tokenize(line, tokens);
       if (!tokens.empty()) return true;
     }
     return false;

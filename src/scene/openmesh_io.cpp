@@ -7,6 +7,7 @@
 #include "meso/scene/mesh_text_check.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
@@ -84,6 +85,33 @@ void checkHeader(std::string_view bytes, const std::filesystem::path& file,
   }
 }
 
+// An OBJ's checked contents into the mesh through OpenMesh's importer, as its OBJ reader hands
+// them over: vertices in file order, each face by add_face (which gives a face that would make the
+// mesh non-manifold vertices of its own), then the face's texture coordinates on its halfedges
+// from the one that ends at its first vertex. Returns whether the faces have texture coordinates
+// (the check gives every corner one or none).
+bool importObj(const ObjContents& obj, PolyMesh& mesh) {
+  OpenMesh::IO::ImporterT<PolyMesh> importer(mesh);
+  importer.prepare();
+  for (const auto& p : obj.positions) importer.add_vertex(OpenMesh::Vec3f(p[0], p[1], p[2]));
+  OpenMesh::IO::BaseImporter::VHandles corners;
+  std::vector<OpenMesh::Vec2f> texcoords;
+  size_t at = 0;
+  for (int n : obj.faceSizes) {
+    corners.clear();
+    texcoords.clear();
+    for (int k = 0; k < n; ++k, ++at) {
+      corners.emplace_back(obj.corners[at]);
+      if (const int t = obj.cornerTexcoords[at]; t >= 0)
+        texcoords.emplace_back(obj.texcoords[t][0], obj.texcoords[t][1]);
+    }
+    const auto face = importer.add_face(corners);
+    if (face.is_valid()) importer.add_face_texcoords(face, corners[0], texcoords);
+  }
+  importer.finish();
+  return !obj.texcoords.empty();
+}
+
 }  // namespace
 
 ControlMesh loadControlMesh(const std::filesystem::path& file) {
@@ -121,10 +149,16 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
   std::streambuf* cerrBuffer = std::cerr.rdbuf(nullptr);
   bool ok = false;
   try {
-    // Moved, not copied: a mesh file may be gigabytes.
-    std::istringstream stream{counts.rewritten.empty() ? std::string(bytes)
-                                                       : std::move(counts.rewritten)};
-    ok = OpenMesh::IO::read_mesh(mesh, stream, ext, options);
+    if (ext == ".obj") {
+      ok = true;
+      if (!importObj(counts.obj, mesh)) options -= OpenMesh::IO::Options::FaceTexCoord;
+      counts.obj = {};  // its arrays go back before the mesh is converted
+    } else {
+      // Moved, not copied: a mesh file may be gigabytes.
+      std::istringstream stream{counts.rewritten.empty() ? std::string(bytes)
+                                                         : std::move(counts.rewritten)};
+      ok = OpenMesh::IO::read_mesh(mesh, stream, ext, options);
+    }
   } catch (...) {
     ok = false;
   }

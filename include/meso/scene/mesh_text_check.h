@@ -5,11 +5,23 @@
 // reported as FILE:LINE:COL: key: what was expected (FILE: element N: ... in a binary body).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace meso {
+
+// What an OBJ file holds, as its checked text says (OpenMesh's OBJ reader parses the same text
+// through iostreams, about 5 times as long): the positions of its "v" lines, the (u, v) of its
+// "vt" lines, and per "f" line its vertex count, then per corner its 0-based vertex index and
+// texture coordinate index (-1: none), relative indices resolved.
+struct ObjContents {
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<float, 2>> texcoords;
+  std::vector<int> faceSizes, corners, cornerTexcoords;
+};
 
 struct MeshTextCounts {
   long long vertices = 0, faces = 0, texcoords = 0;
@@ -18,6 +30,7 @@ struct MeshTextCounts {
   // in the one layout in which OpenMesh's reader finds where a binary body starts (no comments,
   // one space between words, "\n" line ends); the body is the file's.
   std::string rewritten;
+  ObjContents obj;  // an OBJ's contents (empty for the other formats)
 };
 
 // `ext` is ".obj", ".off" or ".ply" (lower case). Throws meso::Error for the first problem found.
