@@ -118,28 +118,39 @@ TEST(SceneConsistency, CoarsenedReferenceIsFlagged) {
 // Relief of a few pixels per wavelength seen from above under a low light: the BRDF keeps each
 // region's mean but draws no texture and fails the detail check; displacement diced by pixels
 // (1 px) keeps the reference's local contrast and passes.
-TEST(SceneConsistency, BrdfOfVisibleReliefFailsTheDetailCheck) {
+// `level` on the small plane under a low light, seen from `eye` at 96 x 64, 4 spp: each renderer
+// of `algorithm` and the BRDF against the reference at 0.25 px, in two depth bands; prints each
+// region's figures.
+SceneConsistencyReport reliefUnderALowLight(const ReliefLevelDecl& level, const Vec3& eye,
+                                            Algorithm algorithm, float dicingRate) {
   Scene s = smallScene();
-  s.materials[0].relief = {testing::noiseLevel(0.06f, 0.5f, 2)};
+  s.materials[0].relief = {level};
   s.lights[0].direction = glm::normalize(Vec3(0.8f, 0.3f, -0.5f));
-  s.camera.position = {0.0f, -5.0f, 6.0f};
+  s.camera.position = eye;
   s.camera.width = 96;
   s.camera.height = 64;
   s.camera.spp = 4;
-  s.render.dicingRate = 1.0f;
+  s.render.dicingRate = dicingRate;
   SceneConsistencyOptions o;
-  o.algorithms = {Algorithm::Displacement, Algorithm::Brdf};
+  o.algorithms = {algorithm, Algorithm::Brdf};
   o.bands = 2;
   o.referenceDicing = 0.25f;
   const SceneConsistencyReport r = sceneConsistency(s, o);
+  for (const ConsistencyRegion& region : r.regions)
+    std::printf(
+        "[ figure ] %s: reference contrast %.4f; %s mean %+.2f%%, contrast ratio %.3f; "
+        "brdf mean %+.2f%%, contrast ratio %.3f\n",
+        region.name.c_str(), region.contrast[0], r.renderers[2].c_str(),
+        100.0 * (region.mean[2] / region.mean[0] - 1.0), region.contrastRatio[2],
+        100.0 * (region.mean[3] / region.mean[0] - 1.0), region.contrastRatio[3]);
+  return r;
+}
+
+TEST(SceneConsistency, BrdfOfVisibleReliefFailsTheDetailCheck) {
+  const SceneConsistencyReport r = reliefUnderALowLight(
+      testing::noiseLevel(0.06f, 0.5f, 2), {0.0f, -5.0f, 6.0f}, Algorithm::Displacement, 1.0f);
   ASSERT_EQ(r.regions.size(), 3u);
   for (const ConsistencyRegion& region : r.regions) {
-    std::printf(
-        "[ figure ] %s: reference contrast %.4f; displacement mean %+.2f%%, contrast ratio %.3f; "
-        "brdf mean %+.2f%%, contrast ratio %.3f\n",
-        region.name.c_str(), region.contrast[0], 100.0 * (region.mean[2] / region.mean[0] - 1.0),
-        region.contrastRatio[2], 100.0 * (region.mean[3] / region.mean[0] - 1.0),
-        region.contrastRatio[3]);
     EXPECT_GT(region.contrast[0], 5.0 * kReliefContrastFloor) << region.name;
     EXPECT_NEAR(region.mean[3] / region.mean[0], 1.0, 0.02) << region.name;  // the mean is kept
     EXPECT_FALSE(asDetailed(region.contrastRatio[3])) << region.name;
@@ -162,26 +173,10 @@ TEST(SceneConsistency, BrdfOfVisibleReliefFailsTheDetailCheck) {
 // contrast and mean, where the BRDF table, which T of the shortest wavelength alone would pick
 // (nu < D), keeps the mean and draws no texture.
 TEST(SceneConsistency, AutoKeepsTheContrastOfOctavesThatSpanPixels) {
-  Scene s = smallScene();
-  s.materials[0].relief = {testing::noiseLevel(0.06f, 0.5f, 3)};
-  s.lights[0].direction = glm::normalize(Vec3(0.8f, 0.3f, -0.5f));
-  s.camera.position = {0.0f, -6.0f, 7.0f};
-  s.camera.width = 96;
-  s.camera.height = 64;
-  s.camera.spp = 4;
-  SceneConsistencyOptions o;
-  o.algorithms = {Algorithm::Auto, Algorithm::Brdf};
-  o.bands = 2;
-  o.referenceDicing = 0.25f;
-  const SceneConsistencyReport r = sceneConsistency(s, o);
+  const SceneConsistencyReport r = reliefUnderALowLight(testing::noiseLevel(0.06f, 0.5f, 3),
+                                                        {0.0f, -6.0f, 7.0f}, Algorithm::Auto, 1.0f);
   ASSERT_EQ(r.regions.size(), 3u);
   for (const ConsistencyRegion& region : r.regions) {
-    std::printf(
-        "[ figure ] %s: reference contrast %.4f; auto mean %+.2f%%, contrast ratio %.3f; "
-        "brdf mean %+.2f%%, contrast ratio %.3f\n",
-        region.name.c_str(), region.contrast[0], 100.0 * (region.mean[2] / region.mean[0] - 1.0),
-        region.contrastRatio[2], 100.0 * (region.mean[3] / region.mean[0] - 1.0),
-        region.contrastRatio[3]);
     EXPECT_GT(region.contrast[0], 5.0 * kReliefContrastFloor) << region.name;
     EXPECT_NEAR(region.mean[2] / region.mean[0], 1.0, 0.01) << region.name;
     EXPECT_TRUE(asDetailed(region.contrastRatio[2])) << region.name;
