@@ -90,7 +90,8 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
     } else if (key == "vt") {
       if (t.size() < 3)
         r.fail(t[0].column, "vt",
-               "expected u v [w], got " + std::to_string(t.size() - 1) + " number");
+               "expected u v [w], got " + std::to_string(t.size() - 1) +
+                   (t.size() == 2 ? " number" : " numbers"));
       std::array<float, 2> uv{};
       for (size_t i = 1; i < t.size() && i <= 3; ++i) {
         const double x = number(r, t[i], "vt");

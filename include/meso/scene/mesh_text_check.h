@@ -2,7 +2,9 @@
 // skips what it cannot use (a face with an index out of range, a NaN vertex) and trusts what it
 // reads (an OFF face of -5 vertices makes it allocate 4 GB), so unchecked, a broken file ends in
 // "mesh has no faces", in a silently different mesh or in minutes of work. Every problem is
-// reported as FILE:LINE:COL: key: what was expected (FILE: element N: ... in a binary body).
+// reported as FILE:LINE:COL: key: what was expected (FILE: element N: ... in a binary body). An
+// OBJ's check also keeps what it parsed (ObjContents), which goes to OpenMesh's importer in place
+// of OpenMesh's own OBJ reader.
 #pragma once
 
 #include <array>
