@@ -298,6 +298,10 @@ void tessellateSurface(SurfaceDicing& d, RateChoice& choice, const ScreenMetric&
   countFaces(*in.surface, in.faces, d.inView, stats);
   stats.facesSplit = choice.facesSplit;
   result.edgeRates = std::move(choice.rates);
+  // The edges' measures and the split plan are spent once the rates are chosen: they go before the
+  // mesh is made, which is the peak of a large mesh's frame.
+  std::vector<EdgeMeasure>().swap(d.measures);
+  d.plan = SplitPlan{};
   Timer timer;
   try {
     result.mesh =

@@ -408,7 +408,6 @@ void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, con
     stats.facesDiced += t.stats.facesDiced;
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     stats.coarsenedBeyond = std::min(stats.coarsenedBeyond, t.stats.coarsenedBeyond);
-    stats.meshBytes += meshBytes(t.mesh);
     object.mesh = std::move(t.mesh);
     object.grids = std::move(t.grids);
   }
@@ -443,6 +442,16 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
 
   Timer bvh;
   for (const PreparedObject& object : ctx.objects) rays->addMesh(object.mesh, object.grids);
+  // Embree holds its own copy of the points: a displaced mesh's points and indices go before the
+  // BVH build (the frame's peak), since a hit needs only its triangle's face and patch coordinates.
+  for (PreparedObject& object : ctx.objects)
+    if (object.displaced) {
+      if (!ctx.keepMeshPoints) {
+        std::vector<Vec3>().swap(object.mesh.positions);
+        std::vector<uint32_t>().swap(object.mesh.indices);
+      }
+      stats.meshBytes += meshBytes(object.mesh);
+    }
   rays->commit();
   stats.bvhSeconds = bvh.seconds();
   stats.triangles = rays->numTriangles();

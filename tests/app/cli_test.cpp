@@ -95,11 +95,12 @@ TEST_F(CliTest, DisplacementOptionsAndStats) {
                           "\"dicing_metric\": \"isotropic\"", "\"micropolygons_off_screen\""})
     EXPECT_NE(s.str().find(key), std::string::npos) << key << "\n" << s.str();
   EXPECT_EQ(s.str().find("\"micropolygons\": 0,"), std::string::npos) << s.str();
-  // Geometry memory is Embree's peak plus meso's meshes, which are most of a micropolygon's points
-  // and the few triangles outside Embree grids: more than 0, less than the whole.
+  // Geometry memory is Embree's peak plus what meso keeps of its meshes: the face and patch
+  // coordinates of the few triangles outside Embree grids (none on this plane; the points go once
+  // Embree has copied them, Displacement.ReleasingTheMeshPointsKeepsTheImage): less than the whole.
   const nlohmann::json stats = nlohmann::json::parse(s.str());
   const double mesh = stats.at("mesh_mib_per_million_micropolygons").get<double>();
-  EXPECT_GT(mesh, 0.0);
+  EXPECT_GE(mesh, 0.0);
   EXPECT_LT(mesh, stats.at("geometry_mib_per_million_micropolygons").get<double>());
 
   r = run(base + "--algorithm displacement --max-micropolygons 1000 --overwrite");

@@ -54,13 +54,17 @@ Scene planeScene(const std::string& algorithm) {
 struct Rendered {
   Image image;
   FrameGeometryStats geometry;
+  size_t displacedPoints = 0;  // the points the displaced meshes keep after prepareFrame
 };
 
-Rendered render(const Scene& scene) {
+Rendered render(const Scene& scene, bool keepMeshPoints = false) {
   PrepareTimes times;
   RenderContext ctx = prepareRenderContext(scene, times, {.buildFrame = false});
+  ctx.keepMeshPoints = keepMeshPoints;
   Rendered out;
   out.geometry = prepareFrame(ctx, scene.camera, times);
+  for (const PreparedObject& o : ctx.objects)
+    if (o.displaced) out.displacedPoints += o.mesh.positions.size();
   RenderCounters counters;
   out.image = renderFrame(ctx, {scene.camera.spp, 5, false}, counters);
   EXPECT_EQ(counters.nonFinite.load(), 0) << "the renderer's own NaN/Inf check fired";
@@ -252,6 +256,25 @@ TEST(Displacement, AutoImagesMatchTheirLimits) {
             4e-4);  // 40 times the tolerance above; measured 0.0010 (gcc), 0.00099 (clang)
 }
 
+// Shading reads a displaced triangle's face and patch coordinates only: the meshes' points and
+// indices, which Embree has copied, are released before the BVH build, and the image is the same
+// bits as with them kept.
+TEST(Displacement, ReleasingTheMeshPointsKeepsTheImage) {
+  for (const char* algorithm : {"auto", "displacement"}) {
+    Scene s = planeScene(algorithm);
+    s.render.transition.D = 0.5f;  // auto raises the relief over part of the plane
+    const Rendered kept = render(s, true), released = render(s);
+    ASSERT_GT(kept.geometry.micropolygons, 1000u) << algorithm;
+    EXPECT_GT(kept.displacedPoints, kept.geometry.micropolygons / 4) << algorithm;
+    EXPECT_EQ(released.displacedPoints, 0u) << algorithm;
+    EXPECT_EQ(released.geometry.micropolygons, kept.geometry.micropolygons) << algorithm;
+    // Points (12 bytes) and indices are gone from what meso keeps.
+    EXPECT_LE(released.geometry.meshBytes + 12 * kept.displacedPoints, kept.geometry.meshBytes)
+        << algorithm;
+    EXPECT_EQ(worstBeautyDifference(kept.image, released.image), 0.0) << algorithm;
+  }
+}
+
 // Facet normals of the displaced micropolygons approach the Blinn normal of the relief (the
 // paper's shading normal) as the dicing rate shrinks.
 TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
@@ -268,6 +291,7 @@ TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {
     s.render.dicingRate = rate;
     PrepareTimes times;
     RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+    ctx.keepMeshPoints = true;
     prepareFrame(ctx, s.camera, times);
     const PreparedObject& o = ctx.objects[0];
     const ReliefLevel& level = ctx.reliefs[0].levels[0];

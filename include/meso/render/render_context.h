@@ -63,7 +63,7 @@ struct FrameGeometryStats {
   // (AdaptiveTessellationStats::coarsenedBeyond; infinity: nowhere).
   float coarsenedBeyond = std::numeric_limits<float>::infinity();
   size_t embreePeakBytes = 0;
-  size_t meshBytes = 0;  // meso's own copy of the displaced meshes (hit -> patch coordinates)
+  size_t meshBytes = 0;  // what meso keeps of the displaced meshes (hit -> patch coordinates)
   bool rebuilt = false;  // false: the previous frame's geometry was reused
 };
 
@@ -111,6 +111,10 @@ struct RenderContext {
   // True: displaced objects keep every face out of view (as one-cell grids), not only those that
   // may shadow the view; for tests that compare the two.
   bool keepFacesOutOfView = false;
+  // True: displaced objects keep their meshes' points and triangle indices after the frame's Embree
+  // scene has copied them (tests that look at the displaced geometry). Shading needs only each
+  // triangle's face and patch coordinates, so by default they are released before the BVH build.
+  bool keepMeshPoints = false;
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
   // True when some object's geometry depends on the camera (displaced relief is in use).
