@@ -186,6 +186,10 @@ TEST_F(TradeTest, CsvRowsErrorsPlotAndSummary) {
                           "within "),
             std::string::npos)
       << r.output;
+  EXPECT_NE(r.output.find("\ntrade: cheapest hybrid swept within 0.5% of the reference in every "
+                          "depth band and 10% in local contrast: "),
+            std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("speedup"), std::string::npos)
       << r.output;  // displacement_r2_rs4_spp4 is as accurate
   const std::string x = "[0-9.e+-]+x";

@@ -26,6 +26,9 @@ namespace meso {
 inline constexpr int kContrastBlock = 8;              // block side, pixels
 inline constexpr double kReliefContrastFloor = 0.02;  // C of a reference that shows relief
 inline constexpr double kContrastTolerance = 0.10;    // |C(image) / C(reference) - 1| allowed
+// The consistency criterion's other half: every depth band's mean within this many percent of the
+// reference's (`meso trade`).
+inline constexpr double kConsistentBandPct = 0.5;
 
 // The seed of the second render that measures sampling noise: another stream of every pixel's
 // generator (Rng mixes the seed), so its samples are independent of the first render's.

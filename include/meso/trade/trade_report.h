@@ -25,8 +25,11 @@ std::string tradeCsv(const std::vector<TradeResult>& results, const ReferenceStu
 // speedup against interpolatedAsAccurate where that is cheaper than every swept configuration; on
 // a second line the same against the cheapest one as consistent and as detailed too (no depth
 // band's mean further from the reference's than the hybrid's worst or 0.5%, no contrast ratio
-// further from 1 than the hybrid's or kContrastTolerance); then the reference's verdict.
-// Three lines starting "trade: ". Throws meso::Error without a default hybrid.
+// further from 1 than the hybrid's or kContrastTolerance); on a third the cheapest hybrid swept
+// (any D, dicing rate and spp, the default included) whose every depth band is within
+// kConsistentBandPct of the reference and whose contrast ratios are within kContrastTolerance of
+// 1, against the default hybrid, or "none"; then the reference's verdict.
+// Four lines starting "trade: ". Throws meso::Error without a default hybrid.
 std::string tradeSummary(const std::vector<TradeResult>& results, const ReferenceStudy& study);
 
 // A displacement-only configuration between two swept spp values: on one dicing rate and relief
