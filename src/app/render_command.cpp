@@ -78,11 +78,13 @@ class RenderRun {
     createOutputFolder(output_.parent_path(), "-o");
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");
     if (animated_) storeFrameSettings(output_, settings_);
-    ctx_.emplace(prepareRenderContext(scene_, prep_,
-                                      {.buildFrame = false,
-                                       .progress = !o_.quiet,
-                                       .memoryLimitBytes = context_.memoryLimitBytes,
-                                       .reservedBytes = reservedBytes_}));
+    ctx_.emplace(
+        prepareRenderContext(scene_, prep_,
+                             {.buildFrame = false,
+                              .progress = !o_.quiet,
+                              .memoryLimitBytes = context_.memoryLimitBytes,
+                              .reservedBytes = reservedBytes_,
+                              .filmBytes = filmBytes(scene_.camera.width, scene_.camera.height)}));
     // The cap the frames are diced under, for --stats.
     if (ctx_->maxMicropolygons < static_cast<size_t>(scene_.render.maxMicropolygons))
       scene_.render.maxMicropolygons = static_cast<int64_t>(ctx_->maxMicropolygons);

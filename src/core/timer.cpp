@@ -21,5 +21,6 @@ double statusMib(const char* key) {
 
 double peakRssMib() { return statusMib("VmHWM:"); }
 double currentRssMib() { return statusMib("VmRSS:"); }
+double anonymousRssMib() { return statusMib("RssAnon:"); }
 
 }  // namespace meso

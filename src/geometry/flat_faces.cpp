@@ -102,7 +102,8 @@ TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t
                           " triangles at rate " + std::to_string(rate) + " on " +
                           std::to_string(curved) + " curved faces, drawn undisplaced" +
                           (heldBytes > 0.0 ? ", beside " + formatMib(heldBytes) +
-                                                 " of film, tables and limit surfaces"
+                                                 " held for the film, the tables, the limit "
+                                                 "surfaces and the process so far"
                                            : ""));
   return tessellator.tessellate(rates, nullptr);
 }

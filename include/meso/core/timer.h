@@ -21,5 +21,8 @@ class Timer {
 double peakRssMib();
 // Resident memory now (VmRSS), MiB; 0 where /proc/self/status is not readable.
 double currentRssMib();
+// Anonymous resident memory now (RssAnon: what the process allocated, without the pages of its
+// libraries and mapped files), MiB; 0 where /proc/self/status is not readable.
+double anonymousRssMib();
 
 }  // namespace meso

@@ -134,6 +134,13 @@ struct PrepareOptions {
   // What the command estimated for the film and tables (checkRenderMemory): taken off
   // memoryLimitBytes, with the limit surfaces, before micropolygons are diced.
   double reservedBytes = 0.0;
+  // >= 0: what the command estimated for the film and its encodings (allocated after the frame's
+  // geometry). The process's own memory is then measured once the tables and limit surfaces are
+  // made (anonymousRssMib: they, and whatever reading the meshes left in malloc's heap), and held
+  // with the film and the dicing's arrays where that exceeds the estimate above. Negative: the
+  // estimate alone (meso trade, whose process holds earlier configurations' freed heap), as under
+  // AddressSanitizer.
+  double filmBytes = -1.0;
   bool dices = true;  // false: no frame is diced (meso tables), so dicing memory is not counted
 };
 
