@@ -458,7 +458,8 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   Timer bvh;
   for (const PreparedObject& object : ctx.objects) rays->addMesh(object.mesh, object.grids);
   // Embree holds its own copy of the points: a displaced mesh's points and indices go before the
-  // BVH build (the frame's peak), since a hit needs only its triangle's face and patch coordinates.
+  // BVH build (the peak of a frame whose mesh is not large: docs/performance.md), since a hit needs
+  // only its triangle's face and patch coordinates.
   for (PreparedObject& object : ctx.objects)
     if (object.displaced) {
       if (!ctx.keepMeshPoints) {

@@ -102,8 +102,8 @@ const TradeResult* cheapestConsistentHybrid(const std::vector<TradeResult>& resu
   return cheapest;
 }
 
-// "trade: cheapest hybrid swept as consistent and as detailed ...": which D, dicing rate and spp
-// buy the criterion for least time, against the default hybrid.
+// "trade: cheapest hybrid swept within 0.5% ... and 10% ...: D 8, 1 px, 4 spp: ...": which D,
+// dicing rate and spp buy the criterion for least time, against the default hybrid.
 std::string hybridLine(const std::vector<TradeResult>& results, const TradeResult& h) {
   const std::string head = fmt::format(
       "trade: cheapest hybrid swept within {:g}% of the reference in every depth band and {:g}% in "
