@@ -66,18 +66,18 @@ void measureLimitEdge(const LimitSurface& surface, const ScreenMetric& screen,
 // With the isotropic metric a diced edge is therefore sized by the densest point in view on any
 // diced face it bounds: its world length times that face's largest pixelDensity (sampled on the
 // face's edges). This over-dices the far part of deep faces, which are few: the ones near the eye.
-void spreadFaceDensity(const OpenSubdiv::Far::TopologyLevel& base, const FaceDicing& faces,
+void spreadFaceDensity(const LimitSurface::Impl::Topology& base, const FaceDicing& faces,
                        const std::vector<char>& inView, std::vector<EdgeMeasure>& measures) {
   std::vector<float> faceDensity(inView.size(), 0.0f);
   for (size_t f = 0; f < inView.size(); ++f) {
     if (!inView[f] || (!faces.needsDicing.empty() && !faces.needsDicing[f])) continue;
-    for (int e : base.GetFaceEdges(static_cast<int>(f)))
+    for (int e : base.faceEdges(static_cast<int>(f)))
       faceDensity[f] = std::max(faceDensity[f], measures[e].density);
   }
   for (size_t e = 0; e < measures.size(); ++e) {
     EdgeMeasure& m = measures[e];
     if (m.kind != EdgeMeasure::Diced) continue;
-    for (int f : base.GetEdgeFaces(static_cast<int>(e)))
+    for (int f : base.edgeFaces(static_cast<int>(e)))
       m.lengthPx = std::max(m.lengthPx, m.worldLength * faceDensity[f]);
   }
 }
@@ -131,11 +131,11 @@ std::vector<EdgeMeasure> measureEdges(const LimitSurface& surface,
                                       const DicingSettings& settings, const FaceDicing& faces,
                                       const std::vector<char>& inView,
                                       const std::vector<float>& faceDistance, float bound) {
-  const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
+  const LimitSurface::Impl::Topology& base = surface.impl().topology;
   std::vector<EdgeMeasure> measures(engine.numEdges());
   tbb::parallel_for(0, engine.numEdges(), [&](int e) {
     EdgeMeasure& m = measures[e];
-    const ConstIndexArray edgeFaces = base.GetEdgeFaces(e);
+    const ConstIndexArray edgeFaces = base.edgeFaces(e);
     if (std::none_of(edgeFaces.begin(), edgeFaces.end(), [&](int f) { return inView[f]; })) return;
     m.distance = std::numeric_limits<float>::infinity();
     for (int f : edgeFaces)

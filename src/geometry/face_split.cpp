@@ -306,12 +306,12 @@ std::vector<FaceSplit> splitsFor(const LimitSurface& surface, const SplitPlan& p
                                  const CapCoarsening& cap, int& facesSplit) {
   facesSplit = 0;
   if (plan.cells.empty()) return {};
-  const OpenSubdiv::Far::TopologyLevel& base = surface.impl().refiner->GetLevel(0);
+  const LimitSurface::Impl::Topology& base = surface.impl().topology;
   std::vector<FaceSplit> splits(plan.faces.size());
   tbb::parallel_for(0, static_cast<int>(plan.faces.size()), [&](int f) {
     const SplitPlan::Face& face = plan.faces[f];
     if (face.nu * face.nv == 1) return;
-    const OpenSubdiv::Far::ConstIndexArray e = base.GetFaceEdges(f);
+    const OpenSubdiv::Far::ConstIndexArray e = base.faceEdges(f);
     FaceSplit& split = splits[f];
     // Split lines end on existing edge points, so a face splits at most as often as its rates.
     split.nu = std::min(face.nu, floorPow2(std::min(edgeRates[e[0]], edgeRates[e[2]])));

@@ -80,7 +80,7 @@ TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t
   EdgeRateTessellator tessellator(surface);
   std::vector<int> rates(static_cast<size_t>(tessellator.numEdges()), 1);
   const std::vector<uint8_t> affine = affineFaces(surface);
-  const auto& base = surface.impl().refiner->GetLevel(0);
+  const LimitSurface::Impl::Topology& base = surface.impl().topology;
   // Bfr at rate R: 2 R^2 triangles a quad, R^2 a triangle, n R^2 / 2 an n-gon (n quads of R / 2);
   // a flat face at rate 1: 2 triangles a quad, n - 2 otherwise (counted as n, an upper bound).
   double triangles = 0.0;
@@ -94,7 +94,7 @@ TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t
     }
     ++curved;
     triangles += (n == 3 ? 1.0 : n == 4 ? 2.0 : 0.5 * n) * double(rate) * double(rate);
-    for (int e : base.GetFaceEdges(f)) rates[e] = rate;
+    for (int e : base.faceEdges(f)) rates[e] = rate;
   }
   requireMemoryWithin(memoryLimitBytes, heldBytes + triangles * kBytesPerMicropolygon, where,
                       "render.tessellation_rate",

@@ -133,6 +133,31 @@ std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> createRefiner(const ControlMes
   return refiner;
 }
 
+LimitSurface::Impl::Topology copyTopology(const OpenSubdiv::Far::TopologyLevel& base) {
+  LimitSurface::Impl::Topology t;
+  t.vertices = base.GetNumVertices();
+  const int faces = base.GetNumFaces(), edges = base.GetNumEdges();
+  t.faceFirst.reserve(static_cast<size_t>(faces) + 1);
+  t.faceVertex.reserve(static_cast<size_t>(base.GetNumFaceVertices()));
+  t.faceEdge.reserve(static_cast<size_t>(base.GetNumFaceVertices()));
+  for (int f = 0; f < faces; ++f) {
+    t.faceFirst.push_back(static_cast<int>(t.faceVertex.size()));
+    const OpenSubdiv::Far::ConstIndexArray v = base.GetFaceVertices(f), e = base.GetFaceEdges(f);
+    t.faceVertex.insert(t.faceVertex.end(), v.begin(), v.end());
+    t.faceEdge.insert(t.faceEdge.end(), e.begin(), e.end());
+  }
+  t.faceFirst.push_back(static_cast<int>(t.faceVertex.size()));
+  t.edgeFirst.reserve(static_cast<size_t>(edges) + 1);
+  for (int e = 0; e < edges; ++e) {
+    t.edgeFirst.push_back(static_cast<int>(t.edgeFace.size()));
+    const OpenSubdiv::Far::ConstIndexArray f = base.GetEdgeFaces(e);
+    t.edgeFace.insert(t.edgeFace.end(), f.begin(), f.end());
+  }
+  t.edgeFirst.push_back(static_cast<int>(t.edgeFace.size()));
+  t.edgeFace.shrink_to_fit();
+  return t;
+}
+
 // Centroid and Newell normal of the control polygon: the last-resort normal of a degenerate point.
 void setPolygonFrame(const ControlMesh& mesh, size_t first, int size,
                      LimitSurface::Impl::Face& face) {
@@ -160,11 +185,15 @@ void setTangentFrame(SurfacePoint& sp) {
 LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     : impl_(std::make_unique<Impl>()) {
   validate(mesh, scheme);
-  impl_->refiner = createRefiner(mesh, scheme);
-  OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*impl_->refiner);
+  const std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner = createRefiner(mesh, scheme);
+  OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*refiner);
 
   const int numFaces = mesh.numFaces();
   impl_->faces.resize(numFaces);
+  // Room for 4 patch points a face (a bilinear quad's), so that a grid's arrays are not doubled
+  // as they grow; others are shrunk to their size below.
+  impl_->patchPoints.reserve(12 * static_cast<size_t>(numFaces));
+  if (mesh.hasUvs()) impl_->uvPatchPoints.reserve(8 * static_cast<size_t>(numFaces));
   OpenSubdiv::Bfr::Surface<float> surface;
   size_t first = 0;
   for (int f = 0; f < numFaces; ++f) {
@@ -204,6 +233,9 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     }
   }
   impl_->surfaces.shrink_to_fit();
+  impl_->patchPoints.shrink_to_fit();
+  impl_->uvPatchPoints.shrink_to_fit();
+  impl_->topology = copyTopology(refiner->GetLevel(0));
 }
 
 LimitSurface::~LimitSurface() = default;
@@ -231,24 +263,18 @@ bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
   return true;
 }
 
+size_t LimitSurface::Impl::Topology::memoryBytes() const {
+  return sizeof(int) * (faceFirst.capacity() + faceVertex.capacity() + faceEdge.capacity() +
+                        edgeFirst.capacity() + edgeFace.capacity());
+}
+
 size_t LimitSurface::memoryBytes() const {
   const Impl& i = *impl_;
   double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face) +
                  double(i.surfaces.capacity()) * sizeof(OpenSubdiv::Bfr::Surface<float>) +
                  double(i.patchPoints.capacity() + i.uvPatchPoints.capacity()) * sizeof(float) +
                  double(i.chartPoints.capacity()) * sizeof(Vec2);
-  // Vtr::Level's arrays (opensubdiv/vtr/level.h): per face its corner count and offset and a tag;
-  // per corner its vertex and edge and its places in the edge's and the vertex's face lists (an
-  // index and a local index each); per edge 2 vertices, a face count and offset, a sharpness, a
-  // tag and its places in its 2 vertices' edge lists; per vertex two counts and offsets, a
-  // sharpness and a tag. A uv channel (vtr/fvarLevel.h) adds per corner a value and a sibling, per
-  // edge a tag, per vertex a sibling count and offset, and per value an index, a tag and a crease.
-  const OpenSubdiv::Far::TopologyLevel& base = i.refiner->GetLevel(0);
-  const double faces = base.GetNumFaces(), corners = base.GetNumFaceVertices(),
-               edges = base.GetNumEdges(), vertices = base.GetNumVertices();
-  bytes += 9.0 * faces + 20.0 * corners + 33.0 * edges + 22.0 * vertices;
-  if (i.refiner->GetNumFVarChannels() > 0)
-    bytes += 5.0 * corners + edges + 5.0 * vertices + 12.0 * base.GetNumFVarValues(0);
+  bytes += double(i.topology.memoryBytes());
   return static_cast<size_t>(bytes);
 }
 

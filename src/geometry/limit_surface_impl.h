@@ -57,7 +57,31 @@ struct LimitSurface::Impl {
     bool valid() const { return numPatchPoints > 0; }
   };
 
-  std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner;
+  // The base level's relations the tessellators use, in OpenSubdiv's numbering of vertices and
+  // edges, copied from the refiner, which is released once the surfaces are made: it holds every
+  // relation of every component (about 220 bytes a quad face), these about 50.
+  struct Topology {
+    using Indices = OpenSubdiv::Far::ConstIndexArray;
+    int vertices = 0;
+    std::vector<int> faceFirst;             // per face, then the corner count: its first corner
+    std::vector<int> faceVertex, faceEdge;  // per corner
+    std::vector<int> edgeFirst;             // per edge, then the count of edge-face incidences
+    std::vector<int> edgeFace;
+    int numVertices() const { return vertices; }
+    int numEdges() const { return static_cast<int>(edgeFirst.size()) - 1; }
+    Indices faceVertices(int f) const {
+      return Indices(faceVertex.data() + faceFirst[f], faceFirst[f + 1] - faceFirst[f]);
+    }
+    Indices faceEdges(int f) const {
+      return Indices(faceEdge.data() + faceFirst[f], faceFirst[f + 1] - faceFirst[f]);
+    }
+    Indices edgeFaces(int e) const {
+      return Indices(edgeFace.data() + edgeFirst[e], edgeFirst[e + 1] - edgeFirst[e]);
+    }
+    size_t memoryBytes() const;
+  };
+
+  Topology topology;
   std::vector<Face> faces;
   std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;  // those of faces that are not bilinear
   std::vector<float> patchPoints;                         // 3 floats per point
@@ -199,7 +223,7 @@ class EdgeRateTessellator {
 
   const LimitSurface& surface_;
   const LimitSurface::Impl& impl_;
-  const OpenSubdiv::Far::TopologyLevel& base_;
+  const LimitSurface::Impl::Topology& base_;
   std::vector<int> faces_;  // faces with a limit surface, in index order
   std::vector<Use> vertexOwner_, edgeOwner_;
   // Per entry of faces_: points the face creates (its share of the boundary and its interior) and

@@ -27,17 +27,17 @@ using OpenSubdiv::Far::ConstIndexArray;
 EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface, const std::vector<char>* keep)
     : surface_(surface),
       impl_(surface.impl()),
-      base_(impl_.refiner->GetLevel(0)),
-      vertexOwner_(base_.GetNumVertices()),
-      edgeOwner_(base_.GetNumEdges()),
-      vertexPoint_(base_.GetNumVertices(), -1),
-      edgePoint_(base_.GetNumEdges(), -1) {
+      base_(impl_.topology),
+      vertexOwner_(base_.numVertices()),
+      edgeOwner_(base_.numEdges()),
+      vertexPoint_(base_.numVertices(), -1),
+      edgePoint_(base_.numEdges(), -1) {
   // The first face in index order to reach a vertex or edge creates its points (tutorial_2_2).
   for (int f = 0; f < surface.numFaces(); ++f) {
     if (!surface.hasLimitSurface(f) || (keep && !(*keep)[f])) continue;
     faces_.push_back(f);
-    const ConstIndexArray verts = base_.GetFaceVertices(f);
-    const ConstIndexArray edges = base_.GetFaceEdges(f);
+    const ConstIndexArray verts = base_.faceVertices(f);
+    const ConstIndexArray edges = base_.faceEdges(f);
     for (int i = 0; i < verts.size(); ++i) {
       if (vertexOwner_[verts[i]].face < 0) vertexOwner_[verts[i]] = {.face = f, .corner = i};
       if (edgeOwner_[edges[i]].face < 0) edgeOwner_[edges[i]] = {.face = f, .corner = i};
@@ -53,7 +53,7 @@ EdgeRateTessellator::EdgeRateTessellator(const LimitSurface& surface, const std:
 
 Tessellation EdgeRateTessellator::faceTessellation(int face, const std::vector<int>& edgeRates,
                                                    FaceScratch& scratch) const {
-  const ConstIndexArray edges = base_.GetFaceEdges(face);
+  const ConstIndexArray edges = base_.faceEdges(face);
   scratch.rates.resize(edges.size());
   bool uniform = true;
   for (int i = 0; i < edges.size(); ++i) {
@@ -71,9 +71,9 @@ Tessellation EdgeRateTessellator::faceTessellation(int face, const std::vector<i
 
 size_t EdgeRateTessellator::ownedBoundaryPoints(int f, const std::vector<int>& edgeRates) const {
   size_t points = 0;
-  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  const ConstIndexArray edges = base_.faceEdges(f);
   for (int i = 0; i < edges.size(); ++i) {
-    const Use& v = vertexOwner_[base_.GetFaceVertices(f)[i]];
+    const Use& v = vertexOwner_[base_.faceVertices(f)[i]];
     const Use& e = edgeOwner_[edges[i]];
     if (v.face == f && v.corner == i) ++points;
     if (e.face == f && e.corner == i) points += edgeRates[edges[i]] - 1;
@@ -124,8 +124,8 @@ size_t EdgeRateTessellator::countFacets(const std::vector<int>& edgeRates,
 // then its interior, so equal rates reproduce the first-come numbering of a sequential walk.
 void EdgeRateTessellator::layoutOwnedPoints(size_t k, const std::vector<int>& edgeRates) {
   const int f = faces_[k];
-  const ConstIndexArray verts = base_.GetFaceVertices(f);
-  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  const ConstIndexArray verts = base_.faceVertices(f);
+  const ConstIndexArray edges = base_.faceEdges(f);
   size_t next = pointOffset_[k];
   for (int i = 0; i < verts.size(); ++i) {
     const Use& v = vertexOwner_[verts[i]];
@@ -143,8 +143,8 @@ void EdgeRateTessellator::layoutOwnedPoints(size_t k, const std::vector<int>& ed
 void EdgeRateTessellator::placeBoundary(size_t k, const std::vector<int>& edgeRates,
                                         FaceScratch& scratch) {
   const int f = faces_[k];
-  const ConstIndexArray verts = base_.GetFaceVertices(f);
-  const ConstIndexArray edges = base_.GetFaceEdges(f);
+  const ConstIndexArray verts = base_.faceVertices(f);
+  const ConstIndexArray edges = base_.faceEdges(f);
   int b = 0;
   for (int i = 0; i < verts.size(); ++i) {
     const Use& v = vertexOwner_[verts[i]];
