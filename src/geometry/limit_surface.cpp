@@ -8,11 +8,16 @@
 
 #include <opensubdiv/bfr/limits.h>
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surfaceFactoryCache.h>
 #include <opensubdiv/far/topologyDescriptor.h>
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <shared_mutex>
 #include <string>
 
 namespace meso {
@@ -182,60 +187,129 @@ void setTangentFrame(SurfacePoint& sp) {
 
 }  // namespace
 
+namespace {
+
+// Bfr surfaces are initialised from several threads at once: the factory's cache of irregular
+// patches (shared by the surfaces of faces with the same topology) then takes a lock.
+using ThreadedCache = OpenSubdiv::Bfr::SurfaceFactoryCacheThreaded<
+    std::shared_mutex, std::shared_lock<std::shared_mutex>, std::unique_lock<std::shared_mutex>>;
+using Factory = OpenSubdiv::Bfr::RefinerSurfaceFactory<ThreadedCache>;
+
+// Faces are prepared in chunks of this many, in parallel; each chunk's arrays are then appended
+// in chunk order, so the arrays are the same whatever the number of threads.
+constexpr int kFacesPerChunk = 1024;
+
+// What one chunk of faces adds to the surface's arrays; its faces' offsets and surface indices
+// are relative to these until the chunk is appended.
+struct FaceChunk {
+  std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;
+  std::vector<float> patchPoints, uvPatchPoints;
+  std::vector<Vec2> chartPoints;
+};
+
+void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Factory& factory,
+                  int begin, int end, const std::vector<size_t>& firstCorner,
+                  std::vector<LimitSurface::Impl::Face>& faces, FaceChunk& out) {
+  using Face = LimitSurface::Impl::Face;
+  // Room for 4 patch points a face (a bilinear quad's): a grid's arrays do not grow.
+  out.patchPoints.reserve(12 * static_cast<size_t>(end - begin));
+  if (mesh.hasUvs()) out.uvPatchPoints.reserve(8 * static_cast<size_t>(end - begin));
+  OpenSubdiv::Bfr::Surface<float> surface;
+  for (int f = begin; f < end; ++f) {
+    Face& face = faces[f];
+    const size_t first = firstCorner[f];
+    const int n = mesh.faceSizes[f];
+    face.param = Parameterization(toSdc(scheme), n);
+    if (face.param.HasSubFaces() || n == 3) {
+      face.chartOffset = static_cast<int>(out.chartPoints.size());
+      Vec3 corners[3];
+      if (n == 3)
+        for (int k = 0; k < 3; ++k) corners[k] = mesh.positions[mesh.faceVertices[first + k]];
+      appendFaceChart(n, corners, out.chartPoints);
+    }
+    setPolygonFrame(mesh, first, n, face);
+    if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
+    face.numPatchPoints = surface.GetNumPatchPoints();
+    face.patchOffset = out.patchPoints.size();
+    out.patchPoints.resize(face.patchOffset + 3 * face.numPatchPoints);
+    surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
+                               &out.patchPoints[face.patchOffset], PointDesc(3));
+    face.bilinear = isBilinearQuad<3>(surface, out.patchPoints, face.patchOffset);
+    if (!face.bilinear) {
+      face.surface = static_cast<int>(out.surfaces.size());
+      out.surfaces.push_back(surface);
+    }
+    if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
+    face.hasUv = true;
+    face.uvPatchOffset = out.uvPatchPoints.size();
+    out.uvPatchPoints.resize(face.uvPatchOffset + 2 * surface.GetNumPatchPoints());
+    surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2), &out.uvPatchPoints[face.uvPatchOffset],
+                               PointDesc(2));
+    face.uvBilinear = isBilinearQuad<2>(surface, out.uvPatchPoints, face.uvPatchOffset);
+    if (!face.uvBilinear) {
+      face.uvSurface = static_cast<int>(out.surfaces.size());
+      out.surfaces.push_back(surface);
+    }
+  }
+}
+
+}  // namespace
+
 LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     : impl_(std::make_unique<Impl>()) {
   validate(mesh, scheme);
   const std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner = createRefiner(mesh, scheme);
-  OpenSubdiv::Bfr::RefinerSurfaceFactory<> factory(*refiner);
+  const Factory factory(*refiner);
 
   const int numFaces = mesh.numFaces();
   impl_->faces.resize(numFaces);
-  // Room for 4 patch points a face (a bilinear quad's), so that a grid's arrays are not doubled
-  // as they grow; others are shrunk to their size below.
-  impl_->patchPoints.reserve(12 * static_cast<size_t>(numFaces));
-  if (mesh.hasUvs()) impl_->uvPatchPoints.reserve(8 * static_cast<size_t>(numFaces));
-  OpenSubdiv::Bfr::Surface<float> surface;
-  size_t first = 0;
-  for (int f = 0; f < numFaces; ++f) {
-    Impl::Face& face = impl_->faces[f];
-    const int n = mesh.faceSizes[f];
-    face.param = Parameterization(toSdc(scheme), n);
-    if (face.param.HasSubFaces() || n == 3) {
-      face.chartOffset = static_cast<int>(impl_->chartPoints.size());
-      Vec3 corners[3];
-      if (n == 3)
-        for (int k = 0; k < 3; ++k) corners[k] = mesh.positions[mesh.faceVertices[first + k]];
-      appendFaceChart(n, corners, impl_->chartPoints);
-    }
-    setPolygonFrame(mesh, first, n, face);
-    first += static_cast<size_t>(n);
-    if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
-    face.numPatchPoints = surface.GetNumPatchPoints();
-    face.patchOffset = impl_->patchPoints.size();
-    impl_->patchPoints.resize(face.patchOffset + 3 * face.numPatchPoints);
-    surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
-                               &impl_->patchPoints[face.patchOffset], PointDesc(3));
-    face.bilinear = isBilinearQuad<3>(surface, impl_->patchPoints, face.patchOffset);
-    if (!face.bilinear) {
-      face.surface = static_cast<int>(impl_->surfaces.size());
-      impl_->surfaces.push_back(surface);
-    }
-    if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
-    face.hasUv = true;
-    face.uvPatchOffset = impl_->uvPatchPoints.size();
-    impl_->uvPatchPoints.resize(face.uvPatchOffset + 2 * surface.GetNumPatchPoints());
-    surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2),
-                               &impl_->uvPatchPoints[face.uvPatchOffset], PointDesc(2));
-    face.uvBilinear = isBilinearQuad<2>(surface, impl_->uvPatchPoints, face.uvPatchOffset);
-    if (!face.uvBilinear) {
-      face.uvSurface = static_cast<int>(impl_->surfaces.size());
-      impl_->surfaces.push_back(surface);
-    }
+  std::vector<size_t> firstCorner(static_cast<size_t>(numFaces) + 1, 0);
+  for (int f = 0; f < numFaces; ++f)
+    firstCorner[f + 1] = firstCorner[f] + static_cast<size_t>(mesh.faceSizes[f]);
+  const int chunks = (numFaces + kFacesPerChunk - 1) / kFacesPerChunk;
+  std::vector<FaceChunk> parts(static_cast<size_t>(chunks));
+  tbb::parallel_for(0, chunks, [&](int c) {
+    prepareFaces(mesh, scheme, factory, c * kFacesPerChunk,
+                 std::min(numFaces, (c + 1) * kFacesPerChunk), firstCorner, impl_->faces,
+                 parts[static_cast<size_t>(c)]);
+  });
+  // The chunks in order, each released once appended.
+  size_t points = 0, uvPoints = 0, surfaces = 0, chart = 0;
+  for (const FaceChunk& part : parts) {
+    points += part.patchPoints.size();
+    uvPoints += part.uvPatchPoints.size();
+    surfaces += part.surfaces.size();
+    chart += part.chartPoints.size();
   }
-  impl_->surfaces.shrink_to_fit();
-  impl_->patchPoints.shrink_to_fit();
-  impl_->uvPatchPoints.shrink_to_fit();
-  impl_->topology = copyTopology(refiner->GetLevel(0));
+  Impl& impl = *impl_;
+  impl.patchPoints.reserve(points);
+  impl.uvPatchPoints.reserve(uvPoints);
+  impl.surfaces.reserve(surfaces);
+  impl.chartPoints.reserve(chart);
+  for (int c = 0; c < chunks; ++c) {
+    FaceChunk& part = parts[static_cast<size_t>(c)];
+    const int surfaceBase = static_cast<int>(impl.surfaces.size()),
+              chartBase = static_cast<int>(impl.chartPoints.size());
+    for (int f = c * kFacesPerChunk; f < std::min(numFaces, (c + 1) * kFacesPerChunk); ++f) {
+      Impl::Face& face = impl.faces[f];
+      if (face.chartOffset >= 0) face.chartOffset += chartBase;
+      if (!face.valid()) continue;
+      face.patchOffset += impl.patchPoints.size();
+      if (face.surface >= 0) face.surface += surfaceBase;
+      if (!face.hasUv) continue;
+      face.uvPatchOffset += impl.uvPatchPoints.size();
+      if (face.uvSurface >= 0) face.uvSurface += surfaceBase;
+    }
+    impl.patchPoints.insert(impl.patchPoints.end(), part.patchPoints.begin(),
+                            part.patchPoints.end());
+    impl.uvPatchPoints.insert(impl.uvPatchPoints.end(), part.uvPatchPoints.begin(),
+                              part.uvPatchPoints.end());
+    impl.surfaces.insert(impl.surfaces.end(), part.surfaces.begin(), part.surfaces.end());
+    impl.chartPoints.insert(impl.chartPoints.end(), part.chartPoints.begin(),
+                            part.chartPoints.end());
+    part = FaceChunk{};
+  }
+  impl.topology = copyTopology(refiner->GetLevel(0));
 }
 
 LimitSurface::~LimitSurface() = default;

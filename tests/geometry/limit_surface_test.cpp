@@ -6,10 +6,12 @@
 
 #include <gtest/gtest.h>
 #include <malloc.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <set>
 #include <vector>
 
@@ -84,6 +86,54 @@ TEST(LimitSurface, CubeCornersMatchValenceFormula) {
       EXPECT_LT(glm::length(sp.N - glm::normalize(mesh.positions[vertex])), 1e-5f)
           << "face " << f << " corner " << k;
     }
+}
+
+// Faces are set up in parallel chunks of 1024, joined in order. On meshes of several chunks every
+// face keeps its own patch: each corner of a refined cube (valence-3 corners: Bfr surfaces, shared
+// through the factory's cache) is its vertex's limit point, and a bilinear uv grid's points and uv
+// are the bilinear interpolation of its face's corners. The surfaces are the same bits with 1
+// thread and with 2.
+TEST(LimitSurface, ChunkedSetUpKeepsEveryFacesPatchWhateverTheThreads) {
+  const ControlMesh cube = test::refinedCube(24);  // 3 456 faces
+  ControlMesh ground = test::grid(80);             // 6 400 faces
+  for (const Vec3& p : ground.positions) ground.uvs.emplace_back(p.x / 80.0f, p.y / 160.0f);
+  ground.uvIndices = ground.faceVertices;
+  const struct {
+    const ControlMesh& mesh;
+    SubdivisionScheme scheme;
+  } cases[] = {{cube, SubdivisionScheme::CatmullClark}, {ground, SubdivisionScheme::Bilinear}};
+  for (const auto& c : cases) {
+    std::vector<std::unique_ptr<LimitSurface>> built;
+    for (int threads : {1, 2}) {
+      tbb::task_arena arena(threads);
+      arena.execute([&] { built.push_back(std::make_unique<LimitSurface>(c.mesh, c.scheme)); });
+    }
+    const LimitSurface& one = *built[0];
+    const LimitSurface& two = *built[1];
+    ASSERT_EQ(one.numFaces(), c.mesh.numFaces());
+    EXPECT_EQ(one.memoryBytes(), two.memoryBytes());
+    const bool bilinear = c.scheme == SubdivisionScheme::Bilinear;
+    for (int f = 0; f < c.mesh.numFaces(); ++f) {
+      const int* v = &c.mesh.faceVertices[4 * f];
+      for (int k = 0; k < 4; ++k) {
+        const SurfacePoint sp = one.evaluate(f, quadCorner(k));
+        const Vec3 expected = bilinear ? c.mesh.positions[v[k]] : valenceLimitPoint(c.mesh, v[k]);
+        ASSERT_LT(glm::length(sp.P - expected), 1e-5f) << "face " << f << " corner " << k;
+      }
+      for (Vec2 st : domainSamples(3, false)) {
+        const SurfacePoint a = one.evaluate(f, st), b = two.evaluate(f, st);
+        ASSERT_TRUE(a.P == b.P && a.Pu == b.Pu && a.Pv == b.Pv && a.N == b.N && a.uv == b.uv)
+            << "face " << f;
+        if (!bilinear) continue;
+        const auto lerp = [&](const auto& at) {
+          return (1.0f - st.y) * ((1.0f - st.x) * at(v[0]) + st.x * at(v[1])) +
+                 st.y * ((1.0f - st.x) * at(v[3]) + st.x * at(v[2]));
+        };
+        ASSERT_LT(glm::length(a.P - lerp([&](int i) { return c.mesh.positions[i]; })), 1e-4f);
+        ASSERT_LT(glm::length(a.uv - lerp([&](int i) { return c.mesh.uvs[i]; })), 1e-6f);
+      }
+    }
+  }
 }
 
 TEST(LimitSurface, CubeNormalsPointOutward) {
