@@ -49,7 +49,10 @@ CLI::App* addRenderOptions(CLI::App& cli, RenderCommandOptions& o) {
   addChoice(render, "--algorithm", o.algorithm, choiceList<Algorithm>("|"))
       ->default_str("render.algorithm");
   addOption(render, "--tessellation-rate", o.tessellationRate,
-            "Uniform Bfr tessellation rate per base-face edge", CLI::Range(1, 64))
+            "Tessellation of objects drawn undisplaced: 0 = by view (curved faces split per frame "
+            "until the limit surface is within 0.01 px of the chords), 1..64 = uniform Bfr rate "
+            "per base-face edge",
+            CLI::Range(0, 64))
       ->default_str("render.tessellation_rate");
   addOption(render, "--width", o.width, "Image width in pixels", CLI::Range(1, 16384))
       ->default_str("camera.resolution");

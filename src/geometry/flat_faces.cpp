@@ -74,12 +74,17 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface) {
 }
 
 TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate, uint64_t memoryLimitBytes,
-                                 const std::string& where, double heldBytes) {
+                                 const std::string& where, double heldBytes,
+                                 const std::vector<uint8_t>* affineIn) {
   if (rate < 1)
     throw Error("tessellation rate must be at least 1 (got " + std::to_string(rate) + ")");
   EdgeRateTessellator tessellator(surface);
   std::vector<int> rates(static_cast<size_t>(tessellator.numEdges()), 1);
-  const std::vector<uint8_t> affine = affineFaces(surface);
+  const std::vector<uint8_t> computed = affineIn ? std::vector<uint8_t>() : affineFaces(surface);
+  const std::vector<uint8_t>& affine = affineIn ? *affineIn : computed;
+  if (affine.size() != static_cast<size_t>(surface.numFaces()))
+    throw Error("tessellateSmooth: " + std::to_string(affine.size()) + " affine flags for " +
+                std::to_string(surface.numFaces()) + " faces");
   const LimitSurface::Impl::Topology& base = surface.impl().topology;
   // Bfr at rate R: 2 R^2 triangles a quad, R^2 a triangle, n R^2 / 2 an n-gon (n quads of R / 2);
   // a flat face at rate 1: 2 triangles a quad, n - 2 otherwise (counted as n, an upper bound).

@@ -114,7 +114,7 @@ void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder,
 
 bool RenderContext::viewDependent() const {
   for (const PreparedObject& o : objects)
-    if (o.displaced) return true;
+    if (o.displaced || o.byView) return true;
   return false;
 }
 
@@ -132,7 +132,8 @@ void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
     const PreparedObject& o = ctx.objects[k];
     const double bytes = double(o.surface.memoryBytes()) + double(o.uvSpeed.memoryBytes());
     surfaces += bytes;
-    if (o.displaced && options.dices) dicing += kDicingBytesPerFace * o.surface.numFaces();
+    if ((o.displaced || o.byView) && options.dices)
+      dicing += kDicingBytesPerFace * o.surface.numFaces();
     faces += o.surface.numFaces();
     if (bytes > largest) largest = bytes, largestObject = k;
   }
@@ -236,8 +237,15 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
     UvSpeed speed =
         hasRelief(material) && !solid.active && mesh.hasUvs() ? UvSpeed(mesh, surface) : UvSpeed();
     times.tessellate += tess.seconds();
-    ctx.objects.push_back(PreparedObject{
-        std::move(surface), {}, {}, object.material, solid, false, std::move(speed)});
+    ctx.objects.push_back(PreparedObject{.surface = std::move(surface),
+                                         .mesh = {},
+                                         .grids = {},
+                                         .material = object.material,
+                                         .solid = solid,
+                                         .displaced = false,
+                                         .byView = false,
+                                         .affine = {},
+                                         .uvSpeed = std::move(speed)});
   }
   Timer tables;
   const std::filesystem::path cacheFolder =
@@ -327,8 +335,19 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
   }
   progress.finish();
   times.tables += tables.seconds();
-  for (PreparedObject& o : ctx.objects)
+  Timer flat;
+  for (PreparedObject& o : ctx.objects) {
     o.displaced = raisesRelief(ctx.algorithm) && !ctx.reliefs[o.material].levels.empty();
+    if (o.displaced) continue;
+    // Drawn undisplaced: by view where a face is curved (an object of flat faces is drawn exactly
+    // by two triangles a face, once).
+    o.affine = affineFaces(o.surface);
+    if (scene.render.tessellationRate == 0)
+      for (int f = 0; f < o.surface.numFaces() && !o.byView; ++f)
+        o.byView = o.surface.hasLimitSurface(f) && !o.affine[static_cast<size_t>(f)];
+    if (o.byView) std::vector<uint8_t>().swap(o.affine);
+  }
+  times.tessellate += flat.seconds();
   fitGeometryInMemory(ctx, options);
   setSceneBox(ctx);
   if (options.buildFrame) prepareFrame(ctx, scene.camera, times);
@@ -390,8 +409,10 @@ size_t meshBytes(const TessellatedMesh& m) {
          m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
 }
 
-// Dices and displaces the displaced objects for this frame under one micropolygon cap (its
-// farthest geometry coarsened first, whichever object it belongs to); their figures go to `stats`.
+// Dices and displaces the displaced objects for this frame, and tessellates those drawn
+// undisplaced by view (nothing diced: the limit surface to the coarse tolerance), under one
+// micropolygon cap (its farthest geometry coarsened first, whichever object it belongs to); their
+// figures go to `stats` (micropolygons: the displaced objects').
 void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, const FrameDicing& d,
                      FrameGeometryStats& stats) {
   const RenderSettings& rs = ctx.scene->render;
@@ -400,6 +421,12 @@ void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, con
   for (size_t k : objects) {
     PreparedObject& object = ctx.objects[k];
     object.mesh = {};
+    if (!object.displaced) {
+      FaceDicing undiced;
+      undiced.needsDicing.assign(static_cast<size_t>(object.surface.numFaces()), 0);
+      surfaces.push_back({.surface = &object.surface, .faces = std::move(undiced)});
+      continue;
+    }
     const MaterialRelief& relief = ctx.reliefs[object.material];
     displacements.emplace_back(
         relief, d.mode, rs.transition, d.view.position, ctx.camera.pixelsPerRadian(),
@@ -418,9 +445,11 @@ void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, con
     PreparedObject& object = ctx.objects[objects[i]];
     if (!t.warning.empty())
       ctx.warnings.add(ctx.scene->objects[objects[i]].mesh.string() + ": " + t.warning);
-    stats.micropolygons += t.stats.micropolygons;
-    stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
-    stats.facesDiced += t.stats.facesDiced;
+    if (object.displaced) {
+      stats.micropolygons += t.stats.micropolygons;
+      stats.offScreenMicropolygons += t.stats.offScreenMicropolygons;
+      stats.facesDiced += t.stats.facesDiced;
+    }
     stats.coarsening = std::max(stats.coarsening, t.stats.coarsening);
     stats.coarsenedBeyond = std::min(stats.coarsenedBeyond, t.stats.coarsenedBeyond);
     object.mesh = std::move(t.mesh);
@@ -445,12 +474,15 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   std::vector<size_t> displaced;
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
-    if (object.displaced)
+    if (object.displaced || object.byView) {
       displaced.push_back(k);
-    else if (object.mesh.numTriangles() == 0)
+    } else if (object.mesh.numTriangles() == 0) {
       object.mesh =
-          tessellateSmooth(object.surface, ctx.scene->render.tessellationRate, ctx.memoryLimitBytes,
-                           ctx.scene->objects[k].mesh.string(), ctx.heldBytes);
+          tessellateSmooth(object.surface, std::max(ctx.scene->render.tessellationRate, 1),
+                           ctx.memoryLimitBytes, ctx.scene->objects[k].mesh.string(), ctx.heldBytes,
+                           object.affine.empty() ? nullptr : &object.affine);
+      std::vector<uint8_t>().swap(object.affine);
+    }
   }
   if (!displaced.empty()) displaceObjects(ctx, displaced, d, stats);
   stats.tessellateSeconds = tess.seconds();
@@ -461,7 +493,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   // BVH build (the peak of a frame whose mesh is not large: docs/performance.md), since a hit needs
   // only its triangle's face and patch coordinates.
   for (PreparedObject& object : ctx.objects)
-    if (object.displaced) {
+    if (object.displaced || object.byView) {
       if (!ctx.keepMeshPoints) {
         std::vector<Vec3>().swap(object.mesh.positions);
         std::vector<uint32_t>().swap(object.mesh.indices);

@@ -151,7 +151,7 @@ void readRender(TableReader& r, RenderSettings& s, const std::filesystem::path& 
   s.algorithm = r.choice("algorithm", s.algorithm);
   s.seed = static_cast<uint64_t>(r.integer("seed", 0, 0, INT64_MAX));
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
-  s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 1, 64));
+  s.tessellationRate = static_cast<int>(r.integer("tessellation_rate", s.tessellationRate, 0, 64));
   s.background = r.colour("background", s.background);
   s.transition.D = static_cast<float>(r.number("D", s.transition.D, 0.0, 1e6));
   s.transition.eps = static_cast<float>(r.number("eps", s.transition.eps, 0.0, 1e6));

@@ -158,6 +158,7 @@ TEST_F(SceneReaderTest, DefaultsAndTransformOrder) {
   EXPECT_EQ(s.render.algorithm, Algorithm::Auto);
   EXPECT_EQ(s.render.dicingMetric, DicingMetric::Isotropic);
   EXPECT_FLOAT_EQ(s.render.acrossViewCap, 0.5f);
+  EXPECT_EQ(s.render.tessellationRate, 0);  // by view
   // T * Rz * Ry * Rx * S: (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (10, 2,
   // 0).
   const Vec4 p = s.objects[0].transform * Vec4(1, 0, 0, 1);
@@ -215,6 +216,9 @@ TEST_F(SceneReaderTest, NanInfAndOutOfRangeAreRejected) {
             std::string::npos);
   EXPECT_NE(errorOf(std::string("[[materials]]\nname = \"m\"\nkd = [1, -1, 0]\n") + kObject)
                 .find(at(3, 10, "materials.kd") + "expected a number in [0, 1e+06], got -1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string("[render]\ntessellation_rate = 65\n") + kObject)
+                .find("render.tessellation_rate: expected an integer in [0, 64], got 65"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kObject) + "scale = 0\n")
                 .find(at(3, 9, "objects.scale") + "expected non-zero"),

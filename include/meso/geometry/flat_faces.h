@@ -26,8 +26,10 @@ std::vector<uint8_t> affineFaces(const LimitSurface& surface);
 // up to rounding. Refused (meso::Error naming `where` and render.tessellation_rate) before any
 // triangle is made when its triangles, at kBytesPerMicropolygon each, beside `heldBytes` already
 // held (film, tables, limit surfaces), would exceed `memoryLimitBytes` (--memory-limit).
+// `affine`: affineFaces(surface) when the caller has it (null: computed here).
 TessellatedMesh tessellateSmooth(const LimitSurface& surface, int rate,
                                  uint64_t memoryLimitBytes = defaultMemoryLimitBytes(),
-                                 const std::string& where = "", double heldBytes = 0.0);
+                                 const std::string& where = "", double heldBytes = 0.0,
+                                 const std::vector<uint8_t>* affine = nullptr);
 
 }  // namespace meso

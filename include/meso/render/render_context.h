@@ -32,9 +32,16 @@ struct PreparedObject {
   int material = 0;
   // Where its points lie in its material's solid relief (inactive for relief over (u, v)).
   SolidSpace solid;
-  // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the uniform
-  // tessellation of the limit surface (built once).
+  // Displaced micropolygons (view-dependent, rebuilt per frame) rather than the limit surface
+  // drawn undisplaced.
   bool displaced = false;
+  // Drawn undisplaced and tessellated per frame by view (render.tessellation_rate 0 and a curved
+  // face): split until the limit surface is within DicingSettings::coarseTolerance pixels of the
+  // chords, rate 1 out of view; otherwise the uniform tessellation, built once.
+  bool byView = false;
+  // affineFaces of its limit surface, for the uniform tessellation of an object drawn undisplaced
+  // (released once it is made).
+  std::vector<uint8_t> affine;
   // The length per unit of u that T reads, continuous across faces (relief over (u, v) on a mesh
   // with uv; empty otherwise).
   UvSpeed uvSpeed;
@@ -117,7 +124,8 @@ struct RenderContext {
   bool keepMeshPoints = false;
 
   size_t numTriangles() const { return rays ? rays->numTriangles() : 0; }
-  // True when some object's geometry depends on the camera (displaced relief is in use).
+  // True when some object's geometry depends on the camera (displaced relief, or an object
+  // tessellated by view).
   bool viewDependent() const;
 };
 
@@ -154,7 +162,8 @@ RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
 
 // Sets the camera and builds the frame's geometry: objects whose material has relief are diced
 // into displaced micropolygons where the algorithm raises relief in this view (everywhere for
-// displacement, where T can exceed e3 for auto); the others keep the uniform tessellation of
+// displacement, where T can exceed e3 for auto); the others are drawn undisplaced, by view
+// (PreparedObject::byView, under the same micropolygon cap) or with the uniform tessellation of
 // render.tessellation_rate, built on the first call and reused after. Warnings (a micropolygon cap
 // that coarsened dicing) are added to ctx.warnings.
 FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& camera,

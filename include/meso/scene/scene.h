@@ -187,8 +187,13 @@ inline constexpr int kMaxSampleLights = 80;
 struct RenderSettings {
   Algorithm algorithm = Algorithm::Auto;
   uint64_t seed = 0;
-  int threads = 0;           // 0: all cores
-  int tessellationRate = 8;  // uniform Bfr rate (segments per base-face edge)
+  int threads = 0;  // 0: all cores
+  // Tessellation of objects drawn undisplaced: 0 (by view) splits each mesh edge of a curved face,
+  // per frame, until the limit surface is within DicingSettings::coarseTolerance pixels of its
+  // chords (faces out of view: one segment, or none where they cannot shadow the view); 1..64 is
+  // a uniform Bfr rate (segments per base-face edge), built once. Objects whose every face is flat
+  // (an affine image of its patch coordinates) get two triangles a face either way.
+  int tessellationRate = 0;
   Vec3 background{0.0f};
   TransitionSettings transition;
   float dicingRate = 1.0f;  // micropolygon edge length in pixels where displaced
