@@ -73,6 +73,10 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
     shape_.resize(static_cast<size_t>(surface->numFaces()));
     tbb::parallel_for(0, surface->numFaces(),
                       [&](int f) { shape_[static_cast<size_t>(f)] = shapeOperator(*surface, f); });
+    // A surface flat on every face (a ground grid) has no curvature to add: none is kept (36 bytes
+    // a face while the frame is diced).
+    if (std::all_of(shape_.begin(), shape_.end(), [](const Mat3& W) { return W == Mat3(0.0f); }))
+      std::vector<Mat3>().swap(shape_);
   }
   if (relief.visibleHeights.size() == relief.levels.size()) {
     visible_ = relief.visibleHeights;

@@ -70,6 +70,7 @@ class ReliefDisplacement : public VertexDisplacement {
   // Per base face (ByTransition mode with a surface): the limit surface's shape operator at the
   // face's centre, world to world (dN = W dP on the tangent plane, W N = 0), so that the normal
   // curvature along a tangent direction d is d . W d (positive where the surface is convex).
+  // Empty where every face's is zero.
   std::vector<Mat3> shape_;
 
   // sp and coord: the point as reliefChart gives it.
