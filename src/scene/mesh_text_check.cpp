@@ -35,10 +35,15 @@ long long objIndex(const LineReader& r, const Token& t, std::string_view text, l
   return index;
 }
 
-// A checked number as float, rounded once from its text as OpenMesh's `stream >> float` rounds it.
-float singleOf(const Token& t, double checked) {
+// A number as float, rounded once from its text as OpenMesh's `stream >> float` rounds it, and
+// checked as number() checks it (which a finite float read from the whole token passes; the
+// others are read again as a double there, for the error or a value under float's range).
+float single(const LineReader& r, const Token& t, std::string_view key) {
   float v = 0.0f;
-  const auto [ptr, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), v);
+  const char* end = t.text.data() + t.text.size();
+  const auto [ptr, ec] = std::from_chars(t.text.data(), end, v);
+  if (ec == std::errc() && ptr == end && std::isfinite(v)) return v;
+  const double checked = number(r, t, std::string(key));
   return ec == std::errc() ? v : static_cast<float>(checked);  // (under- or overflow)
 }
 
@@ -82,8 +87,8 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
                "expected x y z, got " + std::to_string(t.size() - 1) + " numbers");
       std::array<float, 3> p{};
       for (size_t i = 1; i < t.size() && i <= 4; ++i) {
-        const double x = number(r, t[i], "v");
-        if (i <= 3) p[i - 1] = singleOf(t[i], x);
+        const float x = single(r, t[i], "v");
+        if (i <= 3) p[i - 1] = x;
       }
       obj.positions.push_back(p);
       ++v;
@@ -94,8 +99,8 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
                    (t.size() == 2 ? " number" : " numbers"));
       std::array<float, 2> uv{};
       for (size_t i = 1; i < t.size() && i <= 3; ++i) {
-        const double x = number(r, t[i], "vt");
-        if (i <= 2) uv[i - 1] = singleOf(t[i], x);
+        const float x = single(r, t[i], "vt");
+        if (i <= 2) uv[i - 1] = x;
       }
       obj.texcoords.push_back(uv);
       ++vt;

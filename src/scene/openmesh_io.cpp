@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <cmath>
 #include <utility>
@@ -31,39 +32,41 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 
 // Face-varying (u, v) from halfedge texture coordinates (OBJ) or from the vertices' (PLY, OFF),
 // equal values one index, numbered in the order of their first corner. Equal is by the values'
-// bits with -0 as +0 (as they compare); found by sorting the corners by value, in arrays that go
-// back to the system whole (a node per value, as a map has, would leave the heap fragmented for the
-// rest of the frame).
-void readUvs(const PolyMesh& mesh, bool perVertex, ControlMesh& out) {
+// bits with -0 as +0 (as they compare); found with an open-addressing table of the values' bits
+// (Fibonacci hashing, linear probing) twice as large as `distinct`, the most values there can be
+// (the file's texture coordinates or vertices; more are found, the table is made for every
+// corner), in arrays that go back to the system whole (a node per value, as a map has, would
+// leave the heap fragmented for the rest of the frame).
+void readUvs(const PolyMesh& mesh, bool perVertex, size_t distinct, ControlMesh& out) {
   const auto bitsOf = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
-  std::vector<uint64_t> keys;
-  std::vector<Vec2> values;
-  keys.reserve(mesh.n_halfedges() / 2), values.reserve(mesh.n_halfedges() / 2);
-  for (const auto& f : mesh.faces())
-    for (const auto& h : mesh.fh_range(f)) {
-      const auto t = perVertex ? mesh.texcoord2D(mesh.to_vertex_handle(h)) : mesh.texcoord2D(h);
-      keys.push_back(uint64_t{bitsOf(t[0])} << 32 | bitsOf(t[1]));
-      values.emplace_back(t[0], t[1]);
-    }
-  const size_t n = keys.size();
-  std::vector<uint32_t> order(n);
-  for (size_t c = 0; c < n; ++c) order[c] = static_cast<uint32_t>(c);
-  std::sort(order.begin(), order.end(), [&keys](uint32_t a, uint32_t b) {
-    return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
-  });
-  std::vector<uint32_t> first(n);  // the first corner with the same value
-  for (size_t r = 0; r < n; ++r)
-    first[order[r]] =
-        r > 0 && keys[order[r]] == keys[order[r - 1]] ? first[order[r - 1]] : order[r];
-  out.uvIndices.resize(n);
-  for (size_t c = 0; c < n; ++c) {
-    if (first[c] == c) {
-      out.uvIndices[c] = static_cast<int>(out.uvs.size());
-      out.uvs.push_back(values[c]);
-    } else {
-      out.uvIndices[c] = out.uvIndices[first[c]];
-    }
-  }
+  const size_t corners = mesh.n_halfedges();  // at least the faces' corners
+  constexpr uint32_t kEmpty = std::numeric_limits<uint32_t>::max();
+  const auto attempt = [&](size_t bound) {
+    size_t size = 16;
+    int shift = 60;  // the product's top log2(size) bits pick the slot
+    while (size < 2 * bound) size *= 2, --shift;
+    std::vector<uint64_t> keys(size);
+    std::vector<uint32_t> index(size, kEmpty);
+    out.uvs.clear();
+    out.uvIndices.clear();
+    out.uvIndices.reserve(corners / 2);
+    for (const auto& f : mesh.faces())
+      for (const auto& h : mesh.fh_range(f)) {
+        const auto t = perVertex ? mesh.texcoord2D(mesh.to_vertex_handle(h)) : mesh.texcoord2D(h);
+        const uint64_t key = uint64_t{bitsOf(t[0])} << 32 | bitsOf(t[1]);
+        size_t slot = static_cast<size_t>((key * 0x9e3779b97f4a7c15ull) >> shift);
+        while (index[slot] != kEmpty && keys[slot] != key) slot = (slot + 1) & (size - 1);
+        if (index[slot] == kEmpty) {
+          if (out.uvs.size() >= bound) return false;  // more values than the bound
+          keys[slot] = key;
+          index[slot] = static_cast<uint32_t>(out.uvs.size());
+          out.uvs.emplace_back(t[0], t[1]);
+        }
+        out.uvIndices.push_back(static_cast<int>(index[slot]));
+      }
+    return true;
+  };
+  if (!attempt(std::min(distinct, corners))) attempt(corners);
 }
 
 // OpenMesh's readers trust the element counts: check them against the file size before handing
@@ -93,6 +96,11 @@ void checkHeader(std::string_view bytes, const std::filesystem::path& file,
 bool importObj(const ObjContents& obj, PolyMesh& mesh) {
   OpenMesh::IO::ImporterT<PolyMesh> importer(mesh);
   importer.prepare();
+  // Room for all of it (a grid's edges are about its vertices plus its faces): the kernel's arrays
+  // do not grow by copies.
+  const size_t vertices = obj.positions.size(), faces = obj.faceSizes.size();
+  importer.reserve(static_cast<unsigned>(vertices), static_cast<unsigned>(vertices + faces),
+                   static_cast<unsigned>(faces));
   for (const auto& p : obj.positions) importer.add_vertex(OpenMesh::Vec3f(p[0], p[1], p[2]));
   OpenMesh::IO::BaseImporter::VHandles corners;
   std::vector<OpenMesh::Vec2f> texcoords;
@@ -179,6 +187,8 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
       fail(file, "vertex " + std::to_string(v.idx() + 1) + " has a NaN or infinite coordinate");
     out.positions.emplace_back(p[0], p[1], p[2]);
   }
+  out.faceSizes.reserve(mesh.n_faces());
+  out.faceVertices.reserve(mesh.n_halfedges());  // at least the corners
   for (const auto& f : mesh.faces()) {
     int n = 0;
     for (const auto& v : mesh.fv_range(f)) {
@@ -188,9 +198,9 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
     out.faceSizes.push_back(n);
   }
   if (options.check(OpenMesh::IO::Options::FaceTexCoord))
-    readUvs(mesh, false, out);
+    readUvs(mesh, false, static_cast<size_t>(counts.texcoords), out);
   else if (options.check(OpenMesh::IO::Options::VertexTexCoord))
-    readUvs(mesh, true, out);
+    readUvs(mesh, true, mesh.n_vertices(), out);
   return out;
 }
 
