@@ -33,10 +33,10 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 // Face-varying (u, v) from halfedge texture coordinates (OBJ) or from the vertices' (PLY, OFF),
 // equal values one index, numbered in the order of their first corner. Equal is by the values'
 // bits with -0 as +0 (as they compare); found with an open-addressing table of the values' bits
-// (Fibonacci hashing, linear probing) twice as large as `distinct`, the most values there can be
-// (the file's texture coordinates or vertices; more are found, the table is made for every
-// corner), in arrays that go back to the system whole (a node per value, as a map has, would
-// leave the heap fragmented for the rest of the frame).
+// (Fibonacci hashing, linear probing) with twice as many slots as `distinct`, the most values
+// there can be (the file's texture coordinates, or its vertices; should more turn up, the table is
+// made again with a slot for every corner), in arrays that go back to the system whole (a node per
+// value, as a map has, would leave the heap fragmented for the rest of the frame).
 void readUvs(const PolyMesh& mesh, bool perVertex, size_t distinct, ControlMesh& out) {
   const auto bitsOf = [](float x) { return std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x); };
   const size_t corners = mesh.n_halfedges();  // at least the faces' corners
