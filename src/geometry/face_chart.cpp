@@ -111,7 +111,7 @@ Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) cons
   }
   if (f.param.GetType() == Parameterization::TRI) {
     // A Loop triangle: Bfr's (u, v) are the barycentric coordinates of st on the chart triangle.
-    const Vec2* v = &chartPoints[f.chartOffset];
+    const Vec2* v = chartPoints(face);
     jacobian = glm::inverse(glm::mat2(v[1] - v[0], v[2] - v[0]));
     Vec2 uv = glm::max(jacobian * (st - v[0]), Vec2(0.0f));
     const float sum = uv.x + uv.y;
@@ -122,7 +122,7 @@ Vec2 LimitSurface::Impl::chartToBfr(int face, Vec2 st, glm::mat2& jacobian) cons
   // its bilinear map there. A point outside the polygon is projected radially onto its boundary,
   // which keeps the clamp continuous.
   const int n = f.param.GetFaceSize();
-  const Vec2* v = &chartPoints[f.chartOffset];
+  const Vec2* v = chartPoints(face);
   const int i = chartSector(v, n, st);
   const Kite kite = kiteOf(v, n, i);
   const Vec2 c = kite.p11, d = st - c;
@@ -146,13 +146,13 @@ Vec2 LimitSurface::Impl::bfrToChart(int face, Vec2 bfrUv) const {
   const Face& f = faces[face];
   if (f.chartOffset < 0) return bfrUv;
   if (f.param.GetType() == Parameterization::TRI) {
-    const Vec2* v = &chartPoints[f.chartOffset];
+    const Vec2* v = chartPoints(face);
     return v[0] + bfrUv.x * (v[1] - v[0]) + bfrUv.y * (v[2] - v[0]);
   }
   const int n = f.param.GetFaceSize();
   Vec2 ab;
   const int i = f.param.ConvertCoordToNormalizedSubFace(&bfrUv.x, &ab.x);
-  return kiteOf(&chartPoints[f.chartOffset], n, i).at(glm::clamp(ab, Vec2(0.0f), Vec2(1.0f)));
+  return kiteOf(chartPoints(face), n, i).at(glm::clamp(ab, Vec2(0.0f), Vec2(1.0f)));
 }
 
 }  // namespace meso

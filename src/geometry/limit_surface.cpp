@@ -195,21 +195,11 @@ using ThreadedCache = OpenSubdiv::Bfr::SurfaceFactoryCacheThreaded<
     std::shared_mutex, std::shared_lock<std::shared_mutex>, std::unique_lock<std::shared_mutex>>;
 using Factory = OpenSubdiv::Bfr::RefinerSurfaceFactory<ThreadedCache>;
 
-// Faces are prepared in chunks of this many, in parallel; each chunk's arrays are then appended
-// in chunk order, so the arrays are the same whatever the number of threads.
-constexpr int kFacesPerChunk = 1024;
-
-// What one chunk of faces adds to the surface's arrays; its faces' offsets and surface indices
-// are relative to these until the chunk is appended.
-struct FaceChunk {
-  std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;
-  std::vector<float> patchPoints, uvPatchPoints;
-  std::vector<Vec2> chartPoints;
-};
-
+// The faces of one chunk (Impl::Chunk), whose arrays they fill. The chunks are fixed ranges of
+// faces, so the arrays are the same whatever the number of threads.
 void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Factory& factory,
                   int begin, int end, const std::vector<size_t>& firstCorner,
-                  std::vector<LimitSurface::Impl::Face>& faces, FaceChunk& out) {
+                  std::vector<LimitSurface::Impl::Face>& faces, LimitSurface::Impl::Chunk& out) {
   using Face = LimitSurface::Impl::Face;
   // Room for 4 patch points a face (a bilinear quad's): a grid's arrays do not grow.
   out.patchPoints.reserve(12 * static_cast<size_t>(end - begin));
@@ -230,7 +220,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     setPolygonFrame(mesh, first, n, face);
     if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
     face.numPatchPoints = surface.GetNumPatchPoints();
-    face.patchOffset = out.patchPoints.size();
+    face.patchOffset = static_cast<int>(out.patchPoints.size());
     out.patchPoints.resize(face.patchOffset + 3 * face.numPatchPoints);
     surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
                                &out.patchPoints[face.patchOffset], PointDesc(3));
@@ -241,7 +231,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     }
     if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
     face.hasUv = true;
-    face.uvPatchOffset = out.uvPatchPoints.size();
+    face.uvPatchOffset = static_cast<int>(out.uvPatchPoints.size());
     out.uvPatchPoints.resize(face.uvPatchOffset + 2 * surface.GetNumPatchPoints());
     surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2), &out.uvPatchPoints[face.uvPatchOffset],
                                PointDesc(2));
@@ -266,49 +256,20 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
   std::vector<size_t> firstCorner(static_cast<size_t>(numFaces) + 1, 0);
   for (int f = 0; f < numFaces; ++f)
     firstCorner[f + 1] = firstCorner[f] + static_cast<size_t>(mesh.faceSizes[f]);
-  const int chunks = (numFaces + kFacesPerChunk - 1) / kFacesPerChunk;
-  std::vector<FaceChunk> parts(static_cast<size_t>(chunks));
-  tbb::parallel_for(0, chunks, [&](int c) {
-    prepareFaces(mesh, scheme, factory, c * kFacesPerChunk,
-                 std::min(numFaces, (c + 1) * kFacesPerChunk), firstCorner, impl_->faces,
-                 parts[static_cast<size_t>(c)]);
-  });
-  // The chunks in order, each released once appended.
-  size_t points = 0, uvPoints = 0, surfaces = 0, chart = 0;
-  for (const FaceChunk& part : parts) {
-    points += part.patchPoints.size();
-    uvPoints += part.uvPatchPoints.size();
-    surfaces += part.surfaces.size();
-    chart += part.chartPoints.size();
-  }
+  constexpr int kPerChunk = Impl::kFacesPerChunk;
+  const int chunks = (numFaces + kPerChunk - 1) / kPerChunk;
   Impl& impl = *impl_;
-  impl.patchPoints.reserve(points);
-  impl.uvPatchPoints.reserve(uvPoints);
-  impl.surfaces.reserve(surfaces);
-  impl.chartPoints.reserve(chart);
-  for (int c = 0; c < chunks; ++c) {
-    FaceChunk& part = parts[static_cast<size_t>(c)];
-    const int surfaceBase = static_cast<int>(impl.surfaces.size()),
-              chartBase = static_cast<int>(impl.chartPoints.size());
-    for (int f = c * kFacesPerChunk; f < std::min(numFaces, (c + 1) * kFacesPerChunk); ++f) {
-      Impl::Face& face = impl.faces[f];
-      if (face.chartOffset >= 0) face.chartOffset += chartBase;
-      if (!face.valid()) continue;
-      face.patchOffset += impl.patchPoints.size();
-      if (face.surface >= 0) face.surface += surfaceBase;
-      if (!face.hasUv) continue;
-      face.uvPatchOffset += impl.uvPatchPoints.size();
-      if (face.uvSurface >= 0) face.uvSurface += surfaceBase;
-    }
-    impl.patchPoints.insert(impl.patchPoints.end(), part.patchPoints.begin(),
-                            part.patchPoints.end());
-    impl.uvPatchPoints.insert(impl.uvPatchPoints.end(), part.uvPatchPoints.begin(),
-                              part.uvPatchPoints.end());
-    impl.surfaces.insert(impl.surfaces.end(), part.surfaces.begin(), part.surfaces.end());
-    impl.chartPoints.insert(impl.chartPoints.end(), part.chartPoints.begin(),
-                            part.chartPoints.end());
-    part = FaceChunk{};
-  }
+  impl.chunks.resize(static_cast<size_t>(chunks));
+  tbb::parallel_for(0, chunks, [&](int c) {
+    Impl::Chunk& chunk = impl.chunks[static_cast<size_t>(c)];
+    prepareFaces(mesh, scheme, factory, c * kPerChunk, std::min(numFaces, (c + 1) * kPerChunk),
+                 firstCorner, impl.faces, chunk);
+    // Kept for the surface's life: without the room the arrays grew into.
+    chunk.surfaces.shrink_to_fit();
+    chunk.patchPoints.shrink_to_fit();
+    chunk.uvPatchPoints.shrink_to_fit();
+    chunk.chartPoints.shrink_to_fit();
+  });
   impl.topology = copyTopology(refiner->GetLevel(0));
 }
 
@@ -329,7 +290,7 @@ bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
   if (!f.valid()) return false;
   lo = Vec3(std::numeric_limits<float>::infinity());
   hi = -lo;
-  const float* p = &impl_->patchPoints[f.patchOffset];
+  const float* p = impl_->patchPoints(face);
   for (int i = 0; i < f.numPatchPoints; ++i, p += 3) {
     lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
     hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
@@ -342,12 +303,16 @@ size_t LimitSurface::Impl::Topology::memoryBytes() const {
                         edgeFirst.capacity() + edgeFace.capacity());
 }
 
+size_t LimitSurface::Impl::Chunk::memoryBytes() const {
+  return sizeof(Chunk) + surfaces.capacity() * sizeof(OpenSubdiv::Bfr::Surface<float>) +
+         (patchPoints.capacity() + uvPatchPoints.capacity()) * sizeof(float) +
+         chartPoints.capacity() * sizeof(Vec2);
+}
+
 size_t LimitSurface::memoryBytes() const {
   const Impl& i = *impl_;
-  double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face) +
-                 double(i.surfaces.capacity()) * sizeof(OpenSubdiv::Bfr::Surface<float>) +
-                 double(i.patchPoints.capacity() + i.uvPatchPoints.capacity()) * sizeof(float) +
-                 double(i.chartPoints.capacity()) * sizeof(Vec2);
+  double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face);
+  for (const Impl::Chunk& chunk : i.chunks) bytes += double(chunk.memoryBytes());
   bytes += double(i.topology.memoryBytes());
   return static_cast<size_t>(bytes);
 }
@@ -355,13 +320,14 @@ size_t LimitSurface::memoryBytes() const {
 namespace {
 
 // Derivatives with respect to Bfr's coordinates at c.
-void evaluateDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
-                         Vec3& P, Vec3& dPdc0, Vec3& dPdc1) {
+void evaluateDerivatives(const LimitSurface::Impl& impl, int face, Vec2 c, Vec3& P, Vec3& dPdc0,
+                         Vec3& dPdc1) {
+  const LimitSurface::Impl::Face& f = impl.faces[face];
   if (f.bilinear)
-    bilinearQuad<3>(&impl.patchPoints[f.patchOffset], c, &P.x, &dPdc0.x, &dPdc1.x);
+    bilinearQuad<3>(impl.patchPoints(face), c, &P.x, &dPdc0.x, &dPdc1.x);
   else
-    impl.surfaces[f.surface].Evaluate(&c.x, &impl.patchPoints[f.patchOffset], PointDesc(3), &P.x,
-                                      &dPdc0.x, &dPdc1.x);
+    impl.chunkOf(face).surfaces[f.surface].Evaluate(&c.x, impl.patchPoints(face), PointDesc(3),
+                                                    &P.x, &dPdc0.x, &dPdc1.x);
 }
 
 bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {
@@ -387,28 +353,29 @@ Vec3 limitNormal(const LimitSurface::Impl& impl, int face, Vec2 st, const Vec3& 
   const LimitSurface::Impl::Face& f = impl.faces[face];
   Vec2 centre(0.5f), corner(0.0f);
   if (f.chartOffset >= 0) {
-    centre = impl.chartPoints[f.chartOffset + f.param.GetFaceSize()];
-    corner = impl.chartPoints[f.chartOffset];
+    centre = impl.chartPoints(face)[f.param.GetFaceSize()];
+    corner = impl.chartPoints(face)[0];
   }
   const Vec2 target = glm::length(st - centre) > 1e-3f ? centre : corner;
   for (float inset : {1e-4f, 1e-3f, 1e-2f, 1e-1f}) {
     glm::mat2 unused;
     const Vec2 c = impl.chartToBfr(face, st + inset * (target - st), unused);
     Vec3 P, d0, d1;
-    evaluateDerivatives(impl, f, c, P, d0, d1);
+    evaluateDerivatives(impl, face, c, P, d0, d1);
     if (usableCross(d0, d1, n)) return n;
   }
   return f.averageNormal;
 }
 
 // Pu, Pv with respect to texture coordinates: [Pu Pv] = [dP/dc] (d uv / dc)^-1.
-bool textureDerivatives(const LimitSurface::Impl& impl, const LimitSurface::Impl::Face& f, Vec2 c,
-                        const Vec3& dPdc0, const Vec3& dPdc1, SurfacePoint& sp) {
+bool textureDerivatives(const LimitSurface::Impl& impl, int face, Vec2 c, const Vec3& dPdc0,
+                        const Vec3& dPdc1, SurfacePoint& sp) {
+  const LimitSurface::Impl::Face& f = impl.faces[face];
   Vec2 dUv0, dUv1;
   if (f.uvBilinear)
-    bilinearQuad<2>(&impl.uvPatchPoints[f.uvPatchOffset], c, &sp.uv.x, &dUv0.x, &dUv1.x);
+    bilinearQuad<2>(impl.uvPatchPoints(face), c, &sp.uv.x, &dUv0.x, &dUv1.x);
   else
-    impl.surfaces[f.uvSurface].Evaluate(&c.x, &impl.uvPatchPoints[f.uvPatchOffset], PointDesc(2),
+    impl.chunkOf(face).surfaces[f.uvSurface].Evaluate(&c.x, impl.uvPatchPoints(face), PointDesc(2),
                                         &sp.uv.x, &dUv0.x, &dUv1.x);
   const float det = cross2(dUv0, dUv1);
   // A folded or collapsed uv map has no inverse; the caller then keeps patch derivatives.
@@ -438,9 +405,9 @@ SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
   glm::mat2 dcdst;
   const Vec2 c = impl_->chartToBfr(face, st, dcdst);
   Vec3 dPdc0, dPdc1;
-  evaluateDerivatives(*impl_, f, c, sp.P, dPdc0, dPdc1);
+  evaluateDerivatives(*impl_, face, c, sp.P, dPdc0, dPdc1);
   sp.N = limitNormal(*impl_, face, st, dPdc0, dPdc1);
-  if (f.hasUv && textureDerivatives(*impl_, f, c, dPdc0, dPdc1, sp)) return sp;
+  if (f.hasUv && textureDerivatives(*impl_, face, c, dPdc0, dPdc1, sp)) return sp;
   if (!f.hasUv) sp.uv = impl_->bfrToChart(face, c);  // st, clamped into the face
   // Chain rule through the chart: column k of dcdst is d(Bfr uv)/d(st_k).
   sp.Pu = dPdc0 * dcdst[0][0] + dPdc1 * dcdst[0][1];

@@ -40,11 +40,12 @@ struct LimitSurface::Impl {
   struct Face {
     OpenSubdiv::Bfr::Parameterization param;
     int numPatchPoints = 0;  // 0: the face has no limit surface (a hole or non-manifold face)
-    // Index in `surfaces` of the Bfr surfaces of the positions and of the face-varying (u, v); -1
-    // where the patch is bilinear (below) or, for uv, where the mesh has none.
+    // Offsets in the arrays of the face's chunk (Chunk, below). Index in `surfaces` of the Bfr
+    // surfaces of the positions and of the face-varying (u, v); -1 where the patch is bilinear
+    // (below) or, for uv, where the mesh has none.
     int surface = -1, uvSurface = -1;
-    size_t patchOffset = 0;  // first float of this face's patch points
-    size_t uvPatchOffset = 0;
+    int patchOffset = 0;  // first float of this face's patch points
+    int uvPatchOffset = 0;
     int chartOffset =
         -1;  // first chart point (N vertices, then the centre); -1: st is Bfr's (quads)
     // The patch is the bilinear quad of its 4 patch points (regular faces of the bilinear scheme,
@@ -81,12 +82,31 @@ struct LimitSurface::Impl {
     size_t memoryBytes() const;
   };
 
+  // The arrays of kFacesPerChunk consecutive faces, prepared in parallel and kept as made: one
+  // array of each for the whole surface would have to be joined from them, holding both at once.
+  static constexpr int kFacesPerChunk = 1024;
+  struct Chunk {
+    std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;  // of faces that are not bilinear
+    std::vector<float> patchPoints;                         // 3 floats per point
+    std::vector<float> uvPatchPoints;                       // 2 floats per point
+    std::vector<Vec2> chartPoints;
+    size_t memoryBytes() const;
+  };
+
   Topology topology;
   std::vector<Face> faces;
-  std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;  // those of faces that are not bilinear
-  std::vector<float> patchPoints;                         // 3 floats per point
-  std::vector<float> uvPatchPoints;                       // 2 floats per point
-  std::vector<Vec2> chartPoints;
+  std::vector<Chunk> chunks;
+
+  const Chunk& chunkOf(int face) const { return chunks[static_cast<size_t>(face) / kFacesPerChunk]; }
+  const float* patchPoints(int face) const {
+    return &chunkOf(face).patchPoints[faces[face].patchOffset];
+  }
+  const float* uvPatchPoints(int face) const {
+    return &chunkOf(face).uvPatchPoints[faces[face].uvPatchOffset];
+  }
+  const Vec2* chartPoints(int face) const {
+    return &chunkOf(face).chartPoints[faces[face].chartOffset];
+  }
 
   // Bfr coordinates of meso's st (clamped into the face) and their Jacobian d(Bfr uv)/d(st).
   Vec2 chartToBfr(int face, Vec2 st, glm::mat2& jacobian) const;
@@ -96,7 +116,7 @@ struct LimitSurface::Impl {
   // straight st segment between them (in the chart too, whose boundary maps onto the face's edges).
   Vec2 cornerSt(int face, int corner) const {
     const Face& f = faces[face];
-    if (f.chartOffset >= 0) return chartPoints[f.chartOffset + corner];
+    if (f.chartOffset >= 0) return chartPoints(face)[corner];
     Vec2 uv;
     f.param.GetVertexCoord(corner, &uv.x);
     return uv;
