@@ -376,7 +376,7 @@ bool textureDerivatives(const LimitSurface::Impl& impl, int face, Vec2 c, const 
     bilinearQuad<2>(impl.uvPatchPoints(face), c, &sp.uv.x, &dUv0.x, &dUv1.x);
   else
     impl.chunkOf(face).surfaces[f.uvSurface].Evaluate(&c.x, impl.uvPatchPoints(face), PointDesc(2),
-                                        &sp.uv.x, &dUv0.x, &dUv1.x);
+                                                      &sp.uv.x, &dUv0.x, &dUv1.x);
   const float det = cross2(dUv0, dUv1);
   // A folded or collapsed uv map has no inverse; the caller then keeps patch derivatives.
   if (!(std::abs(det) > 1e-8f * glm::length(dUv0) * glm::length(dUv1)) || !(det != 0.0f))

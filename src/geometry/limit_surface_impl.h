@@ -97,7 +97,9 @@ struct LimitSurface::Impl {
   std::vector<Face> faces;
   std::vector<Chunk> chunks;
 
-  const Chunk& chunkOf(int face) const { return chunks[static_cast<size_t>(face) / kFacesPerChunk]; }
+  const Chunk& chunkOf(int face) const {
+    return chunks[static_cast<size_t>(face) / kFacesPerChunk];
+  }
   const float* patchPoints(int face) const {
     return &chunkOf(face).patchPoints[faces[face].patchOffset];
   }

@@ -121,9 +121,9 @@ bool RenderContext::viewDependent() const {
 namespace {
 
 // What --memory-limit leaves for the frames' geometry once the film and tables (estimated by the
-// command: options.reservedBytes), the objects' limit surfaces and, for displaced objects, the
-// dicing's own arrays per face are held (ctx.heldBytes): undisplaced tessellation beyond it is
-// refused, and the micropolygon cap is lowered to fit in it.
+// command: options.reservedBytes), the objects' limit surfaces and, for objects tessellated per
+// frame, the dicing's own arrays per face are held (ctx.heldBytes): undisplaced tessellation beyond
+// it is refused, and the micropolygon cap is lowered to fit in it.
 void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
   double surfaces = 0.0, dicing = 0.0, largest = 0.0;
   size_t largestObject = 0;
@@ -132,8 +132,9 @@ void fitGeometryInMemory(RenderContext& ctx, const PrepareOptions& options) {
     const PreparedObject& o = ctx.objects[k];
     const double bytes = double(o.surface.memoryBytes()) + double(o.uvSpeed.memoryBytes());
     surfaces += bytes;
-    if ((o.displaced || o.byView) && options.dices)
-      dicing += kDicingBytesPerFace * o.surface.numFaces();
+    if (options.dices && (o.displaced || o.byView))
+      dicing += (o.displaced ? kDicingBytesPerFace : kViewTessellationBytesPerFace) *
+                o.surface.numFaces();
     faces += o.surface.numFaces();
     if (bytes > largest) largest = bytes, largestObject = k;
   }

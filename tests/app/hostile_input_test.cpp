@@ -472,6 +472,27 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
     EXPECT_NE(r.output.find("(--memory-limit) beside the process so far "), std::string::npos)
         << r.output;
   }
+
+  // A curved grid is tessellated per frame by every renderer; its dicing holds 560 bytes a face
+  // where it is displaced, 150 where nothing is (22 500 faces: 12.0 and 3.2 MiB).
+  std::string hills;
+  for (int j = 0; j <= 150; ++j)
+    for (int i = 0; i <= 150; ++i)
+      hills += "v " + std::to_string(i / 75.0 - 1) + " " + std::to_string(j / 75.0 - 1) + " " +
+               std::to_string(0.05 * std::sin(i / 10.0) * std::cos(j / 13.0)) + "\n";
+  hills += grid.substr(grid.find("f "));
+  write("hills.obj", hills);
+  gridScene.replace(gridScene.find("grid.obj"), 8, "hills.obj");
+  write("hills.toml", gridScene);
+  for (const auto& [algorithm, dicing] :
+       {std::pair("displacement", "their dicing 12.0 MiB"),
+        std::pair("bump", "their dicing 3.2 MiB"), std::pair("brdf", "their dicing 3.2 MiB")}) {
+    r = run("render " + quoted(dir_ / "hills.toml") + " -q -o " + quoted(dir_ / "out/h.exr") +
+            " --algorithm " + algorithm + " --memory-limit 16");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(dicing), std::string::npos) << algorithm << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out/h.exr"));
+  }
 }
 
 // --memory-limit reaches every image a scene reads: a height image (read when the scene is loaded,
