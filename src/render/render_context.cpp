@@ -410,12 +410,12 @@ size_t meshBytes(const TessellatedMesh& m) {
          m.triangleFace.capacity() * sizeof(int) + m.cornerSt.capacity() * sizeof(Vec2);
 }
 
-// Dices and displaces the displaced objects for this frame, and tessellates those drawn
-// undisplaced by view (nothing diced: the limit surface to the coarse tolerance), under one
-// micropolygon cap (its farthest geometry coarsened first, whichever object it belongs to); their
-// figures go to `stats` (micropolygons: the displaced objects').
-void displaceObjects(RenderContext& ctx, const std::vector<size_t>& objects, const FrameDicing& d,
-                     FrameGeometryStats& stats) {
+// Tessellates the objects made per frame: dices and displaces the displaced ones, and tessellates
+// those drawn undisplaced by view (nothing diced: the limit surface to the coarse tolerance), under
+// one micropolygon cap (its farthest geometry coarsened first, whichever object it belongs to);
+// their figures go to `stats` (micropolygons: the displaced objects').
+void tessellateForFrame(RenderContext& ctx, const std::vector<size_t>& objects,
+                        const FrameDicing& d, FrameGeometryStats& stats) {
   const RenderSettings& rs = ctx.scene->render;
   std::deque<ReliefDisplacement> displacements;  // not moved: the surfaces point to them
   std::vector<AdaptiveSurface> surfaces;
@@ -472,11 +472,11 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   Timer tess;
   ctx.rays.reset();  // the previous frame's scene goes before this one's is built (peak memory)
   auto rays = std::make_unique<RayScene>();
-  std::vector<size_t> displaced;
+  std::vector<size_t> perFrame;
   for (size_t k = 0; k < ctx.objects.size(); ++k) {
     PreparedObject& object = ctx.objects[k];
     if (object.displaced || object.byView) {
-      displaced.push_back(k);
+      perFrame.push_back(k);
     } else if (object.mesh.numTriangles() == 0) {
       object.mesh =
           tessellateSmooth(object.surface, std::max(ctx.scene->render.tessellationRate, 1),
@@ -485,7 +485,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
       std::vector<uint8_t>().swap(object.affine);
     }
   }
-  if (!displaced.empty()) displaceObjects(ctx, displaced, d, stats);
+  if (!perFrame.empty()) tessellateForFrame(ctx, perFrame, d, stats);
   stats.tessellateSeconds = tess.seconds();
 
   Timer bvh;
