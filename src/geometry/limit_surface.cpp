@@ -195,6 +195,42 @@ using ThreadedCache = OpenSubdiv::Bfr::SurfaceFactoryCacheThreaded<
     std::shared_mutex, std::shared_lock<std::shared_mutex>, std::unique_lock<std::shared_mutex>>;
 using Factory = OpenSubdiv::Bfr::RefinerSurfaceFactory<ThreadedCache>;
 
+// A Bfr surface kept for the faces of a chunk that evaluate as it does, and what tells them.
+struct SharedSurface {
+  Parameterization param;
+  std::vector<float> stencils;  // weights of P, dP/du, dP/dv at two points
+  int index = 0;                // in the chunk's surfaces
+};
+
+// The index in `out.surfaces` of a surface that evaluates as `surface` does, stored if it is new.
+// A regular patch is evaluated from its patch points by a basis that depends only on its patch
+// type and boundary mask (a multilinear N-gon's on N), not on which control points it has: faces
+// whose surfaces have the same parameterization and the same basis weights (Bfr's stencils, at two
+// points inside any face's first tile) share one, which Evaluate then runs exactly as their own.
+// An irregular patch's surface is kept for its face alone.
+int storeSurface(const OpenSubdiv::Bfr::Surface<float>& surface, LimitSurface::Impl::Chunk& out,
+                 std::vector<SharedSurface>& shared) {
+  if (!surface.IsRegular() && !surface.IsLinear()) {
+    out.surfaces.push_back(surface);
+    return static_cast<int>(out.surfaces.size()) - 1;
+  }
+  const size_t n = static_cast<size_t>(surface.GetNumControlPoints());
+  std::vector<float> stencils(6 * n);
+  const float uv[2][2] = {{0.2f, 0.3f}, {0.35f, 0.1f}};
+  for (size_t k = 0; k < 2; ++k) {
+    float* w = &stencils[3 * n * k];
+    surface.EvaluateStencil(uv[k], w, w + n, w + 2 * n);
+  }
+  const Parameterization param = surface.GetParameterization();
+  for (const SharedSurface& s : shared)
+    if (s.param.GetType() == param.GetType() && s.param.GetFaceSize() == param.GetFaceSize() &&
+        s.stencils == stencils)
+      return s.index;
+  out.surfaces.push_back(surface);
+  shared.push_back({param, std::move(stencils), static_cast<int>(out.surfaces.size()) - 1});
+  return shared.back().index;
+}
+
 // The faces of one chunk (Impl::Chunk), whose arrays they fill. The chunks are fixed ranges of
 // faces, so the arrays are the same whatever the number of threads.
 void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Factory& factory,
@@ -205,6 +241,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
   out.patchPoints.reserve(12 * static_cast<size_t>(end - begin));
   if (mesh.hasUvs()) out.uvPatchPoints.reserve(8 * static_cast<size_t>(end - begin));
   OpenSubdiv::Bfr::Surface<float> surface;
+  std::vector<SharedSurface> shared;
   for (int f = begin; f < end; ++f) {
     Face& face = faces[f];
     const size_t first = firstCorner[f];
@@ -225,10 +262,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
                                &out.patchPoints[face.patchOffset], PointDesc(3));
     face.bilinear = isBilinearQuad<3>(surface, out.patchPoints, face.patchOffset);
-    if (!face.bilinear) {
-      face.surface = static_cast<int>(out.surfaces.size());
-      out.surfaces.push_back(surface);
-    }
+    if (!face.bilinear) face.surface = storeSurface(surface, out, shared);
     if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
     face.hasUv = true;
     face.uvPatchOffset = static_cast<int>(out.uvPatchPoints.size());
@@ -236,10 +270,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2), &out.uvPatchPoints[face.uvPatchOffset],
                                PointDesc(2));
     face.uvBilinear = isBilinearQuad<2>(surface, out.uvPatchPoints, face.uvPatchOffset);
-    if (!face.uvBilinear) {
-      face.uvSurface = static_cast<int>(out.surfaces.size());
-      out.surfaces.push_back(surface);
-    }
+    if (!face.uvBilinear) face.uvSurface = storeSurface(surface, out, shared);
   }
 }
 

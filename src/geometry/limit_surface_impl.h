@@ -36,7 +36,8 @@ void appendFaceChart(int n, const Vec3* corners, std::vector<Vec2>& chart);
 
 struct LimitSurface::Impl {
   // Per base face. A bilinear quad (the faces of a ground grid) keeps no Bfr surface (128 bytes
-  // each, for positions and for uv): it is evaluated from its 4 patch points alone.
+  // each, for positions and for uv): it is evaluated from its 4 patch points alone. Faces of a
+  // chunk whose regular patches have the same basis share one (storeSurface, limit_surface.cpp).
   struct Face {
     OpenSubdiv::Bfr::Parameterization param;
     int numPatchPoints = 0;  // 0: the face has no limit surface (a hole or non-manifold face)

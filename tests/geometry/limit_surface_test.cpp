@@ -88,11 +88,11 @@ TEST(LimitSurface, CubeCornersMatchValenceFormula) {
     }
 }
 
-// Faces are set up in parallel chunks of 1024, joined in order. On meshes of several chunks every
-// face keeps its own patch: each corner of a refined cube (valence-3 corners: Bfr surfaces, shared
-// through the factory's cache) is its vertex's limit point, and a bilinear uv grid's points and uv
-// are the bilinear interpolation of its face's corners. The surfaces are the same bits with 1
-// thread and with 2.
+// Faces are set up in parallel chunks of 1024, each keeping its arrays. On meshes of several chunks
+// every face keeps its own patch: each corner of a refined cube (valence-3 corners: Bfr surfaces,
+// shared through the factory's cache) is its vertex's limit point, and a bilinear uv grid's points
+// and uv are the bilinear interpolation of its face's corners. The surfaces are the same bits with
+// 1 thread and with 2.
 TEST(LimitSurface, ChunkedSetUpKeepsEveryFacesPatchWhateverTheThreads) {
   const ControlMesh cube = test::refinedCube(24);  // 3 456 faces
   ControlMesh ground = test::grid(80);             // 6 400 faces
@@ -134,6 +134,50 @@ TEST(LimitSurface, ChunkedSetUpKeepsEveryFacesPatchWhateverTheThreads) {
       }
     }
   }
+}
+
+// Catmull-Clark on a regular grid is the uniform bicubic B-spline of its points, with the points
+// beyond a boundary edge reflected (2 P0 - P1, both ways at a corner). Interior, edge and corner
+// faces have regular patches of different boundary masks, which faces of one kind share (a Bfr
+// surface per kind and chunk): every face of a grid with random heights, in a mesh of two chunks,
+// is its B-spline patch.
+TEST(LimitSurface, RegularPatchesAreTheirBSplinePatches) {
+  constexpr int n = 40;  // 1 600 faces
+  ControlMesh mesh = test::grid(n);
+  uint32_t seed = 12345u;
+  for (Vec3& p : mesh.positions) {
+    seed = seed * 1664525u + 1013904223u;
+    p.z = float(seed >> 8) / float(1u << 24) - 0.5f;
+  }
+  const LimitSurface surface(mesh, SubdivisionScheme::CatmullClark);
+  const auto point = [&](int i, int j) -> Vec3 {
+    const auto reflect = [&](int k, int& inside, int& next) {
+      inside = std::clamp(k, 0, n);
+      next = k < 0 ? 1 : n - 1;
+      return k < 0 || k > n;
+    };
+    int i0, i1, j0, j1;
+    const bool ri = reflect(i, i0, i1), rj = reflect(j, j0, j1);
+    const auto at = [&](int a, int b) { return Vec3(mesh.positions[b * (n + 1) + a]); };
+    const auto column = [&](int a) { return rj ? 2.0f * at(a, j0) - at(a, j1) : at(a, j0); };
+    return ri ? 2.0f * column(i0) - column(i1) : column(i0);
+  };
+  const auto basis = [](float u) {
+    return std::array<float, 4>{(1 - u) * (1 - u) * (1 - u) / 6,
+                                (3 * u * u * u - 6 * u * u + 4) / 6,
+                                (-3 * u * u * u + 3 * u * u + 3 * u + 1) / 6, u * u * u / 6};
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      for (Vec2 st : domainSamples(3, false)) {
+        const std::array<float, 4> bs = basis(st.x), bt = basis(st.y);
+        Vec3 expected(0.0f);
+        for (int b = 0; b < 4; ++b)
+          for (int a = 0; a < 4; ++a) expected += bs[a] * bt[b] * point(i - 1 + a, j - 1 + b);
+        const Vec3 p = surface.evaluate(j * n + i, st).P;
+        ASSERT_LT(glm::length(p - expected), 2e-5f)
+            << "face (" << i << ", " << j << ") at (" << st.x << ", " << st.y << ")";
+      }
 }
 
 TEST(LimitSurface, CubeNormalsPointOutward) {
@@ -507,6 +551,9 @@ TEST(LimitSurface, MemoryBytesMatchTheHeapItHolds) {
     EXPECT_NEAR(estimate / held, 1.0, 0.1) << c.name;
     if (c.mesh.hasUvs()) {  // its 2 Bfr surfaces would add 256 bytes a face, the refiner 220
       EXPECT_LT(held / c.mesh.numFaces(), 250.0);
+    }
+    if (c.scheme == SubdivisionScheme::CatmullClark) {  // regular patches share their surfaces: one
+      EXPECT_LT(held / c.mesh.numFaces(), 360.0);       // a face would add 128 bytes (436 a face)
     }
   }
 }
