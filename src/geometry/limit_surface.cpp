@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <shared_mutex>
@@ -237,11 +238,13 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
                   int begin, int end, const std::vector<size_t>& firstCorner,
                   std::vector<LimitSurface::Impl::Face>& faces, LimitSurface::Impl::Chunk& out) {
   using Face = LimitSurface::Impl::Face;
-  // Room for 4 patch points a face (a bilinear quad's): a grid's arrays do not grow.
-  out.patchPoints.reserve(12 * static_cast<size_t>(end - begin));
+  // Room for the 4 control points of a quad a face: a grid's arrays do not grow.
+  out.controlIndices.reserve(4 * static_cast<size_t>(end - begin));
   if (mesh.hasUvs()) out.uvPatchPoints.reserve(8 * static_cast<size_t>(end - begin));
   OpenSubdiv::Bfr::Surface<float> surface;
   std::vector<SharedSurface> shared;
+  std::vector<float> points;
+  int indices[LimitSurface::Impl::kMaxGathered];
   for (int f = begin; f < end; ++f) {
     Face& face = faces[f];
     const size_t first = firstCorner[f];
@@ -257,12 +260,28 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     setPolygonFrame(mesh, first, n, face);
     if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
     face.numPatchPoints = surface.GetNumPatchPoints();
-    face.patchOffset = static_cast<int>(out.patchPoints.size());
-    out.patchPoints.resize(face.patchOffset + 3 * face.numPatchPoints);
-    surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3),
-                               &out.patchPoints[face.patchOffset], PointDesc(3));
-    face.bilinear = isBilinearQuad<3>(surface, out.patchPoints, face.patchOffset);
+    points.resize(3 * static_cast<size_t>(face.numPatchPoints));
+    surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3), points.data(), PointDesc(3));
+    face.bilinear = isBilinearQuad<3>(surface, points, 0);
     if (!face.bilinear) face.surface = storeSurface(surface, out, shared);
+    // A patch whose points are its control points (regular and linear patches) keeps their
+    // indices, where they give the same bits.
+    face.gathered = face.numPatchPoints <= LimitSurface::Impl::kMaxGathered &&
+                    surface.GetNumControlPoints() == face.numPatchPoints;
+    if (face.gathered) {
+      surface.GetControlPointIndices(indices);
+      for (int k = 0; k < face.numPatchPoints && face.gathered; ++k)
+        face.gathered =
+            indices[k] >= 0 && size_t(indices[k]) < mesh.positions.size() &&
+            std::memcmp(&mesh.positions[indices[k]].x, &points[3 * k], 3 * sizeof(float)) == 0;
+    }
+    if (face.gathered) {
+      face.patchOffset = static_cast<int>(out.controlIndices.size());
+      out.controlIndices.insert(out.controlIndices.end(), indices, indices + face.numPatchPoints);
+    } else {
+      face.patchOffset = static_cast<int>(out.patchPoints.size());
+      out.patchPoints.insert(out.patchPoints.end(), points.begin(), points.end());
+    }
     if (!mesh.hasUvs() || !factory.InitFaceVaryingSurface(f, &surface, 0)) continue;
     face.hasUv = true;
     face.uvPatchOffset = static_cast<int>(out.uvPatchPoints.size());
@@ -290,6 +309,7 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
   constexpr int kPerChunk = Impl::kFacesPerChunk;
   const int chunks = (numFaces + kPerChunk - 1) / kPerChunk;
   Impl& impl = *impl_;
+  impl.controlPoints = mesh.positions;
   impl.chunks.resize(static_cast<size_t>(chunks));
   tbb::parallel_for(0, chunks, [&](int c) {
     Impl::Chunk& chunk = impl.chunks[static_cast<size_t>(c)];
@@ -298,6 +318,7 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
     // Kept for the surface's life: without the room the arrays grew into.
     chunk.surfaces.shrink_to_fit();
     chunk.patchPoints.shrink_to_fit();
+    chunk.controlIndices.shrink_to_fit();
     chunk.uvPatchPoints.shrink_to_fit();
     chunk.chartPoints.shrink_to_fit();
   });
@@ -321,7 +342,8 @@ bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
   if (!f.valid()) return false;
   lo = Vec3(std::numeric_limits<float>::infinity());
   hi = -lo;
-  const float* p = impl_->patchPoints(face);
+  float gathered[3 * Impl::kMaxGathered];
+  const float* p = impl_->patchPoints(face, gathered);
   for (int i = 0; i < f.numPatchPoints; ++i, p += 3) {
     lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
     hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
@@ -337,12 +359,13 @@ size_t LimitSurface::Impl::Topology::memoryBytes() const {
 size_t LimitSurface::Impl::Chunk::memoryBytes() const {
   return sizeof(Chunk) + surfaces.capacity() * sizeof(OpenSubdiv::Bfr::Surface<float>) +
          (patchPoints.capacity() + uvPatchPoints.capacity()) * sizeof(float) +
-         chartPoints.capacity() * sizeof(Vec2);
+         controlIndices.capacity() * sizeof(int) + chartPoints.capacity() * sizeof(Vec2);
 }
 
 size_t LimitSurface::memoryBytes() const {
   const Impl& i = *impl_;
-  double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face);
+  double bytes = sizeof(Impl) + double(i.faces.capacity()) * sizeof(Impl::Face) +
+                 double(i.controlPoints.capacity()) * sizeof(Vec3);
   for (const Impl::Chunk& chunk : i.chunks) bytes += double(chunk.memoryBytes());
   bytes += double(i.topology.memoryBytes());
   return static_cast<size_t>(bytes);
@@ -354,11 +377,13 @@ namespace {
 void evaluateDerivatives(const LimitSurface::Impl& impl, int face, Vec2 c, Vec3& P, Vec3& dPdc0,
                          Vec3& dPdc1) {
   const LimitSurface::Impl::Face& f = impl.faces[face];
+  float gathered[3 * LimitSurface::Impl::kMaxGathered];
+  const float* points = impl.patchPoints(face, gathered);
   if (f.bilinear)
-    bilinearQuad<3>(impl.patchPoints(face), c, &P.x, &dPdc0.x, &dPdc1.x);
+    bilinearQuad<3>(points, c, &P.x, &dPdc0.x, &dPdc1.x);
   else
-    impl.chunkOf(face).surfaces[f.surface].Evaluate(&c.x, impl.patchPoints(face), PointDesc(3),
-                                                    &P.x, &dPdc0.x, &dPdc1.x);
+    impl.chunkOf(face).surfaces[f.surface].Evaluate(&c.x, points, PointDesc(3), &P.x, &dPdc0.x,
+                                                    &dPdc1.x);
 }
 
 bool usableCross(const Vec3& a, const Vec3& b, Vec3& n) {

@@ -54,6 +54,9 @@ struct LimitSurface::Impl {
     // basis and point combination (the hybrid's shading evaluates the limit surface at every hit).
     bool bilinear = false, uvBilinear = false;
     bool hasUv = false;  // the face has face-varying (u, v)
+    // The patch points are control points (a regular or linear patch): patchOffset is the first of
+    // their indices in the chunk's controlIndices, not a float of its patchPoints.
+    bool gathered = false;
     Vec3 centroid{0.0f};
     Vec3 averageNormal{0.0f, 0.0f, 1.0f};  // fallback where the limit normal is undefined
     bool valid() const { return numPatchPoints > 0; }
@@ -89,7 +92,8 @@ struct LimitSurface::Impl {
   struct Chunk {
     std::vector<OpenSubdiv::Bfr::Surface<float>> surfaces;  // of faces that are not bilinear
     std::vector<float> patchPoints;                         // 3 floats per point
-    std::vector<float> uvPatchPoints;                       // 2 floats per point
+    std::vector<int> controlIndices;   // of the patch points of faces that gather them
+    std::vector<float> uvPatchPoints;  // 2 floats per point
     std::vector<Vec2> chartPoints;
     size_t memoryBytes() const;
   };
@@ -97,12 +101,26 @@ struct LimitSurface::Impl {
   Topology topology;
   std::vector<Face> faces;
   std::vector<Chunk> chunks;
+  // The mesh's points, gathered by index into the patch points of most faces: 16 indices a regular
+  // Catmull-Clark face (64 bytes) instead of 16 points (192), 4 a bilinear quad (16, not 48).
+  std::vector<Vec3> controlPoints;
+  static constexpr int kMaxGathered = 16;  // most patch points a face gathers
 
   const Chunk& chunkOf(int face) const {
     return chunks[static_cast<size_t>(face) / kFacesPerChunk];
   }
-  const float* patchPoints(int face) const {
-    return &chunkOf(face).patchPoints[faces[face].patchOffset];
+  // The face's patch points (3 floats each): its own, or its control points gathered into
+  // `buffer` (room for kMaxGathered points).
+  const float* patchPoints(int face, float* buffer) const {
+    const Face& f = faces[face];
+    const Chunk& chunk = chunkOf(face);
+    if (!f.gathered) return &chunk.patchPoints[f.patchOffset];
+    const int* index = &chunk.controlIndices[f.patchOffset];
+    for (int k = 0; k < f.numPatchPoints; ++k) {
+      const Vec3& p = controlPoints[index[k]];
+      buffer[3 * k] = p.x, buffer[3 * k + 1] = p.y, buffer[3 * k + 2] = p.z;
+    }
+    return buffer;
   }
   const float* uvPatchPoints(int face) const {
     return &chunkOf(face).uvPatchPoints[faces[face].uvPatchOffset];
