@@ -1,5 +1,6 @@
 #include "meso/core/huge_pages.h"
 
+#include <malloc.h>
 #include <sys/mman.h>
 
 #include <cstdint>
@@ -17,6 +18,11 @@ void adviseHugePages(void* p, std::size_t bytes) {
   (void)p;
   (void)bytes;
 #endif
+}
+
+void releaseFreedHeap() {
+  // Under AddressSanitizer the heap is the sanitizer's, not glibc's arenas.
+  if constexpr (kHugeNewBuilt) malloc_trim(kHeapReserveBytes);
 }
 
 }  // namespace meso

@@ -37,6 +37,12 @@ inline constexpr std::size_t kHugeNewMinBytes = 2 * kHugePageBytes;
 #endif
 inline constexpr bool kHugeNewBuilt = MESO_HUGE_NEW == 1;
 inline constexpr std::size_t kHeapReserveBytes = std::size_t{768} << 20;
+
+// Gives the whole free pages of malloc's arenas back to the system (malloc_trim), the heap's
+// reserve at its top kept. Memory a thread frees stays in its own arena, where other threads'
+// blocks do not reuse it: call it after a parallel step whose large temporaries are freed, before
+// the next step that allocates much (memory the step would have reused is touched again).
+void releaseFreedHeap();
 inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
 }  // namespace meso
