@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
-#include <malloc.h>
 #include <limits>
 #include <optional>
 #include <string>
@@ -111,10 +110,6 @@ void loadColourTextures(RenderContext& ctx, const std::filesystem::path& folder,
   }
 }
 
-}  // namespace
-
-namespace {
-
 // What dicing holds per control face of an object tessellated per frame (none for the others).
 double dicingBytesPerFace(const PreparedObject& o) {
   if (o.displaced) return kDicingBytesPerFace;
@@ -122,7 +117,7 @@ double dicingBytesPerFace(const PreparedObject& o) {
 }
 
 // Dicing's temporaries beyond which a frame gives its freed heap back before the BVH build: on a
-// ground of 409 600 faces (230 MB of them) that lowers the peak by 0.90x in the same time, while
+// ground of 409 600 faces (230 MB of them) that lowers the peak to 0.90x in the same time, while
 // on one of 25 600 faces it changes neither and costs 1.03x the time (page faults again).
 constexpr double kReleasedDicingBytes = 64.0 * 1024 * 1024;
 
@@ -510,7 +505,6 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
     if (temporaries > kReleasedDicingBytes) releaseFreedHeap();
   }
   stats.tessellateSeconds = tess.seconds();
-  if (std::getenv("MESO_TRIM")) malloc_trim(kHeapReserveBytes);
 
   Timer bvh;
   for (const PreparedObject& object : ctx.objects) rays->addMesh(object.mesh, object.grids);

@@ -37,12 +37,13 @@ inline constexpr std::size_t kHugeNewMinBytes = 2 * kHugePageBytes;
 #endif
 inline constexpr bool kHugeNewBuilt = MESO_HUGE_NEW == 1;
 inline constexpr std::size_t kHeapReserveBytes = std::size_t{768} << 20;
+inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
 // Gives the whole free pages of malloc's arenas back to the system (malloc_trim), the heap's
 // reserve at its top kept. Memory a thread frees stays in its own arena, where other threads'
 // blocks do not reuse it: call it after a parallel step whose large temporaries are freed, before
-// the next step that allocates much (memory the step would have reused is touched again).
+// the next step that allocates much (memory the step would have reused is touched again). Tested
+// on the arena of a thread still running, as a pool's workers are.
 void releaseFreedHeap();
-inline constexpr std::size_t kHeapMmapBytes = std::size_t{32} << 20;
 
 }  // namespace meso
