@@ -116,10 +116,10 @@ double dicingBytesPerFace(const PreparedObject& o) {
   return o.byView ? kViewTessellationBytesPerFace : 0.0;
 }
 
-// Dicing's temporaries beyond which a frame gives its freed heap back before the BVH build: on a
-// ground of 409 600 faces (230 MB of them) that lowers the peak to 0.90x in the same time, while
-// on one of 25 600 faces it changes neither and costs 1.03x the time (page faults again).
-constexpr double kReleasedDicingBytes = 64.0 * 1024 * 1024;
+// Memory freed by a frame's tessellation (dicing's temporaries, estimated, and the meshes' points
+// once Embree has copied them) beyond which it is given back to the system before the BVH build
+// (docs/performance.md).
+constexpr double kReleasedBytes = 128.0 * 1024 * 1024;
 
 }  // namespace
 
@@ -494,16 +494,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
       std::vector<uint8_t>().swap(object.affine);
     }
   }
-  if (!perFrame.empty()) {
-    tessellateForFrame(ctx, perFrame, d, stats);
-    // Dicing's temporaries, freed by now, stay in the arenas of the threads that made them, and
-    // the BVH build, the frame's peak, would come on top of them. Smaller ones are reused by the
-    // frame's later steps, which would fault their pages again (docs/performance.md).
-    double temporaries = 0.0;
-    for (size_t k : perFrame)
-      temporaries += dicingBytesPerFace(ctx.objects[k]) * ctx.objects[k].surface.numFaces();
-    if (temporaries > kReleasedDicingBytes) releaseFreedHeap();
-  }
+  if (!perFrame.empty()) tessellateForFrame(ctx, perFrame, d, stats);
   stats.tessellateSeconds = tess.seconds();
 
   Timer bvh;
@@ -511,14 +502,22 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   // Embree holds its own copy of the points: a displaced mesh's points and indices go before the
   // BVH build (the peak of a frame whose mesh is not large: docs/performance.md), since a hit needs
   // only its triangle's face and patch coordinates.
+  double freed = 0.0;  // dicing's temporaries and the points released here
   for (PreparedObject& object : ctx.objects)
     if (object.displaced || object.byView) {
+      freed += dicingBytesPerFace(object) * object.surface.numFaces();
       if (!ctx.keepMeshPoints) {
+        freed += double(object.mesh.positions.capacity() * sizeof(Vec3) +
+                        object.mesh.indices.capacity() * sizeof(uint32_t));
         std::vector<Vec3>().swap(object.mesh.positions);
         std::vector<uint32_t>().swap(object.mesh.indices);
       }
       stats.meshBytes += meshBytes(object.mesh);
     }
+  // What was freed stays in malloc's arenas (dicing's temporaries in those of the threads that
+  // made them), and the BVH build, the frame's peak, would come on top of it. Less is reused by
+  // the frame's later steps, which would fault its pages again (docs/performance.md).
+  if (freed > kReleasedBytes) releaseFreedHeap();
   rays->commit();
   stats.bvhSeconds = bvh.seconds();
   stats.triangles = rays->numTriangles();
