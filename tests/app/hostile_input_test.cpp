@@ -426,43 +426,54 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
   EXPECT_NE(r.output.find("render.max_micropolygons: lowered from 80000000 to "), std::string::npos)
       << r.output;
 
-  // The control mesh counts too: its limit surface (about 400 bytes a face) and, displaced, its
-  // dicing (560): a grid of 22 500 faces needs about 19 MiB before any micropolygon, and meso
+  // The control mesh counts too: its limit surface (about 140 bytes a face) and, displaced, its
+  // dicing (560): a grid of 40 000 faces needs about 27 MiB before any micropolygon, and meso
   // render holds what its process measures once the mesh is read where that is more (about 55 MiB
   // here: the libraries' own heap, and what reading the mesh left in it).
-  std::string grid;
-  for (int j = 0; j <= 150; ++j)
-    for (int i = 0; i <= 150; ++i)
-      grid += "v " + std::to_string(i / 75.0 - 1) + " " + std::to_string(j / 75.0 - 1) + " 0\n";
-  for (int j = 0; j < 150; ++j)
-    for (int i = 0; i < 150; ++i) {
-      const int a = j * 151 + i + 1;
-      grid += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
-              std::to_string(a + 152) + " " + std::to_string(a + 151) + "\n";
-    }
-  write("grid.obj", grid);
-  std::string gridScene = reliefScene();
-  gridScene.replace(gridScene.find("quad.obj"), 8, "grid.obj");
-  write("grid.toml", gridScene);
+  // An n x n grid over [-1, 1]^2, its heights `amplitude` sin(i / 10) cos(j / 13).
+  const auto gridObj = [](int n, double amplitude) {
+    std::string obj;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        obj += "v " + std::to_string(2.0 * i / n - 1) + " " + std::to_string(2.0 * j / n - 1) +
+               " " + std::to_string(amplitude * std::sin(i / 10.0) * std::cos(j / 13.0)) + "\n";
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int a = j * (n + 1) + i + 1;
+        obj += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
+               std::to_string(a + n + 2) + " " + std::to_string(a + n + 1) + "\n";
+      }
+    return obj;
+  };
+  const std::string scene = reliefScene();
+  const auto writeMesh = [&](const std::string& name, const std::string& obj) {
+    write(name + ".obj", obj);
+    std::string s = scene;
+    s.replace(s.find("quad.obj"), 8, name + ".obj");
+    write(name + ".toml", s);
+  };
+  writeMesh("grid", gridObj(200, 0.0));
   r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
           " --algorithm displacement --memory-limit 16");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find((dir_ / "grid.obj").string() + ": mesh: needs an estimated "),
             std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("the limit surfaces of 22500 control faces"), std::string::npos)
+  EXPECT_NE(r.output.find("the limit surfaces of 40000 control faces"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out/g.exr"));
-  // 40 MiB holds the estimate (19 MiB) but not the process as measured: refused, naming it.
+  // 40 MiB holds the estimate of a flat grid of 22 500 faces under bump (two triangles a face:
+  // about 10 MiB) but not the process as measured: refused, naming it.
+  writeMesh("small", gridObj(150, 0.0));
   if (meso::kHugeNewBuilt) {
-    r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
+    r = run("render " + quoted(dir_ / "small.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
             " --algorithm bump --memory-limit 40");
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("needs an estimated "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("the process so far "), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "out/g.exr"));
   }
-  r = run("render " + quoted(dir_ / "grid.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
+  r = run("render " + quoted(dir_ / "small.toml") + " -q -o " + quoted(dir_ / "out/g.exr") +
           " --algorithm displacement --memory-limit 128");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("the limit surfaces of 22500 control faces"), std::string::npos)
@@ -474,19 +485,12 @@ TEST_F(HostileTest, MemoryIsEstimatedBeforeAllocating) {
   }
 
   // A curved grid is tessellated per frame by every renderer; its dicing holds 560 bytes a face
-  // where it is displaced, 150 where nothing is (22 500 faces: 12.0 and 3.2 MiB).
-  std::string hills;
-  for (int j = 0; j <= 150; ++j)
-    for (int i = 0; i <= 150; ++i)
-      hills += "v " + std::to_string(i / 75.0 - 1) + " " + std::to_string(j / 75.0 - 1) + " " +
-               std::to_string(0.05 * std::sin(i / 10.0) * std::cos(j / 13.0)) + "\n";
-  hills += grid.substr(grid.find("f "));
-  write("hills.obj", hills);
-  gridScene.replace(gridScene.find("grid.obj"), 8, "hills.obj");
-  write("hills.toml", gridScene);
+  // where it is displaced, 150 where nothing is: 90 000 faces need 48.1 and 12.9 MiB for it, and
+  // about 25 MiB in all at the least, more than the smallest limit (16 MiB).
+  writeMesh("hills", gridObj(300, 0.05));
   for (const auto& [algorithm, dicing] :
-       {std::pair("displacement", "their dicing 12.0 MiB"),
-        std::pair("bump", "their dicing 3.2 MiB"), std::pair("brdf", "their dicing 3.2 MiB")}) {
+       {std::pair("displacement", "their dicing 48.1 MiB"),
+        std::pair("bump", "their dicing 12.9 MiB"), std::pair("brdf", "their dicing 12.9 MiB")}) {
     r = run("render " + quoted(dir_ / "hills.toml") + " -q -o " + quoted(dir_ / "out/h.exr") +
             " --algorithm " + algorithm + " --memory-limit 16");
     EXPECT_EQ(r.status, 2) << r.output;
