@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cctype>
@@ -221,8 +222,13 @@ class RenderRun {
     const double r = phase.seconds();
     phase.reset();
     lastFrame_.commit();
-    lastFrame_.stage(exr, encodeExr(film));
-    lastFrame_.stage(png, encodePngPreview(film));
+    // The two encodings are independent (OpenEXR compresses on its own threads, the PNG on this
+    // one): side by side.
+    std::string exrBytes, pngBytes;
+    tbb::parallel_invoke([&] { exrBytes = encodeExr(film); },
+                         [&] { pngBytes = encodePngPreview(film); });
+    lastFrame_.stage(exr, exrBytes);
+    lastFrame_.stage(png, pngBytes);
     if (o_.statsFile.empty()) lastFrame_.commit();
     const double w = phase.seconds();
     stats_.renderSeconds += r, stats_.writeSeconds += w, ++stats_.rendered;

@@ -11,6 +11,8 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -324,7 +326,8 @@ std::string encodeExr(const Image& image) {
   OIIO::ImageSpec spec(image.width, image.height, image.numChannels(), OIIO::TypeDesc::FLOAT);
   spec.channelnames = image.channels;
   spec.alpha_channel = image.channelIndex("A");
-  spec.attribute("compression", "zip");
+  // zlib's fastest level: 0.8-0.9x the default level's time for 1.004x the bytes (bench_image).
+  spec.attribute("compression", "zip:1");
   spec.attribute("Software", "meso");
   // OpenEXR otherwise stamps the current time (capDate): the same render must give the same bytes.
   spec.attribute("DateTime", "");
@@ -335,13 +338,17 @@ std::string encodePngPreview(const Image& image) {
   const int rgb[3] = {image.channelIndex("R"), image.channelIndex("G"), image.channelIndex("B")};
   if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) fail("preview.png", "image has no R, G, B channels");
   std::vector<uint8_t> bytes(static_cast<size_t>(image.width) * image.height * 3);
-  for (int y = 0; y < image.height; ++y)
+  tbb::parallel_for(0, image.height, [&](int y) {
     for (int x = 0; x < image.width; ++x)
       for (int c = 0; c < 3; ++c)
         bytes[(static_cast<size_t>(y) * image.width + x) * 3 + c] =
             static_cast<uint8_t>(std::lround(255.0f * srgbEncode(image.at(x, y, rgb[c]))));
+  });
   OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
+  // A preview: zlib's fastest level, a quarter of the default level's time for 1.13x the bytes
+  // (build/tools/bench_image).
+  spec.attribute("png:compressionLevel", 1);
   return encodeWithOiio("preview.png", spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
