@@ -210,13 +210,13 @@ struct SharedSurface {
 // points inside any face's first tile) share one, which Evaluate then runs exactly as their own.
 // An irregular patch's surface is kept for its face alone.
 int storeSurface(const OpenSubdiv::Bfr::Surface<float>& surface, LimitSurface::Impl::Chunk& out,
-                 std::vector<SharedSurface>& shared) {
+                 std::vector<SharedSurface>& shared, std::vector<float>& stencils) {
   if (!surface.IsRegular() && !surface.IsLinear()) {
     out.surfaces.push_back(surface);
     return static_cast<int>(out.surfaces.size()) - 1;
   }
   const size_t n = static_cast<size_t>(surface.GetNumControlPoints());
-  std::vector<float> stencils(6 * n);
+  stencils.resize(6 * n);  // the chunk's scratch: no allocation once it has grown
   const float uv[2][2] = {{0.2f, 0.3f}, {0.35f, 0.1f}};
   for (size_t k = 0; k < 2; ++k) {
     float* w = &stencils[3 * n * k];
@@ -228,7 +228,7 @@ int storeSurface(const OpenSubdiv::Bfr::Surface<float>& surface, LimitSurface::I
         s.stencils == stencils)
       return s.index;
   out.surfaces.push_back(surface);
-  shared.push_back({param, std::move(stencils), static_cast<int>(out.surfaces.size()) - 1});
+  shared.push_back({param, stencils, static_cast<int>(out.surfaces.size()) - 1});
   return shared.back().index;
 }
 
@@ -243,7 +243,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
   if (mesh.hasUvs()) out.uvPatchPoints.reserve(8 * static_cast<size_t>(end - begin));
   OpenSubdiv::Bfr::Surface<float> surface;
   std::vector<SharedSurface> shared;
-  std::vector<float> points;
+  std::vector<float> points, stencils;
   int indices[LimitSurface::Impl::kMaxGathered];
   for (int f = begin; f < end; ++f) {
     Face& face = faces[f];
@@ -263,7 +263,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     points.resize(3 * static_cast<size_t>(face.numPatchPoints));
     surface.PreparePatchPoints(&mesh.positions[0].x, PointDesc(3), points.data(), PointDesc(3));
     face.bilinear = isBilinearQuad<3>(surface, points, 0);
-    if (!face.bilinear) face.surface = storeSurface(surface, out, shared);
+    if (!face.bilinear) face.surface = storeSurface(surface, out, shared, stencils);
     // A patch whose points are its control points (regular and linear patches) keeps their
     // indices, where they give the same bits.
     face.gathered = face.numPatchPoints <= LimitSurface::Impl::kMaxGathered &&
@@ -289,7 +289,7 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
     surface.PreparePatchPoints(&mesh.uvs[0].x, PointDesc(2), &out.uvPatchPoints[face.uvPatchOffset],
                                PointDesc(2));
     face.uvBilinear = isBilinearQuad<2>(surface, out.uvPatchPoints, face.uvPatchOffset);
-    if (!face.uvBilinear) face.uvSurface = storeSurface(surface, out, shared);
+    if (!face.uvBilinear) face.uvSurface = storeSurface(surface, out, shared, stencils);
   }
 }
 
