@@ -144,6 +144,15 @@ ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
     }
   };
   const auto faceAngles = [&](const LimitSurface& surface, int face, Partial& out) {
+    // Most faces of a large ground no frame sees: their box (which holds the corners' limit
+    // points), grown by the bound and a margin for rounding, misses every view.
+    Vec3 lo, hi;
+    if (!surface.faceBox(face, lo, hi)) return;
+    const bool mayBeSeen = std::any_of(screens.begin(), screens.end(), [&](const ScreenMetric& s) {
+      const float margin = 1e-4f * (glm::length(lo - s.eye) + glm::length(hi - s.eye));
+      return s.boxNearView(lo, hi, bound + margin);
+    });
+    if (!mayBeSeen) return;
     const int n = surface.faceSize(face);
     std::vector<Vec3> polygon;
     Vec2 centre(0.0f);

@@ -7,9 +7,11 @@
 #include "meso/render/view_rows.h"
 #include "meso/scene/camera.h"
 #include "meso/scene/mesh_io.h"
+#include "meso/geometry/limit_surface.h"
 
 #include "support/plane_scene.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,6 +85,41 @@ TEST(ViewRows, FlatGroundAnglesAreThoseOfItsPixels) {
     EXPECT_GE(a.lo, lo - 0.6f * deg) << "eye " << eye.x << " " << eye.y << " " << eye.z;
     EXPECT_GE(a.hi, hi);
     EXPECT_LE(a.hi, hi + 0.6f * deg) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+  }
+}
+
+// The same ground as 40 x 40 unit faces: faces no frame sees are skipped before their corners are
+// evaluated, and the union of the rest is the one quad's view, at every eye of the test above.
+TEST(ViewRows, GroundOfManyFacesHasTheOneQuadsAngles) {
+  std::string obj;
+  for (int j = 0; j <= 40; ++j)
+    for (int i = 0; i <= 40; ++i) obj += fmt::format("v {} {} 0\nvt {} {}\n", i - 20, j - 20, i, j);
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i) {
+      const int a = j * 41 + i + 1;
+      obj += fmt::format("f {0}/{0} {1}/{1} {2}/{2} {3}/{3}\n", a, a + 1, a + 42, a + 41);
+    }
+  const LimitSurface grid(parseControlMesh(obj, "grid.obj"), SubdivisionScheme::Bilinear);
+  ASSERT_EQ(grid.numFaces(), 1600);
+  for (const auto& [eye, target] :
+       {std::pair{Vec3(0, -19, 2.5f), Vec3(0, 0, 0)},
+        std::pair{Vec3(3, -4, 1.5f), Vec3(3, 20, 0.5f)}, std::pair{Vec3(-2, 1, 4), Vec3(-6, 9, 0)},
+        std::pair{Vec3(1, 2, 30), Vec3(1, 2.5f, 0)}}) {
+    const Scene s = groundScene("brdf", eye, target);
+    PrepareTimes times;
+    const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+    const ScreenMetric screen = Camera(s.camera).screen();
+    const LimitSurface *quad = &ctx.objects[0].surface, *many = &grid;
+    for (const float bound : {0.0f, 0.3f}) {
+      const ViewAngles a =
+          coarsestViewAngles(std::span(&quad, 1), ctx.reliefs[0], std::span(&screen, 1), bound);
+      const ViewAngles b =
+          coarsestViewAngles(std::span(&many, 1), ctx.reliefs[0], std::span(&screen, 1), bound);
+      ASSERT_FALSE(a.all);
+      ASSERT_FALSE(b.all);
+      EXPECT_NEAR(b.lo, a.lo, 1e-4f) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+      EXPECT_NEAR(b.hi, a.hi, 1e-4f) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+    }
   }
 }
 
