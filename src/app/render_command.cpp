@@ -75,6 +75,7 @@ class RenderRun {
     const int threads =
         scene_.render.threads > 0 ? scene_.render.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    setImageThreads(threads);
     stats_.threads = threads;
     createOutputFolder(output_.parent_path(), "-o");
     if (!o_.statsFile.empty()) createOutputFolder(o_.statsFile.parent_path(), "--stats");

@@ -11,6 +11,7 @@
 
 #include "meso/core/atomic_file.h"
 #include "meso/core/error.h"
+#include "meso/core/image_io.h"
 #include "meso/render/integrator.h"
 #include "meso/scene/camera_path.h"
 #include "meso/scene/scene_parser.h"
@@ -200,6 +201,7 @@ void runTrade(const TradeCommandOptions& options, const RunContext& context) {
   const int threads =
       scene.render.threads > 0 ? scene.render.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  setImageThreads(threads);
   if (!o.settings.quiet)
     std::fprintf(stderr, "meso: trade: %zu configurations x %zu frame(s) at %dx%d, %d threads\n",
                  configs.size(), cams.size(), scene.camera.width, scene.camera.height, threads);

@@ -352,6 +352,12 @@ std::string encodePngPreview(const Image& image) {
   return encodeWithOiio("preview.png", spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
+void setImageThreads(int threads) {
+  const int n = std::max(threads, 0);
+  OIIO::attribute("threads", n);
+  OIIO::attribute("exr_threads", n);
+}
+
 void writeExr(const std::filesystem::path& file, const Image& image) {
   checkOutputFile(file, "");
   writeFileAtomically(file, encodeExr(image));
