@@ -469,6 +469,14 @@ void tessellateForFrame(RenderContext& ctx, const std::vector<size_t>& objects,
 
 }  // namespace
 
+void releaseFrameGeometry(RenderContext& ctx) {
+  ctx.rays.reset();
+  for (PreparedObject& o : ctx.objects) {
+    o.mesh = TessellatedMesh();
+    std::vector<TriangleGrid>().swap(o.grids);
+  }
+}
+
 FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settings,
                                 PrepareTimes& times) {
   ctx.camera = Camera(settings);

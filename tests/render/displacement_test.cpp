@@ -275,6 +275,33 @@ TEST(Displacement, ReleasingTheMeshPointsKeepsTheImage) {
   }
 }
 
+// `meso render` frees the last frame's geometry before encoding its images: nothing of it is left,
+// and a frame prepared again after that is made anew and renders the same bits (undisplaced
+// objects, kept from frame to frame otherwise, included).
+TEST(Displacement, ReleasedFrameGeometryIsMadeAgain) {
+  for (const char* algorithm : {"auto", "bump"}) {
+    Scene s = planeScene(algorithm);
+    s.render.transition.D = 0.5f;
+    PrepareTimes times;
+    RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+    RenderCounters counters;
+    const FrameGeometryStats first = prepareFrame(ctx, s.camera, times);
+    const Image before = renderFrame(ctx, {s.camera.spp, 5, false}, counters);
+    ASSERT_GT(ctx.numTriangles(), 0u) << algorithm;
+    releaseFrameGeometry(ctx);
+    EXPECT_EQ(ctx.numTriangles(), 0u) << algorithm;
+    for (const PreparedObject& o : ctx.objects) {
+      EXPECT_EQ(o.mesh.numTriangles(), 0u) << algorithm;
+      EXPECT_TRUE(o.grids.empty()) << algorithm;
+    }
+    const FrameGeometryStats again = prepareFrame(ctx, s.camera, times);
+    EXPECT_TRUE(again.rebuilt) << algorithm;
+    EXPECT_EQ(again.triangles, first.triangles) << algorithm;
+    const Image after = renderFrame(ctx, {s.camera.spp, 5, false}, counters);
+    EXPECT_EQ(worstBeautyDifference(before, after), 0.0) << algorithm;
+  }
+}
+
 // Facet normals of the displaced micropolygons approach the Blinn normal of the relief (the
 // paper's shading normal) as the dicing rate shrinks.
 TEST(Displacement, FacetNormalsApproachTheBlinnNormal) {

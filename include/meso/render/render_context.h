@@ -160,6 +160,10 @@ struct PrepareOptions {
 RenderContext prepareRenderContext(const Scene& scene, PrepareTimes& times,
                                    const PrepareOptions& options = {});
 
+// Frees the frame's geometry (its Embree scene and the objects' meshes and grids) once nothing is
+// rendered from it; the next prepareFrame makes it again.
+void releaseFrameGeometry(RenderContext& ctx);
+
 // Sets the camera and builds the frame's geometry: objects whose material has relief are diced
 // into displaced micropolygons where the algorithm raises relief in this view (everywhere for
 // displacement, where T can exceed e3 for auto); the others are drawn undisplaced, by view
