@@ -224,9 +224,9 @@ class RenderRun {
     phase.reset();
     lastFrame_.commit();
     const size_t triangles = ctx_->numTriangles();
-    // After the last frame its geometry is not needed: freed before the images are encoded, whose
-    // buffers would otherwise come on top of it.
-    if (f == frames_.back()) releaseFrameGeometry(*ctx_);
+    // Geometry no later frame reuses (after the last frame, or made for this view) is freed before
+    // the images are encoded, whose buffers would otherwise come on top of it.
+    if (f == frames_.back() || ctx_->viewDependent()) releaseFrameGeometry(*ctx_);
     // The two encodings side by side: the PNG on a worker, the EXR here (its blocks compressed on
     // OpenEXR's threads), its large buffers in this thread's heap, which the frame's freed memory
     // is in (on a worker they were 20-50 MiB more at the peak).

@@ -275,9 +275,9 @@ TEST(Displacement, ReleasingTheMeshPointsKeepsTheImage) {
   }
 }
 
-// `meso render` frees the last frame's geometry before encoding its images: nothing of it is left,
-// and a frame prepared again after that is made anew and renders the same bits (undisplaced
-// objects, kept from frame to frame otherwise, included).
+// `meso render` frees geometry no later frame reuses before it encodes a frame's images: nothing
+// of it is left, and a frame prepared again is made anew and renders the same bits (undisplaced
+// objects, otherwise kept from frame to frame, included).
 TEST(Displacement, ReleasedFrameGeometryIsMadeAgain) {
   for (const char* algorithm : {"auto", "bump"}) {
     Scene s = planeScene(algorithm);
