@@ -228,8 +228,8 @@ class RenderRun {
     // the images are encoded, whose buffers would otherwise come on top of it.
     if (f == frames_.back() || ctx_->viewDependent()) releaseFrameGeometry(*ctx_);
     // The two encodings side by side: the PNG on a worker, the EXR here (its blocks compressed on
-    // OpenEXR's threads), its large buffers in this thread's heap, which the frame's freed memory
-    // is in (on a worker they were 20-50 MiB more at the peak).
+    // OpenEXR's threads), so that its large buffers come from this thread's heap, where the
+    // frame's freed memory is, not from a worker's arena.
     std::string exrBytes, pngBytes;
     tbb::task_group preview;
     preview.run([&] { pngBytes = encodePngPreview(film); });
