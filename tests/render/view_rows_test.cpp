@@ -1,13 +1,13 @@
 // Only the table entries a scene needs (docs/tables.md): the theta_V a scene's frames see on a flat
 // surface, against every pixel's ray; images rendered with the tables built on those rows
 // only are the whole tables' images, bit for bit.
+#include "meso/geometry/limit_surface.h"
 #include "meso/render/film_layout.h"
 #include "meso/render/integrator.h"
 #include "meso/render/render_context.h"
 #include "meso/render/view_rows.h"
 #include "meso/scene/camera.h"
 #include "meso/scene/mesh_io.h"
-#include "meso/geometry/limit_surface.h"
 
 #include "support/plane_scene.h"
 
