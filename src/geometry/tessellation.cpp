@@ -7,6 +7,7 @@
 #include "limit_surface_impl.h"
 #include "meso/core/check.h"
 #include "meso/core/error.h"
+#include "meso/core/huge_pages.h"
 #include "meso/geometry/adaptive_tessellation.h"
 #include "meso/geometry/ray_scene.h"
 
@@ -404,10 +405,11 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
   tbb::parallel_for(size_t(0), faces_.size(), [&](size_t k) { layoutOwnedPoints(k, edgeRates); });
   TessellatedMesh out;
   out.gridOnlyTriangles = numFacets - numStored;
-  out.indices.resize(3 * numStored);
-  out.cornerSt.resize(3 * numStored);
-  out.triangleFace.resize(numStored);
-  samples_.resize(numPoints);
+  // The large buffers' pages are mapped on both cores before their serial resize.
+  resizePopulated(out.indices, 3 * numStored);
+  resizePopulated(out.cornerSt, 3 * numStored);
+  resizePopulated(out.triangleFace, numStored);
+  resizePopulated(samples_, numPoints);
   // Split faces have one grid per sub-quad; empty vectors cost no allocation.
   std::vector<TriangleGrid> faceGrids(grids ? faces_.size() : 0);
   std::vector<std::vector<TriangleGrid>> splitGrids(grids && !splits.empty() ? faces_.size() : 0);
@@ -430,7 +432,7 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
         grids->insert(grids->end(), splitGrids[k].begin(), splitGrids[k].end());
     }
   }
-  out.positions.resize(numPoints);
+  resizePopulated(out.positions, numPoints);
   evaluatePoints(displacement, out);
   tbb::parallel_for(size_t(0), samples_.size(), [&](size_t i) {
     if (samples_[i].copyOf >= 0) out.positions[i] = out.positions[samples_[i].copyOf];

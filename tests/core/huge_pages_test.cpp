@@ -166,5 +166,67 @@ TEST(HugePages, ReleaseFreedHeapGivesBackWhatAThreadFreed) {
   EXPECT_GT(before - after, 32.0) << before << " MiB before, " << after << " after";
 }
 
+// The pages of [p, p + bytes) that are mapped (mincore), 4 KiB each.
+std::size_t residentPages(const void* p, std::size_t bytes) {
+  const std::size_t pages = (bytes + 4095) / 4096;
+  std::vector<unsigned char> in(pages);
+  if (mincore(const_cast<void*>(p), bytes, in.data()) != 0) return 0;
+  std::size_t n = 0;
+  for (unsigned char c : in) n += c & 1;
+  return n;
+}
+
+// Whether this kernel populates on request (MADV_POPULATE_WRITE, Linux 5.14 and later).
+bool kernelPopulates() {
+#if defined(MADV_POPULATE_WRITE)
+  Mapping m(4096);
+  return m.raw != MAP_FAILED && madvise(m.aligned, 4096, MADV_POPULATE_WRITE) == 0;
+#else
+  return false;
+#endif
+}
+
+// populatePages maps every whole page inside the block, on a block that starts and ends inside
+// pages, and nothing around it; the contents stay as they were.
+TEST(HugePages, PopulatePagesMapsTheWholePagesOfTheBlockAndNothingAround) {
+  if (!kernelPopulates()) GTEST_SKIP() << "this kernel has no MADV_POPULATE_WRITE";
+  constexpr std::size_t kBytes = 9 * kHugePageBytes;
+  Mapping m(kBytes + kHugePageBytes);
+  ASSERT_NE(m.raw, MAP_FAILED);
+  // No huge pages here: one 4 KiB page at a time, so that the edges are seen page by page.
+  madvise(m.aligned, kBytes + kHugePageBytes, MADV_NOHUGEPAGE);
+  m.aligned[5 * 4096 + 7] = 42;  // one page written before
+  ASSERT_EQ(residentPages(m.aligned, kBytes + kHugePageBytes), 1u);
+  char* block = m.aligned + 3 * 4096 + 100;  // the block: 100 bytes into page 3 ...
+  const std::size_t bytes = kBytes - 200;    // ... to 100 bytes before the end of its last page
+  populatePages(block, bytes);
+  constexpr std::size_t kPages = kBytes / 4096;  // the block ends inside page 3 + kPages - 1
+  EXPECT_EQ(residentPages(m.aligned, 4 * 4096), 0u) << "page 3, partly the block's, was mapped";
+  EXPECT_EQ(residentPages(m.aligned + 4 * 4096, (kPages - 2) * 4096), kPages - 2)
+      << "not every page wholly inside the block is mapped";
+  EXPECT_EQ(residentPages(m.aligned + (kPages + 2) * 4096, kHugePageBytes + 4096), 0u)
+      << "a page after the block was mapped";
+  EXPECT_EQ(m.aligned[5 * 4096 + 7], 42);
+  EXPECT_EQ(m.aligned[6 * 4096], 0);
+}
+
+// resizePopulated is resize: zeros after the elements kept, on a fresh vector and on one that
+// grows.
+TEST(HugePages, ResizePopulatedKeepsTheElementsAndZerosTheNewOnes) {
+  std::vector<float> v;
+  resizePopulated(v, 3 * kHugePageBytes / sizeof(float) + 5);
+  ASSERT_EQ(v.size(), 3 * kHugePageBytes / sizeof(float) + 5);
+  for (float x : v) ASSERT_EQ(x, 0.0f);
+  for (std::size_t k = 0; k < v.size(); ++k) v[k] = static_cast<float>(k % 1000);
+  const std::size_t old = v.size();
+  resizePopulated(v, 2 * old);
+  ASSERT_EQ(v.size(), 2 * old);
+  for (std::size_t k = 0; k < old; ++k) ASSERT_EQ(v[k], static_cast<float>(k % 1000)) << k;
+  for (std::size_t k = old; k < v.size(); ++k) ASSERT_EQ(v[k], 0.0f) << k;
+  resizePopulated(v, 10);  // shrinking, as resize
+  EXPECT_EQ(v.size(), 10u);
+  EXPECT_EQ(v[9], 9.0f);
+}
+
 }  // namespace
 }  // namespace meso

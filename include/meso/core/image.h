@@ -2,6 +2,7 @@
 #pragma once
 
 #include "meso/core/check.h"
+#include "meso/core/huge_pages.h"
 
 #include <string>
 #include <vector>
@@ -16,10 +17,10 @@ struct Image {
 
   Image() = default;
   Image(int w, int h, std::vector<std::string> names)
-      : width(w),
-        height(h),
-        channels(std::move(names)),
-        pixels(static_cast<size_t>(w) * h * channels.size(), 0.0f) {}
+      : width(w), height(h), channels(std::move(names)) {
+    // A film of tens of MiB: its pages mapped on every core, then zeroed.
+    resizePopulated(pixels, static_cast<size_t>(w) * h * channels.size());
+  }
 
   int numChannels() const { return static_cast<int>(channels.size()); }
   float& at(int x, int y, int c) {
