@@ -21,9 +21,15 @@ inline float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 
 // Lattice cell (wrapped when periodic) and fraction of a point along one axis.
 inline void lattice(float p, double frequency, int period, int64_t& cell, float& t) {
   double x = static_cast<double>(p) * frequency;
-  if (!(std::abs(x) < 1e9))  // huge or not finite: keep the cell index in range (the hash wraps)
+  if (!(std::abs(x) < 1e9)) {  // huge or not finite: keep the cell index in range (the hash wraps)
     x = std::isfinite(x) ? std::fmod(x, period > 0 ? period : 4294967296.0) : 0.0;
-  if (period > 0) x -= period * floorFast(x / period);  // exact on the lattice: tiles bit for bit
+    if (period > 0) x -= period * floorFast(x / period);
+  } else if (period > 0) {
+    // Exact on the lattice: tiles bit for bit. A periodic octave's frequency is its period (below
+    // 2^27), so x = p * period is exact in double (24 + 27 bits) and x / period is p itself: the
+    // same floor without the division.
+    x -= period * floorFast(frequency == period ? static_cast<double>(p) : x / period);
+  }
   const double f = floorFast(x);
   cell = static_cast<int64_t>(f);
   t = static_cast<float>(x - f);
@@ -104,7 +110,8 @@ FractalNoise::FractalNoise(int octaves, float lacunarity, float gain, uint64_t s
                                        static_cast<float>(baseFrequency), true}) {}
 
 // Perlin gradient noise: corner c contributes g_c . (p - corner_c), blended by the quintic fade.
-float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
+[[gnu::always_inline]] inline float FractalNoise::octave(const Octave& o, Vec2 p,
+                                                         Vec2& grad) const {
   const Cell cell = cellAt(p, o.frequency, o.period, o.salt);
   const Vec2* g = cell.g;
   const float n[4] = {cell.ramp(0), cell.ramp(1), cell.ramp(2), cell.ramp(3)};
@@ -120,7 +127,7 @@ float FractalNoise::octave(const Octave& o, Vec2 p, Vec2& grad) const {
 
 // octave() without the gradient: the same value, bit for bit (the same operations in the same
 // order).
-float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
+[[gnu::always_inline]] inline float FractalNoise::octaveHeight(const Octave& o, Vec2 p) const {
   const Cell cell = cellAt(p, o.frequency, o.period, o.salt);
   const float n[4] = {cell.ramp(0), cell.ramp(1), cell.ramp(2), cell.ramp(3)};
   const float su = fade(cell.u), sv = fade(cell.v);

@@ -47,6 +47,53 @@ TEST(FractalNoise, AnalyticGradientMatchesFiniteDifferences) {
   }
 }
 
+// The table cache keys noise relief by FractalNoise::fingerprint ("FractalNoise/2"): tables built
+// from these values are reused by later runs, so the noise must give them bit for bit until that
+// version is raised. Values of heightAndGradient at points on and near lattice lines, negative, and
+// beyond the 1e9 cells where the lattice wraps, for a periodic and a non-periodic noise.
+TEST(FractalNoise, ValuesOfThisLatticeVersionStayTheSame) {
+  const Vec2 points[] = {{0.25f, 0.75f},      {0.99999994f, 2.0f},       {-1e-8f, -0.5f},
+                         {3.0f, -7.0000005f}, {12345.678f, -0.333f},     {4.7e7f, 1.5e8f},
+                         {-2.9e9f, 0.1f},     {1.0f / 3.0f, 2.0f / 3.0f}};
+  // {height, gradient} for the periodic noise, then for the other.
+  const float expected[16][3] = {
+      {0x1.417db6p-3, -0x1.869af4p+2, -0x1.64fa0ap+1},
+      {0x1.32p-21, -0x1.c66008p+1, -0x1.00e3ap+1},
+      {-0x1.f789eep-2, 0x1.e963c8p+1, 0x1.c7865cp-1},
+      {0x1.dap-22, -0x1.c6602cp+1, -0x1.00e3ap+1},
+      {0x1.fba21cp-7, 0x1.4f255ep+0, -0x1.228f5cp-1},
+      {0x0p+0, -0x1.c66024p+1, -0x1.00e394p+1},
+      {-0x1.2ad77cp-2, -0x1.14b338p+1, -0x1.950ea4p+0},
+      {0x1.c8aff4p-4, -0x1.fff5ap+1, -0x1.006962p+2},
+      {0x1.27cc8p-2, -0x1.0770dcp+2, 0x1.63dc8p-2},
+      {-0x1.53d13cp-6, -0x1.97842cp-2, -0x1.29c02p-1},
+      {-0x1.3e77ap-1, 0x1.d9862cp+1, 0x1.64bd1p+1},
+      {0x1.31d0e4p-4, 0x1.b597ep+2, -0x1.5f022p-3},
+      {0x1.96a7a4p-3, 0x1.ad4822p+2, 0x1.334d0cp+1},
+      {0x1.b59f26p-3, 0x1.1e13acp+1, 0x1.fcc658p+0},
+      {-0x1.068006p-3, 0x1.2f9db4p+1, 0x1.048f1p+1},
+      {-0x1.e399c6p-4, -0x1.807b1p+1, -0x1.ac2008p-1},
+  };
+  int k = 0;
+  for (bool periodic : {true, false}) {
+    FractalNoiseOptions o;
+    o.octaves = 4;
+    o.baseFrequency = 3.0f;
+    o.lacunarity = periodic ? 1.9f : 2.17f;
+    o.seed = 11;
+    o.periodic = periodic;
+    const FractalNoise n(o);
+    for (const Vec2& p : points) {
+      Vec2 g;
+      const float h = n.heightAndGradient(p, g);
+      EXPECT_EQ(h, expected[k][0]) << "point " << k;
+      EXPECT_EQ(g.x, expected[k][1]) << "point " << k;
+      EXPECT_EQ(g.y, expected[k][2]) << "point " << k;
+      ++k;
+    }
+  }
+}
+
 TEST(FractalNoise, PeriodicNoiseTiles) {
   FractalNoiseOptions o;
   o.baseFrequency = 3.0f;
