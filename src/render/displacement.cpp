@@ -174,7 +174,7 @@ Vec3 ReliefDisplacement::offset(int face, Vec2 st, const SurfacePoint& limit) co
   const SurfacePoint sp = reliefChart(limit, solid_, coord);
   const LevelTransitions t =
       levelTransitions(relief_, sp, coord, eye_, pixelsPerRadian_, transition_, mode_, lights_,
-                       TransitionsFor::Geometry, speed_ ? speed_->at(face, st) : 0.0f);
+                       TransitionsFor::Offsets, speed_ ? speed_->at(face, st) : 0.0f);
   Vec3 offset(0.0f);
   for (int i = 0; i < t.raised; ++i) offset += (t.disp[i] * t.H[i]) * t.frames[i].N;
   if (!visible_.empty()) offset += flatLevelsOffset(t, sp, coord, face);

@@ -102,9 +102,13 @@ LevelTransitions levelTransitions(const MaterialRelief& relief, const SurfacePoi
       flatUntil = std::max(flatUntil, static_cast<int>(level.partialSumEnd));
     if (out.disp[i] > 0.0f) {
       out.raised = i + 1;
-      out.H[i] = (level.partialSum && out.disp[i] < 1.0f ? *level.partialSum : level)
-                     .heightAndDerivatives(coord, out.B[i]);
-      out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
+      const ReliefLevel& drawn = level.partialSum && out.disp[i] < 1.0f ? *level.partialSum : level;
+      if (use == TransitionsFor::Offsets && i + 1 == n) {
+        out.H[i] = drawn.height(coord);  // no finer level needs the frame this one raises
+      } else {
+        out.H[i] = drawn.heightAndDerivatives(coord, out.B[i]);
+        out.frames[i + 1] = nextFrame(f, out.disp[i] * out.B[i]);
+      }
     } else {
       flat = true;
       out.frames[i + 1] = f;

@@ -6,6 +6,7 @@
 #include "meso/render/scene_consistency.h"
 #include "meso/render/transition.h"
 #include "meso/scene/relief_bands.h"
+#include "support/offsets_agree.h"
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
@@ -98,6 +99,10 @@ TEST(ImageBands, ABandRaisedInPartRaisesItsPartialSum) {
     const Vec3 eye(0.0f, 0.6f * distance, 0.8f * distance);
     const LevelTransitions t =
         levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition);
+    testing::expectOffsetsAgree(
+        levelTransitions(relief, sp, ReliefCoord{sp.uv}, eye, 500.0f, ts,
+                         DisplacementMode::ByTransition, {}, TransitionsFor::Offsets),
+        t, "distance " + std::to_string(distance));
     if (!(t.disp[0] > 0.0f)) continue;
     const bool part = t.disp[0] < 1.0f;
     const ReliefLevel& raisedAs = part ? *relief.levels[0].partialSum : relief.levels[0];

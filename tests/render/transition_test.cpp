@@ -3,6 +3,7 @@
 #include "meso/render/displacement.h"
 #include "meso/render/transition.h"
 
+#include "support/offsets_agree.h"
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
@@ -162,6 +163,45 @@ TEST(Transition, ThresholdsInTheWrongOrderAreAnError) {
   s.eps = NAN;
   EXPECT_THROW(validateTransitionSettings(s, "x"), Error);
   EXPECT_NO_THROW(validateTransitionSettings(TransitionSettings{}, "x"));
+}
+
+// The tessellator's offsets (TransitionsFor::Offsets) skip the last level's slopes and the frame it
+// raises, and read the rest as Geometry gives it: noise levels over (u, v) from near (every level
+// raised) to far (none), and a solid level in its chart.
+TEST(Displacement, OffsetTransitionsAreTheGeometrysWhereTheOffsetsReadThem) {
+  MaterialRelief relief;
+  for (const ReliefLevelDecl& d :
+       {testing::noiseLevel(0.01f, 1.0f, 3), testing::noiseLevel(0.004f, 4.0f, 2),
+        testing::noiseLevel(0.001f, 16.0f, 2)})
+    relief.levels.push_back(makeReliefLevel(d));
+  MaterialRelief solid;
+  solid.levels.push_back(makeReliefLevel(testing::solidLevel(0.02f, 4.0f, 3, 4)));
+  SolidSpace world;
+  world.active = true;
+  const TransitionSettings ts;
+  std::array<int, 4> raised{};
+  for (float distance = 0.05f; distance < 2000.0f; distance *= 1.3f)
+    for (float u : {0.13f, 0.71f}) {
+      const SurfacePoint sp{Vec3(u, 0.4f, 0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+                            Vec2(u, 0.4f)};
+      const Vec3 eye(0.0f, 0.6f * distance, 0.8f * distance);
+      const std::string where = "distance " + std::to_string(distance);
+      const LevelTransitions geometry =
+          levelTransitions(relief, sp, eye, 500.0f, ts, DisplacementMode::ByTransition);
+      testing::expectOffsetsAgree(
+          levelTransitions(relief, sp, ReliefCoord{sp.uv}, eye, 500.0f, ts,
+                           DisplacementMode::ByTransition, {}, TransitionsFor::Offsets),
+          geometry, where);
+      ++raised[geometry.raised];
+      ReliefCoord coord;
+      const SurfacePoint chart = reliefChart(sp, world, coord);
+      testing::expectOffsetsAgree(
+          levelTransitions(solid, chart, coord, eye, 500.0f, ts, DisplacementMode::ByTransition, {},
+                           TransitionsFor::Offsets),
+          levelTransitions(solid, chart, coord, eye, 500.0f, ts, DisplacementMode::ByTransition),
+          "solid, " + where);
+    }
+  for (int k = 0; k < 4; ++k) EXPECT_GT(raised[k], 0) << k << " levels raised";
 }
 
 // The shader's evaluation stops at the first level whose T selects the BRDF alone (the table stands

@@ -74,6 +74,11 @@ struct ReliefLevel {
     B = (amplitude * solidCells) * Vec2(glm::dot(g, c.pu), glm::dot(g, c.pv));
     return amplitude * (h - midlevel);
   }
+  // height(uv) at a surface point (solid levels at c.p): heightAndDerivatives' height, bit for bit.
+  float height(const ReliefCoord& c) const {
+    if (!solid) return height(c.uv);
+    return amplitude * (solid->height(solidCells * c.p) - midlevel);
+  }
   Vec2 derivatives(const ReliefCoord& c) const {
     if (!solid) return derivatives(c.uv);
     Vec2 B;

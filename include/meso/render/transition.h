@@ -135,7 +135,10 @@ struct LevelTransitions {
 // Shading: the evaluation stops after the first level whose T selects the BRDF table alone
 // (weights.brdf == 1, so count is that level + 1): the table stands for every finer level, and the
 // shader reads nothing of them. Geometry: every level (the tessellator's offsets need all frames).
-enum class TransitionsFor { Geometry, Shading };
+// Offsets: as Geometry, less what the offsets of ReliefDisplacement do not read: when the last
+// level is raised, its B and frames[count] (the frame it raises, which no finer level perturbs)
+// are left unset, and its height comes from the source's height alone (the same bits).
+enum class TransitionsFor { Geometry, Shading, Offsets };
 // `coord` is where the levels are evaluated (reliefChart); the form without it evaluates relief
 // over (u, v) at sp.uv. lengthPerU > 0 replaces the point's own max(|P_u|, |P_v|) in T: the
 // mesh's UvSpeed there, continuous across faces (relief over (u, v) only; the tessellator and the
