@@ -243,9 +243,16 @@ FrameChoice chooseRates(std::vector<SurfaceDicing>& dicings, const ScreenMetric&
   return best;
 }
 
-// Triangles none of whose corners is in view: the mesh's, and those only its grids hold.
+// Triangles none of whose corners is in view: the mesh's, and those only its grids hold. Each point
+// is tested once (a grid's point is a corner of up to six triangles).
 size_t countOffScreen(const TessellatedMesh& m, const std::vector<TriangleGrid>& grids,
                       const ScreenMetric& screen) {
+  std::vector<uint8_t> inView(m.positions.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, inView.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i)
+                        inView[i] = screen.pointInView(m.positions[i]);
+                    });
   const size_t inGrids = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, grids.size()), size_t{0},
       [&](const tbb::blocked_range<size_t>& range, size_t count) {
@@ -253,7 +260,7 @@ size_t countOffScreen(const TessellatedMesh& m, const std::vector<TriangleGrid>&
           const TriangleGrid& g = grids[k];
           if (g.firstTriangle != TriangleGrid::kNotInMesh) continue;
           const auto seen = [&](int i, int j) {
-            return screen.pointInView(m.positions[g.firstVertex + size_t(j) * g.width + i]);
+            return inView[g.firstVertex + size_t(j) * g.width + i] != 0;
           };
           for (int j = 0; j + 1 < g.height; ++j)
             for (int i = 0; i + 1 < g.width; ++i) {
@@ -269,10 +276,8 @@ size_t countOffScreen(const TessellatedMesh& m, const std::vector<TriangleGrid>&
                        tbb::blocked_range<size_t>(0, m.numTriangles()), size_t{0},
                        [&](const tbb::blocked_range<size_t>& range, size_t count) {
                          for (size_t t = range.begin(); t != range.end(); ++t) {
-                           bool seen = false;
-                           for (int k = 0; k < 3 && !seen; ++k)
-                             seen = screen.pointInView(m.positions[m.indices[3 * t + k]]);
-                           count += !seen;
+                           const uint32_t* c = &m.indices[3 * t];
+                           count += !(inView[c[0]] || inView[c[1]] || inView[c[2]]);
                          }
                          return count;
                        },
