@@ -1,6 +1,7 @@
 #include "meso/core/input_file.h"
 
 #include "meso/core/error.h"
+#include "meso/core/huge_pages.h"
 
 #include <cerrno>
 #include <cstring>
@@ -68,7 +69,8 @@ std::string readInputFile(const std::filesystem::path& file, const std::string& 
     ::close(fd);
     throw;
   }
-  std::string bytes(size, '\0');
+  std::string bytes;
+  resizePopulated(bytes, size);  // a large file's pages mapped on every core before the read
   size_t done = 0;
   while (done < size) {
     const ssize_t n = ::read(fd, bytes.data() + done, size - done);

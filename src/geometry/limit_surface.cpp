@@ -5,6 +5,7 @@
 #include "limit_surface_impl.h"
 #include "meso/core/check.h"
 #include "meso/core/error.h"
+#include "meso/core/huge_pages.h"
 
 #include <opensubdiv/bfr/limits.h>
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
@@ -302,7 +303,7 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
   const Factory factory(*refiner);
 
   const int numFaces = mesh.numFaces();
-  impl_->faces.resize(numFaces);
+  resizePopulated(impl_->faces, numFaces);
   std::vector<size_t> firstCorner(static_cast<size_t>(numFaces) + 1, 0);
   for (int f = 0; f < numFaces; ++f)
     firstCorner[f + 1] = firstCorner[f] + static_cast<size_t>(mesh.faceSizes[f]);

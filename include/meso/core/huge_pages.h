@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstddef>
-#include <vector>
 
 namespace meso {
 
@@ -25,13 +24,13 @@ void adviseHugePages(void* p, std::size_t bytes);
 // (the first write then maps them, as before). The memory's contents are not changed.
 void populatePages(void* p, std::size_t bytes);
 
-// v.resize(n) for a vector not yet holding its n elements' storage, its new pages mapped by
-// populatePages first (the resize then writes to mapped memory).
-template <class T, class A>
-void resizePopulated(std::vector<T, A>& v, std::size_t n) {
+// v.resize(n) for a vector (or string) not yet holding its n elements' storage, its new pages
+// mapped by populatePages first (the resize then writes to mapped memory).
+template <class Container>
+void resizePopulated(Container& v, std::size_t n) {
   if (n > v.capacity()) {
     v.reserve(n);
-    populatePages(v.data() + v.size(), (n - v.size()) * sizeof(T));
+    populatePages(v.data() + v.size(), (n - v.size()) * sizeof(typename Container::value_type));
   }
   v.resize(n);
 }
