@@ -165,15 +165,21 @@ TEST(Transition, ThresholdsInTheWrongOrderAreAnError) {
   EXPECT_NO_THROW(validateTransitionSettings(TransitionSettings{}, "x"));
 }
 
+// Three noise levels of `octaves` octaves, each four times finer: T falls from level to level.
+MaterialRelief threeNoiseLevels(int octaves) {
+  MaterialRelief relief;
+  for (const ReliefLevelDecl& d :
+       {testing::noiseLevel(0.01f, 1.0f, octaves), testing::noiseLevel(0.004f, 4.0f, octaves),
+        testing::noiseLevel(0.001f, 16.0f, octaves)})
+    relief.levels.push_back(makeReliefLevel(d));
+  return relief;
+}
+
 // The tessellator's offsets (TransitionsFor::Offsets) skip the last level's slopes and the frame it
 // raises, and read the rest as Geometry gives it: noise levels over (u, v) from near (every level
 // raised) to far (none), and a solid level in its chart.
 TEST(Displacement, OffsetTransitionsAreTheGeometrysWhereTheOffsetsReadThem) {
-  MaterialRelief relief;
-  for (const ReliefLevelDecl& d :
-       {testing::noiseLevel(0.01f, 1.0f, 3), testing::noiseLevel(0.004f, 4.0f, 2),
-        testing::noiseLevel(0.001f, 16.0f, 2)})
-    relief.levels.push_back(makeReliefLevel(d));
+  const MaterialRelief relief = threeNoiseLevels(2);
   MaterialRelief solid;
   solid.levels.push_back(makeReliefLevel(testing::solidLevel(0.02f, 4.0f, 3, 4)));
   SolidSpace world;
@@ -207,12 +213,7 @@ TEST(Displacement, OffsetTransitionsAreTheGeometrysWhereTheOffsetsReadThem) {
 // The shader's evaluation stops at the first level whose T selects the BRDF alone (the table stands
 // for every finer level) and agrees with the tessellator's on every level it evaluates.
 TEST(Displacement, ShadingTransitionsStopAtTheFirstTableLevel) {
-  // Three levels, each four times finer: T falls from level to level.
-  MaterialRelief relief;
-  for (const ReliefLevelDecl& d :
-       {testing::noiseLevel(0.01f, 1.0f, 1), testing::noiseLevel(0.004f, 4.0f, 1),
-        testing::noiseLevel(0.001f, 16.0f, 1)})
-    relief.levels.push_back(makeReliefLevel(d));
+  const MaterialRelief relief = threeNoiseLevels(1);
   const SurfacePoint sp{Vec3(0.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec2(0.3f, 0.4f)};
   const TransitionSettings ts;
   std::array<int, 4> stops{};  // how often the shader evaluated 1, 2, 3 levels
