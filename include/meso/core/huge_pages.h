@@ -17,11 +17,11 @@ inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 // errors are ignored. Call it before the block is first written.
 void adviseHugePages(void* p, std::size_t bytes);
 
-// Maps the pages of [p, p + bytes), still untouched, with both cores' help: a fresh block's pages
-// are zeroed by the kernel at their first write, and where one thread writes a block of hundreds of
-// MiB (a vector's resize, a copy) that zeroing was up to a fifth of a frame's set-up on one core.
-// The kernel's MADV_POPULATE_WRITE on 2 MiB pieces in parallel; nothing where the kernel lacks it
-// (the first write then maps them, as before). The memory's contents are not changed.
+// Maps the pages of [p, p + bytes), still untouched, on every core: a fresh block's pages are
+// zeroed by the kernel at their first write, and where one thread writes blocks of tens of MiB (a
+// vector's resize, a copy) that zeroing was about a fifth of a frame's set-up, on one core. The
+// kernel's MADV_POPULATE_WRITE on 2 MiB pieces in parallel, for blocks of 4 MiB or more; nothing
+// where the kernel lacks it (the first write then maps them). The contents are not changed.
 void populatePages(void* p, std::size_t bytes);
 
 // v.resize(n) for a vector (or string) not yet holding its n elements' storage, its new pages
