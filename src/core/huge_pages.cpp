@@ -32,11 +32,12 @@ void populatePages(void* p, std::size_t bytes) {
   const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(p);
   // Whole pages inside the block: a page it shares with its neighbours is mapped by their writes.
   const std::uintptr_t begin = (at + kPage - 1) & ~(kPage - 1), end = (at + bytes) & ~(kPage - 1);
-  const std::uintptr_t first = (begin + kPiece - 1) & ~(kPiece - 1);   // pieces on 2 MiB bounds
-  const std::size_t pieces = (end - first + kPiece - 1) / kPiece + 1;  // + 1: [begin, first)
+  // Pieces on 2 MiB bounds, clipped to the block.
+  const std::uintptr_t base = begin & ~(kPiece - 1);
+  const std::size_t pieces = (end - base + kPiece - 1) / kPiece;
   tbb::parallel_for(std::size_t(0), pieces, [&](std::size_t k) {
-    const std::uintptr_t lo = k == 0 ? begin : std::min(first + (k - 1) * kPiece, end);
-    const std::uintptr_t hi = k == 0 ? std::min(first, end) : std::min(first + k * kPiece, end);
+    const std::uintptr_t lo = std::max(begin, base + k * kPiece);
+    const std::uintptr_t hi = std::min(end, base + (k + 1) * kPiece);
     if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_POPULATE_WRITE);
   });
 #else

@@ -1,6 +1,7 @@
 // Becker & Max 1993, section 2.2 (Perlin's noise as heights): fBm with analytic gradients.
 #include "meso/relief/fractal_noise.h"
 
+#include "meso/core/check.h"
 #include "meso/core/error.h"
 #include "meso/core/hash.h"
 #include "meso/core/rng.h"
@@ -26,9 +27,9 @@ inline void lattice(float p, double frequency, int period, int64_t& cell, float&
     if (period > 0) x -= period * floorFast(x / period);
   } else if (period > 0) {
     // Exact on the lattice: tiles bit for bit. A periodic octave's frequency is its period (below
-    // 2^27), so x = p * period is exact in double (24 + 27 bits) and x / period is p itself: the
-    // same floor without the division.
-    x -= period * floorFast(frequency == period ? static_cast<double>(p) : x / period);
+    // 2^27), so x = p * period is exact in double (24 + 27 bits) and floor(x / period) is floor(p).
+    MESO_DCHECK(frequency == period, "a periodic octave's frequency is its period");
+    x -= period * floorFast(static_cast<double>(p));
   }
   const double f = floorFast(x);
   cell = static_cast<int64_t>(f);
