@@ -98,6 +98,11 @@ float acrossViewCapScale(const ScreenMetric& screen, Vec3 p, Vec3 N, Vec3 dir, f
   return std::isfinite(scale) ? std::clamp(scale, std::min(across, 1.0f), 1.0f) : 1.0f;
 }
 
+bool faceInView(const LimitSurface& surface, const ScreenMetric& screen, int face, float grow) {
+  Vec3 lo, hi;
+  return surface.faceBox(face, lo, hi) && screen.boxInView(lo, hi, grow);
+}
+
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
                               std::vector<float>& distance) {
   std::vector<char> inView(surface.numFaces(), 0);
@@ -105,7 +110,7 @@ std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& s
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {
     Vec3 lo, hi;
     if (!surface.faceBox(f, lo, hi)) return;
-    inView[f] = screen.boxInView(lo, hi, grow);
+    inView[f] = faceInView(surface, screen, f, grow);
     const float d = boxDistance(screen.eye, lo - Vec3(grow), hi + Vec3(grow));
     distance[f] = std::isfinite(d) ? d : 0.0f;
   });

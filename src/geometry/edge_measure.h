@@ -41,10 +41,8 @@ inline int scaledCap(int cap, float scale) {
   return std::max(1, static_cast<int>(std::ceil(static_cast<float>(cap) * scale)));
 }
 
-// A face is in view when the box of its patch points, grown by the displacement bound, is: the
-// limit patch lies in the convex hull of its patch points (B-spline and Gregory bases are
-// non-negative and sum to one), so the box is conservative. `distance`: from the eye to that box,
-// a lower bound of the distance of the face's displaced points.
+// faceInView of every face, grown by the displacement bound. `distance`: from the eye to that
+// box, a lower bound of the distance of the face's displaced points.
 std::vector<char> facesInView(const LimitSurface& surface, const ScreenMetric& screen, float grow,
                               std::vector<float>& distance);
 

@@ -140,28 +140,40 @@ std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> createRefiner(const ControlMes
   return refiner;
 }
 
+// Offsets of a relation (first[i], then the total) from the sizes of its entries.
+template <class Size>
+void relationOffsets(int count, std::vector<int>& first, Size&& size) {
+  resizePopulated(first, static_cast<size_t>(count) + 1);
+  first[0] = 0;
+  for (int i = 0; i < count; ++i) first[i + 1] = first[i] + size(i);
+}
+
+// The relations that tessellation uses, copied in parallel into arrays made to size, their pages
+// mapped on every core (populatePages): on a ground of 400 k faces one thread's copy took 0.1 s,
+// mostly the kernel zeroing the pages at their first write.
 LimitSurface::Impl::Topology copyTopology(const OpenSubdiv::Far::TopologyLevel& base) {
   LimitSurface::Impl::Topology t;
   t.vertices = base.GetNumVertices();
+  const auto each = [](int count, auto&& copy) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, 4096), [&](const auto& r) {
+      for (int i = r.begin(); i != r.end(); ++i) copy(i);
+    });
+  };
   const int faces = base.GetNumFaces(), edges = base.GetNumEdges();
-  t.faceFirst.reserve(static_cast<size_t>(faces) + 1);
-  t.faceVertex.reserve(static_cast<size_t>(base.GetNumFaceVertices()));
-  t.faceEdge.reserve(static_cast<size_t>(base.GetNumFaceVertices()));
-  for (int f = 0; f < faces; ++f) {
-    t.faceFirst.push_back(static_cast<int>(t.faceVertex.size()));
+  relationOffsets(faces, t.faceFirst, [&](int f) { return base.GetFaceVertices(f).size(); });
+  resizePopulated(t.faceVertex, static_cast<size_t>(t.faceFirst.back()));
+  resizePopulated(t.faceEdge, t.faceVertex.size());
+  each(faces, [&](int f) {
     const OpenSubdiv::Far::ConstIndexArray v = base.GetFaceVertices(f), e = base.GetFaceEdges(f);
-    t.faceVertex.insert(t.faceVertex.end(), v.begin(), v.end());
-    t.faceEdge.insert(t.faceEdge.end(), e.begin(), e.end());
-  }
-  t.faceFirst.push_back(static_cast<int>(t.faceVertex.size()));
-  t.edgeFirst.reserve(static_cast<size_t>(edges) + 1);
-  for (int e = 0; e < edges; ++e) {
-    t.edgeFirst.push_back(static_cast<int>(t.edgeFace.size()));
+    std::copy(v.begin(), v.end(), t.faceVertex.begin() + t.faceFirst[f]);
+    std::copy(e.begin(), e.end(), t.faceEdge.begin() + t.faceFirst[f]);
+  });
+  relationOffsets(edges, t.edgeFirst, [&](int e) { return base.GetEdgeFaces(e).size(); });
+  resizePopulated(t.edgeFace, static_cast<size_t>(t.edgeFirst.back()));
+  each(edges, [&](int e) {
     const OpenSubdiv::Far::ConstIndexArray f = base.GetEdgeFaces(e);
-    t.edgeFace.insert(t.edgeFace.end(), f.begin(), f.end());
-  }
-  t.edgeFirst.push_back(static_cast<int>(t.edgeFace.size()));
-  t.edgeFace.shrink_to_fit();
+    std::copy(f.begin(), f.end(), t.edgeFace.begin() + t.edgeFirst[e]);
+  });
   return t;
 }
 

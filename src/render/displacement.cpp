@@ -254,7 +254,7 @@ int edgeRateFor(float uvEdge, float perU, float limit) {
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, const ReliefSampling& sampling,
-                      const SolidSpace& solid, const UvSpeed* speed) {
+                      const SolidSpace& solid, const UvSpeed* speed, const ScreenMetric* view) {
   const int n = surface.numFaces();
   if (speed && (speed->empty() || solid.active)) speed = nullptr;
   FaceDicing out;
@@ -309,7 +309,9 @@ FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
           edgeRateFor(s.uvEdge, std::min(sampling.perWavelength * freqPerU, capPerU),
                       out.texelCap[face] > 0 ? static_cast<float>(out.texelCap[face]) : 32767.0f);
   };
+  const float viewGrow = std::max(bound, 0.0f);  // as adaptive tessellation grows its test
   tbb::parallel_for(0, n, [&](int face) {
+    if (view && !faceInView(surface, *view, face, viewGrow)) return;
     FaceSample s;
     if (!sampleFace(surface, face, eye, solid, s)) return;
     // T reads the mesh's UvSpeed, interpolated from the face's corners: none exceeds their largest.

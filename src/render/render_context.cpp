@@ -446,7 +446,7 @@ void tessellateForFrame(RenderContext& ctx, const std::vector<size_t>& objects,
         {.surface = &object.surface,
          .faces = faceDicing(object.surface, relief, d.mode, rs.transition, d.view.position,
                              ctx.camera.pixelsPerRadian(), {rs.reliefSamples, rs.texelSamples},
-                             object.solid, &object.uvSpeed),
+                             object.solid, &object.uvSpeed, &d.screen),
          .displacement = &displacements.back()});
   }
   std::vector<AdaptiveTessellation> meshes = tessellateAdaptive(surfaces, d.screen, d.dicing);

@@ -11,6 +11,7 @@
 
 #include "meso/core/rng.h"
 
+#include "geometry/test_meshes.h"
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
@@ -78,6 +79,70 @@ double worstBeautyDifference(const Image& a, const Image& b) {
       for (int c = FilmLayout::R; c <= FilmLayout::B; ++c)
         worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
   return worst;
+}
+
+// With the frame's view, faceDicing leaves the faces the view cannot see (faceInView, grown by the
+// relief's bound) at their defaults, and gives every other face what it gives without the view:
+// the tessellation, which reads only the faces it keeps in view, is then the same. On a ground
+// seen at a grazing angle, faces just outside the frustum whose relief can rise into it are among
+// the evaluated ones.
+TEST(Displacement, FaceDicingInAViewSkipsOnlyTheFacesTheViewCannotSee) {
+  ControlMesh mesh = test::grid(24);
+  mesh.uvs.reserve(mesh.positions.size());
+  for (const Vec3& p : mesh.positions) mesh.uvs.emplace_back(p.x / 4.0f, p.y / 4.0f);
+  mesh.uvIndices = mesh.faceVertices;
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const MaterialRelief relief = levelsOnly({noiseLevel(0.3f, 2.0f, 3), noiseLevel(0.05f, 16.0f)});
+  const Vec3 eye(12.0f, -2.0f, 0.6f);
+  const ScreenMetric screen =
+      ScreenMetric::lookAt(eye, Vec3(12.0f, 12.0f, 0.0f), Vec3(0, 0, 1), 30.0f, 80, 45);
+  const TransitionSettings ts;
+  const float ppr = screen.pixelsPerUnit(1.0f);  // pixels per radian at the centre
+  // (Full mode without the texel floor, which at this grazing view makes millions.)
+  for (DisplacementMode mode : {DisplacementMode::ByTransition, DisplacementMode::Full}) {
+    const ReliefSampling sampling{mode == DisplacementMode::Full ? 0.0f : 4.0f};
+    const FaceDicing all = faceDicing(surface, relief, mode, ts, eye, ppr, sampling);
+    const FaceDicing seen =
+        faceDicing(surface, relief, mode, ts, eye, ppr, sampling, {}, nullptr, &screen);
+    const float bound = displacementBound(relief);
+    ASSERT_GT(bound, 0.0f);
+    int skipped = 0, grownIn = 0;
+    ASSERT_EQ(seen.needsDicing.size(), all.needsDicing.size());
+    ASSERT_EQ(seen.raiseDistance.size(), all.raiseDistance.size());
+    for (int f = 0; f < surface.numFaces(); ++f) {
+      const size_t i = static_cast<size_t>(f);
+      if (faceInView(surface, screen, f, bound)) {
+        grownIn += !faceInView(surface, screen, f, 0.0f);
+        EXPECT_EQ(seen.needsDicing[i], all.needsDicing[i]) << f;
+        EXPECT_EQ(seen.texelCap[i], all.texelCap[i]) << f;
+        EXPECT_EQ(seen.texelFloor[i], all.texelFloor[i]) << f;
+        if (!seen.raiseDistance.empty()) {
+          EXPECT_EQ(seen.raiseDistance[i], all.raiseDistance[i]) << f;
+        }
+        continue;
+      }
+      ++skipped;
+      EXPECT_EQ(seen.needsDicing[i], 0) << f;
+      EXPECT_EQ(seen.texelCap[i], 0) << f;
+      EXPECT_EQ(seen.texelFloor[i], 0) << f;
+    }
+    EXPECT_GT(skipped, surface.numFaces() / 4);
+    EXPECT_GT(grownIn, 0);
+    // The same tessellation, which reads the entries of the faces it keeps in view only.
+    const ReliefDisplacement displacement(relief, mode, ts, eye, ppr);
+    ASSERT_EQ(displacement.bound(), bound);
+    DicingSettings dicing;
+    dicing.dicingRate = 4.0f;
+    const AdaptiveTessellation a = tessellateAdaptive(surface, screen, dicing, all, &displacement);
+    const AdaptiveTessellation b = tessellateAdaptive(surface, screen, dicing, seen, &displacement);
+    std::printf("  %zu micropolygons, %d of %d faces skipped, %d in view by the bound only\n",
+                a.stats.micropolygons, skipped, surface.numFaces(), grownIn);
+    ASSERT_GT(a.stats.micropolygons, 1000u);
+    EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+    EXPECT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+    EXPECT_TRUE(std::equal(a.mesh.positions.begin(), a.mesh.positions.end(),
+                           b.mesh.positions.begin(), b.mesh.positions.end()));
+  }
 }
 
 // Every vertex of a displaced torus lies within the material's bound of the limit point it came

@@ -109,6 +109,13 @@ struct FaceDicing {
   }
 };
 
+// Whether base face `face` may be seen in the frame: the box of its patch points, grown by `grow`
+// (the displacement bound), is in view. The limit patch lies in the convex hull of its patch points
+// (B-spline and Gregory bases are non-negative and sum to one), so the test is conservative.
+// Adaptive tessellation culls the faces that fail it with the bound of their VertexDisplacement,
+// and reads no FaceDicing entry of theirs.
+bool faceInView(const LimitSurface& surface, const ScreenMetric& screen, int face, float grow);
+
 // How tessellated vertices move off the limit surface; the caller implements it (meso's renderer:
 // sum_i disp_i * h_i(u, v) * N_i). Called once per output vertex, concurrently from several
 // threads, so offset() must be thread-safe and should not allocate.

@@ -159,9 +159,14 @@ float reliefSlopeRmsPerU(const MaterialRelief& relief);
 // (world edge lengths over SolidSpace::lengthPerUnit) instead of in (u, v).
 // speed (may be null or empty): the surface's UvSpeed, whose corners bound the length per u T
 // reads on each face.
+// view (may be null): the frame's. A face that it does not see (faceInView, grown by
+// displacementBound(relief), the bound of the relief's ReliefDisplacement) keeps the defaults
+// unevaluated: adaptive tessellation reads no entry of a face it culls, so the frame's geometry is
+// the same, and a ground of many faces mostly out of view does not sample each of them.
 FaceDicing faceDicing(const LimitSurface& surface, const MaterialRelief& relief,
                       DisplacementMode mode, const TransitionSettings& transition, Vec3 eye,
                       float pixelsPerRadian, const ReliefSampling& sampling = {},
-                      const SolidSpace& solid = {}, const UvSpeed* speed = nullptr);
+                      const SolidSpace& solid = {}, const UvSpeed* speed = nullptr,
+                      const ScreenMetric* view = nullptr);
 
 }  // namespace meso
