@@ -1,12 +1,16 @@
 #include "meso/scene/mesh_text_check.h"
 
 #include "meso/core/error.h"
+#include "meso/core/huge_pages.h"
 #include "mesh_text_tokens.h"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cfloat>
 #include <charconv>
 #include <cmath>
+#include <exception>
 #include <set>
 #include <string>
 #include <vector>
@@ -47,38 +51,69 @@ float single(const LineReader& r, const Token& t, std::string_view key) {
   return ec == std::errc() ? v : static_cast<float>(checked);  // (under- or overflow)
 }
 
-MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& file) {
-  MeshTextCounts counts;
-  ObjContents& obj = counts.obj;
-  counts.checked = true;
-  {  // Totals first: faces may refer to vertices that come later; the contents' arrays are made
-     // to size (grown by doubling, the freed blocks stay in the heap for the rest of the run).
-    LineReader r(bytes, file);
-    std::vector<Token> t;
-    size_t faces = 0, corners = 0;
-    while (r.next(t)) {
-      if (t[0].text == "v") ++counts.vertices;
-      if (t[0].text == "vt") ++counts.texcoords;
-      if (t[0].text == "f") ++faces, corners += t.size() - 1;
-    }
-    obj.positions.reserve(static_cast<size_t>(counts.vertices));
-    obj.texcoords.reserve(static_cast<size_t>(counts.texcoords));
-    obj.faceSizes.reserve(faces);
-    obj.corners.reserve(corners);
-    obj.cornerTexcoords.reserve(corners);
-  }
+const std::set<std::string_view>& knownObjKeys() {
   static const std::set<std::string_view> kKnown = {
       "vn",       "vp",     "o",          "g",         "s",     "l",     "p",     "usemtl",
       "mtllib",   "cstype", "deg",        "curv",      "curv2", "surf",  "parm",  "end",
       "trim",     "hole",   "scrv",       "sp",        "con",   "mg",    "bevel", "c_interp",
       "d_interp", "lod",    "shadow_obj", "trace_obj", "ctech", "stech", "bmat",  "step",
       "call",     "csh",    "maplib",     "usemap"};
-  LineReader r(bytes, file);
-  std::vector<Token> t;
-  long long v = 0, vt = 0;
-  // The first corner with a texture coordinate and the first without: a file must give every
-  // corner one or none (OpenMesh leaves the (u, v) of a corner without one uninitialized).
+  return kKnown;
+}
+
+// One chunk of an OBJ's lines (whole lines), checked on its own thread: its counts first, then its
+// statements into its share of the contents' arrays.
+struct ObjChunk {
+  std::string_view bytes;
+  int firstLine = 0;  // lines before it
+  long long vertices = 0, texcoords = 0;
+  size_t faces = 0, corners = 0;
+  // Where its statements go in the contents (the counts of the chunks before it).
+  long long vertexBase = 0, texcoordBase = 0;
+  size_t faceBase = 0, cornerBase = 0;
+  // The first corner with a texture coordinate and the first without.
   FileLoc withUv, withoutUv;
+  std::exception_ptr error;  // its first problem
+};
+
+// Chunks of about `chunkBytes`, each ending after a line end (the last at the end of the file).
+std::vector<ObjChunk> objChunks(std::string_view bytes, size_t chunkBytes) {
+  std::vector<ObjChunk> chunks;
+  size_t start = 0;
+  while (start < bytes.size() || chunks.empty()) {
+    size_t end = bytes.size();
+    if (bytes.size() - start > chunkBytes) {
+      const size_t newline = bytes.find('\n', start + chunkBytes);
+      if (newline != std::string_view::npos) end = newline + 1;
+    }
+    ObjChunk c;
+    c.bytes = bytes.substr(start, end - start);
+    chunks.push_back(c);
+    start = end;
+  }
+  return chunks;
+}
+
+// Counts the statements of a chunk (a NUL byte is its only problem here).
+void countObjChunk(ObjChunk& c, const std::filesystem::path& file) {
+  LineReader r(c.bytes, file, c.firstLine);
+  std::vector<Token> t;
+  while (r.next(t)) {
+    if (t[0].text == "v") ++c.vertices;
+    if (t[0].text == "vt") ++c.texcoords;
+    if (t[0].text == "f") ++c.faces, c.corners += t.size() - 1;
+  }
+}
+
+// Checks the statements of a chunk into the contents' arrays, sized for every chunk; `totals`
+// are the file's counts of vertices and texture coordinates.
+void parseObjChunk(ObjChunk& c, const std::filesystem::path& file, long long vertexTotal,
+                   long long texcoordTotal, ObjContents& obj) {
+  LineReader r(c.bytes, file, c.firstLine);
+  std::vector<Token> t;
+  long long v = c.vertexBase, vt = c.texcoordBase;  // defined so far
+  size_t face = c.faceBase, corner = c.cornerBase;
+  const std::set<std::string_view>& known = knownObjKeys();
   while (r.next(t)) {
     const std::string_view key = t[0].text;
     if (key == "v") {
@@ -90,8 +125,7 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
         const float x = single(r, t[i], "v");
         if (i <= 3) p[i - 1] = x;
       }
-      obj.positions.push_back(p);
-      ++v;
+      obj.positions[static_cast<size_t>(v++)] = p;
     } else if (key == "vt") {
       if (t.size() < 3)
         r.fail(t[0].column, "vt",
@@ -102,43 +136,99 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
         const float x = single(r, t[i], "vt");
         if (i <= 2) uv[i - 1] = x;
       }
-      obj.texcoords.push_back(uv);
-      ++vt;
+      obj.texcoords[static_cast<size_t>(vt++)] = uv;
     } else if (key == "f") {
       if (t.size() < 4)
         r.fail(t[0].column, "f",
                "expected a face of at least 3 vertices, got " + std::to_string(t.size() - 1));
       std::set<long long> seen;  // large faces only; small ones scan their corners
-      const size_t firstCorner = obj.corners.size();
+      const auto first = obj.corners.begin() + static_cast<std::ptrdiff_t>(corner);
       for (size_t i = 1; i < t.size(); ++i) {
-        const std::string_view c = t[i].text;
-        const size_t s1 = c.find('/');
-        const long long vi = objIndex(r, t[i], c.substr(0, s1), v, counts.vertices, "vertex");
-        const bool twice = t.size() > 33
-                               ? !seen.insert(vi).second
-                               : std::find(obj.corners.begin() + firstCorner, obj.corners.end(),
-                                           static_cast<int>(vi - 1)) != obj.corners.end();
+        const std::string_view text = t[i].text;
+        const size_t s1 = text.find('/');
+        const long long vi = objIndex(r, t[i], text.substr(0, s1), v, vertexTotal, "vertex");
+        const auto end = obj.corners.begin() + static_cast<std::ptrdiff_t>(corner);
+        const bool twice = t.size() > 33 ? !seen.insert(vi).second
+                                         : std::find(first, end, static_cast<int>(vi - 1)) != end;
         if (twice)
           r.fail(t[i].column, "f", "vertex " + std::to_string(vi) + " appears twice in the face");
-        obj.corners.push_back(static_cast<int>(vi - 1));
-        obj.cornerTexcoords.push_back(-1);
+        obj.corners[corner] = static_cast<int>(vi - 1);
+        obj.cornerTexcoords[corner] = -1;
         const std::string_view rest =
-            s1 == std::string_view::npos ? std::string_view() : c.substr(s1 + 1);
+            s1 == std::string_view::npos ? std::string_view() : text.substr(s1 + 1);
         const std::string_view tex = rest.substr(0, rest.find('/'));
-        FileLoc& first = tex.empty() ? withoutUv : withUv;
-        if (first.line == 0) first = {file.string(), r.line(), t[i].column};
+        FileLoc& firstOfKind = tex.empty() ? c.withoutUv : c.withUv;
+        if (firstOfKind.line == 0) firstOfKind = {file.string(), r.line(), t[i].column};
         if (!tex.empty())
-          obj.cornerTexcoords.back() = static_cast<int>(
-              objIndex(r, t[i], tex, vt, counts.texcoords, "texture coordinate") - 1);
+          obj.cornerTexcoords[corner] =
+              static_cast<int>(objIndex(r, t[i], tex, vt, texcoordTotal, "texture coordinate") - 1);
+        ++corner;
       }
-      obj.faceSizes.push_back(static_cast<int>(t.size() - 1));
-      ++counts.faces;
-    } else if (!kKnown.count(key)) {
+      obj.faceSizes[face++] = static_cast<int>(t.size() - 1);
+    } else if (!known.count(key)) {
       if (!printable(key))
         r.fail(
             t[0].column, "",
             "unexpected bytes " + shown(key) + " (not an OBJ statement: corrupt or binary file?)");
     }
+  }
+}
+
+// Runs `step` on every chunk in parallel and throws the first problem in file order.
+template <class Step>
+void eachObjChunk(std::vector<ObjChunk>& chunks, Step&& step) {
+  tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t i) {
+    try {
+      step(chunks[i]);
+    } catch (...) {
+      chunks[i].error = std::current_exception();
+    }
+  });
+  for (const ObjChunk& c : chunks)
+    if (c.error) std::rethrow_exception(c.error);
+}
+
+}  // namespace
+
+MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& file,
+                        size_t chunkBytes) {
+  MeshTextCounts counts;
+  ObjContents& obj = counts.obj;
+  counts.checked = true;
+  // Totals first (faces may refer to vertices that come later), chunk by chunk; a chunk's first
+  // line follows the line ends before it.
+  std::vector<ObjChunk> chunks = objChunks(bytes, std::max<size_t>(chunkBytes, 1));
+  tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t i) {
+    chunks[i].firstLine =
+        static_cast<int>(std::count(chunks[i].bytes.begin(), chunks[i].bytes.end(), '\n'));
+  });
+  int lines = 0;
+  for (ObjChunk& c : chunks) std::swap(c.firstLine, lines), lines += c.firstLine;
+  eachObjChunk(chunks, [&](ObjChunk& c) { countObjChunk(c, file); });
+  size_t faces = 0, corners = 0;
+  for (ObjChunk& c : chunks) {
+    c.vertexBase = counts.vertices;
+    c.texcoordBase = counts.texcoords;
+    c.faceBase = faces;
+    c.cornerBase = corners;
+    counts.vertices += c.vertices;
+    counts.texcoords += c.texcoords;
+    faces += c.faces;
+    corners += c.corners;
+  }
+  // Made to size, their pages mapped on every core: each chunk fills its share.
+  resizePopulated(obj.positions, static_cast<size_t>(counts.vertices));
+  resizePopulated(obj.texcoords, static_cast<size_t>(counts.texcoords));
+  resizePopulated(obj.faceSizes, faces);
+  resizePopulated(obj.corners, corners);
+  resizePopulated(obj.cornerTexcoords, corners);
+  eachObjChunk(
+      chunks, [&](ObjChunk& c) { parseObjChunk(c, file, counts.vertices, counts.texcoords, obj); });
+  counts.faces = static_cast<long long>(faces);
+  FileLoc withUv, withoutUv;
+  for (const ObjChunk& c : chunks) {
+    if (withUv.line == 0) withUv = c.withUv;
+    if (withoutUv.line == 0) withoutUv = c.withoutUv;
   }
   if (counts.faces == 0)
     throw Error(file.string() + ": mesh has no faces (" + std::to_string(counts.vertices) +
@@ -151,6 +241,8 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
   if (withUv.line == 0) obj.texcoords.clear();  // "vt" lines that no face uses: no (u, v)
   return counts;
 }
+
+namespace {
 
 MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& file) {
   MeshTextCounts counts;
@@ -226,7 +318,7 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
 
 MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file,
                              const std::string& ext) {
-  if (ext == ".obj") return checkObj(bytes, file);
+  if (ext == ".obj") return checkObj(bytes, file, kObjChunkBytes);
   if (ext == ".off") return checkOff(bytes, file);
   if (ext == ".ply") return checkPly(bytes, file);
   return {};

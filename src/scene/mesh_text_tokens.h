@@ -48,8 +48,9 @@ inline bool printable(std::string_view t) {
 
 class LineReader {
  public:
-  LineReader(std::string_view bytes, const std::filesystem::path& file)
-      : bytes_(bytes), file_(file.string()) {}
+  // `lines`: the lines before `bytes` in the file (a chunk of it), which line numbers count from.
+  LineReader(std::string_view bytes, const std::filesystem::path& file, int lines = 0)
+      : bytes_(bytes), file_(file.string()), line_(lines) {}
   // The next line's tokens (empty lines and comments skipped); false at the end.
   bool next(std::vector<Token>& tokens) {
     while (!done_) {

@@ -4,11 +4,13 @@
 #include "meso/core/error.h"
 #include "meso/core/rng.h"
 #include "meso/scene/mesh_io.h"
+#include "meso/scene/mesh_text_check.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -104,6 +106,74 @@ TEST(ObjImport, CornersWithAndWithoutTextureCoordinates) {
       parseControlMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1 2 3\n", "unused.obj");
   EXPECT_FALSE(unused.hasUvs());
   EXPECT_EQ(unused.faceVertices, (std::vector<int>{0, 1, 2}));
+}
+
+// The OBJ check in chunks (kObjChunkBytes; here down to a line or a byte each) gives the contents
+// and counts of the whole file read as one chunk, and the same first problem, its line and column:
+// vertices and faces interleaved with relative indices reaching into earlier chunks, comments,
+// blank and CRLF lines, and problems in several chunks (the first in the file is reported; a NUL
+// byte anywhere before any other).
+TEST(ObjImport, ChunksGiveTheContentsAndTheFirstProblemOfTheWholeFile) {
+  Rng rng(11);
+  std::ostringstream obj;
+  obj << "# interleaved\n\n";
+  int vertices = 0;
+  for (int k = 0; k < 120; ++k) {
+    for (int i = 0; i < 3; ++i)
+      obj << "v " << rng.uniform() << " " << rng.uniform() << " " << k << (k % 7 ? "\n" : "\r\n")
+          << "vt " << rng.uniform() << " " << rng.uniform() << "\n";
+    vertices += 3;
+    if (k % 5 == 0) obj << "   \n# a comment\ng group" << k << "\n";
+    const int a = vertices - 2, b = vertices - 1;
+    // The last vertex relative (-1), the others absolute, some from earlier chunks.
+    obj << "f " << a << "/" << a << " " << b << "/" << b << " -1/-1";
+    if (k > 0) {
+      const int older = 1 + static_cast<int>(rng.uniform() * static_cast<float>(vertices - 4));
+      obj << " " << older << "/" << older;
+    }
+    obj << "\n";
+  }
+  const std::string text = obj.str();
+  const MeshTextCounts whole = checkObj(text, "t.obj", text.size() + 1);
+  ASSERT_EQ(whole.vertices, 360);
+  ASSERT_EQ(whole.faces, 120);
+  for (size_t chunk : {size_t{1}, size_t{2}, size_t{7}, size_t{64}, size_t{333}, size_t{4096}}) {
+    SCOPED_TRACE(chunk);
+    const MeshTextCounts c = checkObj(text, "t.obj", chunk);
+    EXPECT_EQ(c.vertices, whole.vertices);
+    EXPECT_EQ(c.texcoords, whole.texcoords);
+    EXPECT_EQ(c.faces, whole.faces);
+    EXPECT_EQ(c.obj.positions, whole.obj.positions);
+    EXPECT_EQ(c.obj.texcoords, whole.obj.texcoords);
+    EXPECT_EQ(c.obj.faceSizes, whole.obj.faceSizes);
+    EXPECT_EQ(c.obj.corners, whole.obj.corners);
+    EXPECT_EQ(c.obj.cornerTexcoords, whole.obj.cornerTexcoords);
+  }
+  const size_t middle = text.find('\n', text.size() / 2) + 1;
+  const std::string head = text.substr(0, middle), tail = text.substr(middle);
+  const std::string broken[] = {
+      text + "f 1/1 2/2 9999/1\n",                         // out of range, in the last chunk
+      head + "v 1 2\n" + tail + "f 1 2\n",                 // two problems: the first is reported
+      head + "f 1/1 2/2 3\n" + tail,                       // a corner without a texture coordinate
+      head + "f 4/4 -1/-1 4/4\n" + tail + "f 1 2\n",       // a vertex twice, then a short face
+      head + "v 0 0 x\n" + tail + std::string("\0\n", 2),  // a NUL byte after it wins
+      text + "\x7f\x45LF\n",                               // not text
+  };
+  for (const std::string& t : broken) {
+    const auto problem = [&](size_t chunk) {
+      try {
+        checkObj(t, "t.obj", chunk);
+      } catch (const Error& e) {
+        return std::string(e.what());
+      }
+      return std::string("no problem");
+    };
+    const std::string expected = problem(t.size() + 1);
+    ASSERT_EQ(expected.rfind("t.obj:", 0), 0u) << expected;
+    std::printf("  %s\n", expected.c_str());
+    for (size_t chunk : {size_t{1}, size_t{5}, size_t{100}, size_t{2000}})
+      EXPECT_EQ(problem(chunk), expected) << chunk;
+  }
 }
 
 // A 24 x 24 grid of quads and triangle pairs with random relative indices, with and without

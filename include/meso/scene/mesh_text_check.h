@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -38,6 +39,13 @@ struct MeshTextCounts {
 // `ext` is ".obj", ".off" or ".ply" (lower case). Throws meso::Error for the first problem found.
 MeshTextCounts checkMeshText(std::string_view bytes, const std::filesystem::path& file,
                              const std::string& ext);
+
+// The OBJ part of checkMeshText: the file in chunks of about `chunkBytes` (whole lines), counted
+// and then checked into the contents' arrays on every core. The contents and the first problem in
+// file order (its message, line and column) are those of one chunk, whatever the chunk size.
+inline constexpr size_t kObjChunkBytes = size_t{1} << 20;
+MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& file,
+                        size_t chunkBytes = kObjChunkBytes);
 
 // The PLY part of checkMeshText (ply_check.cpp): the header by its grammar, then every element up
 // to the faces walked value by value, list lengths against what the file holds and vertex indices
