@@ -105,8 +105,8 @@ void countObjChunk(ObjChunk& c, const std::filesystem::path& file) {
   }
 }
 
-// Checks the statements of a chunk into the contents' arrays, sized for every chunk; `totals`
-// are the file's counts of vertices and texture coordinates.
+// Checks the statements of a chunk into its share of the contents' arrays (sized for every
+// chunk); vertexTotal and texcoordTotal are the file's counts.
 void parseObjChunk(ObjChunk& c, const std::filesystem::path& file, long long vertexTotal,
                    long long texcoordTotal, ObjContents& obj) {
   LineReader r(c.bytes, file, c.firstLine);
@@ -198,12 +198,13 @@ MeshTextCounts checkObj(std::string_view bytes, const std::filesystem::path& fil
   // Totals first (faces may refer to vertices that come later), chunk by chunk; a chunk's first
   // line follows the line ends before it.
   std::vector<ObjChunk> chunks = objChunks(bytes, std::max<size_t>(chunkBytes, 1));
+  std::vector<int> lineEnds(chunks.size());
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t i) {
-    chunks[i].firstLine =
+    lineEnds[i] =
         static_cast<int>(std::count(chunks[i].bytes.begin(), chunks[i].bytes.end(), '\n'));
   });
-  int lines = 0;
-  for (ObjChunk& c : chunks) std::swap(c.firstLine, lines), lines += c.firstLine;
+  for (size_t i = 1; i < chunks.size(); ++i)
+    chunks[i].firstLine = chunks[i - 1].firstLine + lineEnds[i - 1];
   eachObjChunk(chunks, [&](ObjChunk& c) { countObjChunk(c, file); });
   size_t faces = 0, corners = 0;
   for (ObjChunk& c : chunks) {
