@@ -71,7 +71,8 @@ struct ObjChunk {
   // Where its statements go in the contents (the counts of the chunks before it).
   long long vertexBase = 0, texcoordBase = 0;
   size_t faceBase = 0, cornerBase = 0;
-  // The first corner with a texture coordinate and the first without.
+  // The first corner with a texture coordinate and the first without: a file must give every
+  // corner one or none (OpenMesh leaves the (u, v) of a corner without one uninitialized).
   FileLoc withUv, withoutUv;
   std::exception_ptr error;  // its first problem
 };
