@@ -18,6 +18,7 @@ namespace {
 
 inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 inline float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+inline float fadeSecondDerivative(float t) { return 60.0f * t * ((t - 1.0f) * (2.0f * t - 1.0f)); }
 
 // Lattice cell (wrapped when periodic) and fraction of a point along one axis.
 inline void lattice(float p, double frequency, int period, int64_t& cell, float& t) {
@@ -134,6 +135,35 @@ FractalNoise::FractalNoise(int octaves, float lacunarity, float gain, uint64_t s
   const float su = fade(cell.u), sv = fade(cell.v);
   const float nx0 = n[0] + su * (n[1] - n[0]), nx1 = n[2] + su * (n[3] - n[2]);
   return nx0 + sv * (nx1 - nx0);
+}
+
+// octave()'s second derivative along dir (in tile units): with A = n0 + su (n1 - n0) and
+// C = n2 + su (n3 - n2) the blends along u, the octave is A + sv (C - A), each ramp n_c linear.
+[[gnu::always_inline]] inline float FractalNoise::octaveSecondDerivative(const Octave& o, Vec2 p,
+                                                                         Vec2 dir) const {
+  const Cell cell = cellAt(p, o.frequency, o.period, o.salt);
+  const Vec2* g = cell.g;
+  const float n[4] = {cell.ramp(0), cell.ramp(1), cell.ramp(2), cell.ramp(3)};
+  const float u = cell.u, v = cell.v;
+  const float su = fade(u), sv = fade(v), dsu = fadeDerivative(u), dsv = fadeDerivative(v);
+  const float ddsu = fadeSecondDerivative(u), ddsv = fadeSecondDerivative(v);
+  const float A = n[0] + su * (n[1] - n[0]), C = n[2] + su * (n[3] - n[2]);
+  const Vec2 dA = g[0] + su * (g[1] - g[0]) + Vec2(dsu * (n[1] - n[0]), 0.0f);
+  const Vec2 dC = g[2] + su * (g[3] - g[2]) + Vec2(dsu * (n[3] - n[2]), 0.0f);
+  const float Auu = 2.0f * dsu * (g[1].x - g[0].x) + ddsu * (n[1] - n[0]);
+  const float Cuu = 2.0f * dsu * (g[3].x - g[2].x) + ddsu * (n[3] - n[2]);
+  const float Auv = dsu * (g[1].y - g[0].y), Cuv = dsu * (g[3].y - g[2].y);
+  const float uu = Auu + sv * (Cuu - Auu);
+  const float uv = Auv + dsv * (dC.x - dA.x) + sv * (Cuv - Auv);
+  const float vv = ddsv * (C - A) + 2.0f * dsv * (dC.y - dA.y);
+  const float f = static_cast<float>(o.frequency);
+  return (f * f) * (dir.x * dir.x * uu + 2.0f * dir.x * dir.y * uv + dir.y * dir.y * vv);
+}
+
+std::optional<float> FractalNoise::secondDerivative(Vec2 p, Vec2 dir) const {
+  float d2 = 0.0f;
+  for (const Octave& o : octaves_) d2 += o.weight * octaveSecondDerivative(o, p, dir);
+  return d2;
 }
 
 float FractalNoise::heightAndGradient(Vec2 p, Vec2& gradient) const {

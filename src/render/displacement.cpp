@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace meso {
 
@@ -133,6 +134,10 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
   // d2h/ds2 of the raised levels, s world length along `across`.
   for (; sum.done < below; ++sum.done) {
     const ReliefLevel& coarse = relief_.levels[sum.done];
+    if (const std::optional<float> d2 = coarse.secondDerivative(coord, w)) {
+      sum.second += t.disp[sum.done] * *d2;
+      continue;
+    }
     const float step = coarse.wavelength() / (16.0f * std::max(glm::length(w), 1e-12f));
     const Vec2 slope =
         coarse.derivatives(coord.offset(step * w)) - coarse.derivatives(coord.offset(-step * w));

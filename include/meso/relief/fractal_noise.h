@@ -40,6 +40,9 @@ class FractalNoise : public HeightSource {
   Vec2 gradient(Vec2 p) const override;
   // Height and gradient in one pass (each octave's value comes with its gradient).
   float heightAndGradient(Vec2 p, Vec2& gradient) const override;
+  // dir^T H dir with H the exact Hessian (the fade's second derivative is 60t (t - 1)(2t - 1)): one
+  // pass, where differencing the gradient takes two.
+  std::optional<float> secondDerivative(Vec2 p, Vec2 dir) const override;
   // The last octave's frequency: baseFrequency * lacunarity^(octaves - 1) (rounded when periodic).
   float highestFrequency() const override;
   // The lowest octave's frequency (of octaves firstOctave ..).
@@ -60,6 +63,7 @@ class FractalNoise : public HeightSource {
   };
   float octave(const Octave& o, Vec2 p, Vec2& grad) const;
   float octaveHeight(const Octave& o, Vec2 p) const;
+  float octaveSecondDerivative(const Octave& o, Vec2 p, Vec2 dir) const;
   FractalNoiseOptions options_;
   std::vector<Octave> octaves_;
 };

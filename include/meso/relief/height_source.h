@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 namespace meso {
 
@@ -25,6 +26,11 @@ class HeightSource {
   virtual float heightAndGradient(Vec2 p, Vec2& g) const {
     g = gradient(p);
     return height(p);
+  }
+  // d^2/dt^2 h(p + t dir) at t = 0, where the source has it in closed form (fBm); nullopt where
+  // the caller must difference gradient() itself.
+  virtual std::optional<float> secondDerivative(Vec2 /*p*/, Vec2 /*dir*/) const {
+    return std::nullopt;
   }
   // Highest frequency with significant energy, in cycles per tile (per unit of x), freq / S.
   virtual float highestFrequency() const = 0;

@@ -7,6 +7,7 @@
 #include "meso/relief/solid_noise.h"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace meso {
@@ -78,6 +79,14 @@ struct ReliefLevel {
   float height(const ReliefCoord& c) const {
     if (!solid) return height(c.uv);
     return amplitude * (solid->height(solidCells * c.p) - midlevel);
+  }
+  // d^2/dt^2 of the world height at c.offset(t w), t = 0 (w in units of u and v), where the source
+  // has it in closed form; nullopt for solid levels and sources without it.
+  std::optional<float> secondDerivative(const ReliefCoord& c, Vec2 w) const {
+    if (solid) return std::nullopt;
+    const std::optional<float> d2 = source->secondDerivative(scale * c.uv, scale * w);
+    if (!d2) return std::nullopt;
+    return amplitude * *d2;
   }
   Vec2 derivatives(const ReliefCoord& c) const {
     if (!solid) return derivatives(c.uv);
