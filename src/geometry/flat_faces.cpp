@@ -65,6 +65,8 @@ bool isAffine(const LimitSurface& surface, int face) {
 
 }  // namespace
 
+bool faceIsAffine(const LimitSurface& surface, int face) { return isAffine(surface, face); }
+
 std::vector<uint8_t> affineFaces(const LimitSurface& surface) {
   std::vector<uint8_t> out(static_cast<size_t>(surface.numFaces()), 0);
   tbb::parallel_for(0, surface.numFaces(), [&](int f) {

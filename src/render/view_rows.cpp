@@ -153,6 +153,10 @@ ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
       return s.boxNearView(lo, hi, bound + margin);
     });
     if (!mayBeSeen) return;
+    if (!faceIsAffine(surface, face)) {
+      out.curved = true;
+      return;
+    }
     const int n = surface.faceSize(face);
     std::vector<Vec3> polygon;
     Vec2 centre(0.0f);
@@ -189,18 +193,11 @@ ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
   };
   Partial total;
   for (const LimitSurface* surface : surfaces) {
-    const std::vector<uint8_t> flat = affineFaces(*surface);
     total = total.merged(tbb::parallel_reduce(
         tbb::blocked_range<int>(0, surface->numFaces()), Partial{},
         [&](const tbb::blocked_range<int>& faces, Partial p) {
-          for (int face = faces.begin(); face < faces.end() && !p.curved; ++face) {
-            if (!surface->hasLimitSurface(face)) continue;
-            if (!flat[face]) {
-              p.curved = true;
-              break;
-            }
-            faceAngles(*surface, face, p);
-          }
+          for (int face = faces.begin(); face < faces.end() && !p.curved; ++face)
+            if (surface->hasLimitSurface(face)) faceAngles(*surface, face, p);
           return p;
         },
         [](const Partial& a, const Partial& b) { return a.merged(b); }));

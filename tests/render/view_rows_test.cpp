@@ -90,16 +90,24 @@ TEST(ViewRows, FlatGroundAnglesAreThoseOfItsPixels) {
 
 // The same ground as 40 x 40 unit faces: faces no frame sees are skipped before their corners are
 // evaluated, and the union of the rest is the one quad's view, at every eye of the test above.
-TEST(ViewRows, GroundOfManyFacesHasTheOneQuadsAngles) {
+// A 40 x 40 grid of unit faces in z = 0, with vertex (i, j) (0-based, -1: none) raised by 0.5: its
+// four faces are twisted, not affine.
+LimitSurface groundGrid(int raisedI = -1, int raisedJ = -1) {
   std::string obj;
   for (int j = 0; j <= 40; ++j)
-    for (int i = 0; i <= 40; ++i) obj += fmt::format("v {} {} 0\nvt {} {}\n", i - 20, j - 20, i, j);
+    for (int i = 0; i <= 40; ++i)
+      obj += fmt::format("v {} {} {}\nvt {} {}\n", i - 20, j - 20,
+                         i == raisedI && j == raisedJ ? 0.5 : 0.0, i, j);
   for (int j = 0; j < 40; ++j)
     for (int i = 0; i < 40; ++i) {
       const int a = j * 41 + i + 1;
       obj += fmt::format("f {0}/{0} {1}/{1} {2}/{2} {3}/{3}\n", a, a + 1, a + 42, a + 41);
     }
-  const LimitSurface grid(parseControlMesh(obj, "grid.obj"), SubdivisionScheme::Bilinear);
+  return LimitSurface(parseControlMesh(obj, "grid.obj"), SubdivisionScheme::Bilinear);
+}
+
+TEST(ViewRows, GroundOfManyFacesHasTheOneQuadsAngles) {
+  const LimitSurface grid = groundGrid();
   ASSERT_EQ(grid.numFaces(), 1600);
   for (const auto& [eye, target] :
        {std::pair{Vec3(0, -19, 2.5f), Vec3(0, 0, 0)},
@@ -152,6 +160,32 @@ TEST(ViewRows, TablesOnTheFramesRowsRenderTheWholeTablesImage) {
         }
     EXPECT_GT(sum, 0.0);
   }
+}
+
+}  // namespace
+}  // namespace meso
+
+namespace meso {
+namespace {
+
+// Only faces a frame may see are tested for flatness: a curved face behind the eye leaves the
+// ground's angles bounded (the flat ground's), while one in view makes them all.
+TEST(ViewRows, OnlyCurvedFacesInViewUnboundTheAngles) {
+  const Scene s = groundScene("brdf", Vec3(3, -4, 1.5f), Vec3(3, 20, 0.5f));
+  PrepareTimes times;
+  const RenderContext ctx = prepareRenderContext(s, times, {.buildFrame = false});
+  const ScreenMetric screen = Camera(s.camera).screen();
+  const LimitSurface flat = groundGrid(), behind = groundGrid(1, 1), ahead = groundGrid(23, 30);
+  const auto angles = [&](const LimitSurface& g) {
+    const LimitSurface* p = &g;
+    return coarsestViewAngles(std::span(&p, 1), ctx.reliefs[0], std::span(&screen, 1), 0.3f);
+  };
+  const ViewAngles a = angles(flat), b = angles(behind), c = angles(ahead);
+  ASSERT_FALSE(a.all);
+  ASSERT_FALSE(b.all);
+  EXPECT_EQ(b.lo, a.lo);
+  EXPECT_EQ(b.hi, a.hi);
+  EXPECT_TRUE(c.all);
 }
 
 }  // namespace

@@ -19,6 +19,8 @@ namespace meso {
 // triangles lie in its surface, and a hit's barycentrics give exactly the patch coordinates of the
 // limit point it hit, at any tessellation rate.
 std::vector<uint8_t> affineFaces(const LimitSurface& surface);
+// affineFaces' entry of one face with a limit surface.
+bool faceIsAffine(const LimitSurface& surface, int face);
 
 // tessellateUniform at `rate`, except that edges whose every face is affine get one segment: a
 // flat ground of 8 x 8-unit faces is 2 triangles a face instead of 2 rate^2, and curved faces (and

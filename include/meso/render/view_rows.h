@@ -30,10 +30,11 @@ struct ViewAngles {
 
 // The theta_V (in tile space, through tableTileMap at each face's metric position) at which the
 // coarsest level of `relief` is looked up on the surfaces, seen from the screens: the level's
-// frame is the limit surface's own there. Bounded only where every face is flat (affineFaces):
-// over the part of each face inside each screen's view (grown by `bound`, the relief's
-// displacement bound), with the eye moved by +-bound along the face's normal for the raised
-// relief. A curved face can face the eye at any angle: all. `relief.metrics` must hold the
+// frame is the limit surface's own there. Bounded only where every face that a screen may see
+// (its box, grown by `bound`, the relief's displacement bound, in the view) is flat
+// (faceIsAffine; faces no screen sees are not tested): over the part of each face inside each
+// screen's view, with the eye moved by +-bound along the face's normal for the raised relief. A
+// curved face in view can face the eye at any angle: all. `relief.metrics` must hold the
 // classes' lengths and shapes.
 ViewAngles coarsestViewAngles(std::span<const LimitSurface* const> surfaces,
                               const MaterialRelief& relief, std::span<const ScreenMetric> screens,
