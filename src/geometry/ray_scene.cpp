@@ -19,15 +19,29 @@
 #include <vector>
 
 namespace meso {
+namespace {
+
+// A 2 x 2 grid of the triangles outside the grid blocks: one mesh triangle, or two that share
+// the cell's diagonal (pairCells). The lower one's corners `lowerTurn`, `lowerTurn` + 1 and
+// `lowerTurn` + 2 (mod 3) are the cell's p00, p10 and p01; the upper one's `upperTurn`, ... are
+// its p11, p01 and p10 (Embree's split of a cell, TriangleGrid).
+struct Cell {
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+  uint32_t lower = 0, upper = kNone;  // mesh triangles; kNone: the upper half has no area
+  uint8_t lowerTurn = 0, upperTurn = 0;
+};
+
+}  // namespace
 
 struct RayScene::Impl {
   // What an Embree geometry holds: all triangles of a mesh, or its grid blocks followed by its
-  // other triangles, one 2 x 2 grid each.
+  // other triangles in cells.
   struct Part {
     int mesh = -1;
     bool isGrid = false;
     std::vector<TriangleGrid> grids;  // primitives 0 .. grids.size() - 1 of a grid geometry
-    std::vector<uint32_t> singles;    // mesh triangle of each later primitive
+    std::vector<Cell> cells;          // the later primitives
+    std::vector<Vec3> points;         // Embree's vertex buffer, if the scene holds it (takeMesh)
   };
 
   RTCDevice device = nullptr;
@@ -142,8 +156,9 @@ int RayScene::addMesh(const TessellatedMesh& mesh) {
     adviseHugePages(indices, numTriangles * 3 * sizeof(uint32_t));
     copyInParallel(indices, mesh.indices.data(), numTriangles * 3 * sizeof(uint32_t));
   }
-  impl_->attach(geometry, {.mesh = index, .isGrid = false, .grids = {}, .singles = {}});
+  impl_->attach(geometry, {.mesh = index, .isGrid = false, .grids = {}, .cells = {}, .points = {}});
   numTriangles_ += numTriangles;
+  numPrimitives_ += numTriangles;
   return index;
 }
 
@@ -183,29 +198,93 @@ std::vector<uint32_t> trianglesOutsideGrids(const TessellatedMesh& mesh,
   return outside;
 }
 
+// The turn t (0 to 2) of triangle b such that b's corners t + 1 and t + 2 are a's corners 2 and 1
+// (b shares a's edge from corner 1 to 2, the other way round, and is not a's mirror image); -1 if
+// none.
+int turnAcross(const uint32_t* a, const uint32_t* b) {
+  for (int t = 0; t < 3; ++t)
+    if (b[(t + 1) % 3] == a[2] && b[(t + 2) % 3] == a[1] && b[t] != a[0]) return t;
+  return -1;
+}
+
+// The mesh triangles outside the grids in cells: each with the next one when the two share an edge
+// (in opposite directions, as triangles of a consistently oriented surface do). The stitching
+// triangles between a face's edges and its grid come in strips, so most pair up: half the cells,
+// Embree primitives and copied points of one cell a triangle.
+std::vector<Cell> pairCells(const TessellatedMesh& mesh, const std::vector<uint32_t>& singles) {
+  std::vector<Cell> cells;
+  cells.reserve(singles.size());
+  for (size_t k = 0; k < singles.size();) {
+    Cell cell{.lower = singles[k]};
+    if (k + 1 < singles.size()) {
+      const uint32_t* a = &mesh.indices[3 * size_t(singles[k])];
+      const uint32_t* b = &mesh.indices[3 * size_t(singles[k + 1])];
+      for (int turn = 0; turn < 3 && cell.upper == Cell::kNone; ++turn) {
+        const uint32_t turned[3] = {a[turn], a[(turn + 1) % 3], a[(turn + 2) % 3]};
+        const int across = turnAcross(turned, b);
+        if (across < 0) continue;
+        cell.upper = singles[k + 1];
+        cell.lowerTurn = static_cast<uint8_t>(turn);
+        cell.upperTurn = static_cast<uint8_t>(across);
+      }
+    }
+    k += cell.upper == Cell::kNone ? 1 : 2;
+    cells.push_back(cell);
+  }
+  return cells;
+}
+
 }  // namespace
 
-// One grid geometry holds the blocks and, after them, every other triangle as a 2 x 2 grid whose
-// fourth point repeats the third (so Embree's second triangle of that cell has no area): a ray
-// then traverses one BVH instead of a triangle BVH and a grid BVH spread over the same surface
-// (measured on a displaced torus: 80% of the all-triangle ray rate against 60%).
+// One grid geometry holds the blocks and, after them, every other triangle in a 2 x 2 grid, alone
+// (the fourth point repeats the third, so Embree's second triangle of that cell has no area) or
+// with a neighbour (pairCells): a ray then traverses one BVH instead of a triangle BVH and a grid
+// BVH spread over the same surface (measured on a displaced torus: 80% of the all-triangle ray rate
+// against 60%).
 int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& blocks) {
   if (blocks.empty() || mesh.numMicropolygons() == 0) return addMesh(mesh);
+  return addGrids(mesh, blocks, nullptr);
+}
+
+int RayScene::takeMesh(TessellatedMesh& mesh, const std::vector<TriangleGrid>& blocks) {
+  const int index = blocks.empty() || mesh.numMicropolygons() == 0
+                        ? addMesh(mesh)
+                        : addGrids(mesh, blocks, &mesh.positions);
+  std::vector<Vec3>().swap(mesh.positions);
+  return index;
+}
+
+int RayScene::addGrids(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& blocks,
+                       std::vector<Vec3>* points) {
   std::vector<TriangleGrid> grids = blocks;
-  std::vector<uint32_t> singles = trianglesOutsideGrids(mesh, grids);
+  std::vector<Cell> cells = pairCells(mesh, trianglesOutsideGrids(mesh, grids));
   const int index = impl_->numMeshes++;
   const size_t numPositions = mesh.positions.size();
+  const size_t numPoints = numPositions + 4 * cells.size();
+  const size_t numGrids = grids.size() + cells.size();
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_GRID);
-  auto* vertices = static_cast<Vec3*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                              RTC_FORMAT_FLOAT3, sizeof(Vec3),
-                                                              numPositions + 4 * singles.size()));
-  auto* rtcGrids = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_GRID, 0,
-                                                                 RTC_FORMAT_GRID, sizeof(RTCGrid),
-                                                                 grids.size() + singles.size()));
+  Vec3* vertices = nullptr;
+  if (points) {
+    // The cells' points go after the mesh's, in the room the tessellator left (or in a larger
+    // array), with one point more: Embree reads 16 bytes at the last point.
+    if (points->capacity() >= numPoints + 1)
+      populatePages(points->data() + numPositions, (numPoints + 1 - numPositions) * sizeof(Vec3));
+    resizePopulated(*points, numPoints + 1);
+    vertices = points->data();
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
+                               sizeof(Vec3), numPoints);
+  } else {
+    vertices = static_cast<Vec3*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3), numPoints));
+    if (vertices) {
+      adviseHugePages(vertices, numPoints * sizeof(Vec3));
+      copyInParallel(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
+    }
+  }
+  auto* rtcGrids = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid), numGrids));
   if (vertices && rtcGrids) {
-    adviseHugePages(vertices, (numPositions + 4 * singles.size()) * sizeof(Vec3));
-    adviseHugePages(rtcGrids, (grids.size() + singles.size()) * sizeof(RTCGrid));
-    copyInParallel(vertices, mesh.positions.data(), numPositions * sizeof(Vec3));
+    adviseHugePages(rtcGrids, numGrids * sizeof(RTCGrid));
     for (size_t k = 0; k < grids.size(); ++k)
       rtcGrids[k] = {.startVertexID = grids[k].firstVertex,
                      .stride = grids[k].width,
@@ -213,14 +292,17 @@ int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGri
                      .height = grids[k].height};
     // Hundreds of thousands of stitching triangles on a large ground: their fresh pages on every
     // core too.
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, singles.size(), 4096),
+    const Vec3* from = vertices;  // the mesh's points, where they are now
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size(), 4096),
                       [&](const tbb::blocked_range<size_t>& range) {
                         for (size_t k = range.begin(); k != range.end(); ++k) {
-                          const uint32_t* corner = &mesh.indices[3 * size_t(singles[k])];
+                          const Cell& cell = cells[k];
+                          const uint32_t* lower = &mesh.indices[3 * size_t(cell.lower)];
                           Vec3* v = vertices + numPositions + 4 * k;
-                          v[0] = mesh.positions[corner[0]];
-                          v[1] = mesh.positions[corner[1]];
-                          v[2] = v[3] = mesh.positions[corner[2]];
+                          for (int i = 0; i < 3; ++i) v[i] = from[lower[(cell.lowerTurn + i) % 3]];
+                          v[3] = cell.upper == Cell::kNone
+                                     ? v[2]
+                                     : from[mesh.indices[3 * size_t(cell.upper) + cell.upperTurn]];
                           rtcGrids[grids.size() + k] = {
                               .startVertexID = static_cast<unsigned>(numPositions + 4 * k),
                               .stride = 2,
@@ -229,10 +311,18 @@ int RayScene::addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGri
                         }
                       });
   }
-  impl_->attach(
-      geometry,
-      {.mesh = index, .isGrid = true, .grids = std::move(grids), .singles = std::move(singles)});
+  std::vector<Vec3> held;
+  if (points) {
+    heldBytes_ += points->size() * sizeof(Vec3);  // the room beyond is never touched
+    held = std::move(*points);                    // the same array, which Embree reads
+  }
+  impl_->attach(geometry, {.mesh = index,
+                           .isGrid = true,
+                           .grids = std::move(grids),
+                           .cells = std::move(cells),
+                           .points = std::move(held)});
   numTriangles_ += mesh.numMicropolygons();
+  numPrimitives_ += numGrids;
   return index;
 }
 
@@ -331,18 +421,30 @@ bool RayScene::Impl::hitOf(const RTCRayHit& rh, RayHit& hit) const {
     gridHit(part.grids[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
     return true;
   }
-  hit.b1 = rh.hit.u;
-  hit.b2 = rh.hit.v;
   hit.face = -1;
   if (!part.isGrid) {
     hit.triangle = static_cast<int>(rh.hit.primID);
+    hit.b1 = rh.hit.u;
+    hit.b2 = rh.hit.v;
     return true;
   }
-  // A single triangle's 2 x 2 grid is hit in its first cell triangle, whose (u, v) are the
-  // barycentrics of corners 1 and 2; the clamp only guards rounding.
-  hit.triangle = static_cast<int>(part.singles[rh.hit.primID - part.grids.size()]);
-  const float sum = hit.b1 + hit.b2;
-  if (sum > 1.0f) hit.b1 /= sum, hit.b2 /= sum;
+  // A cell's (u, v) span its 2 x 2 grid: the barycentrics w of its corners (p00, p10, p01) in the
+  // lower triangle, of (p11, p01, p10) in the upper one, turned to the mesh triangle's corners; the
+  // clamp only guards rounding.
+  const Cell& cell = part.cells[rh.hit.primID - part.grids.size()];
+  const float u = rh.hit.u, v = rh.hit.v;
+  const bool lower = cell.upper == Cell::kNone || u + v <= 1.0f;
+  std::array<float, 3> w = lower ? std::array<float, 3>{1.0f - u - v, u, v}
+                                 : std::array<float, 3>{u + v - 1.0f, 1.0f - u, 1.0f - v};
+  if (w[0] < 0.0f || w[1] < 0.0f || w[2] < 0.0f) {
+    for (float& x : w) x = std::max(x, 0.0f);
+    const float sum = w[0] + w[1] + w[2];
+    for (float& x : w) x /= sum;
+  }
+  const int turn = lower ? cell.lowerTurn : cell.upperTurn;
+  hit.triangle = static_cast<int>(lower ? cell.lower : cell.upper);
+  hit.b1 = w[(4 - turn) % 3];
+  hit.b2 = w[(5 - turn) % 3];
   return true;
 }
 

@@ -432,7 +432,9 @@ TessellatedMesh EdgeRateTessellator::tessellate(const std::vector<int>& edgeRate
         grids->insert(grids->end(), splitGrids[k].begin(), splitGrids[k].end());
     }
   }
-  resizePopulated(out.positions, numPoints);
+  // With grids alone holding the grids' triangles, room for RayScene::takeMesh to put the other
+  // triangles' points after these: 4 each, and one more.
+  resizePopulated(out.positions, numPoints, gridsOnly_ ? 4 * numStored + 1 : 0);
   evaluatePoints(displacement, out);
   tbb::parallel_for(size_t(0), samples_.size(), [&](size_t i) {
     if (samples_[i].copyOf >= 0) out.positions[i] = out.positions[samples_[i].copyOf];

@@ -506,22 +506,27 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   stats.tessellateSeconds = tess.seconds();
 
   Timer bvh;
-  for (const PreparedObject& object : ctx.objects) rays->addMesh(object.mesh, object.grids);
-  // Embree holds its own copy of the points: a displaced mesh's points and indices go before the
-  // BVH build (the peak of a frame whose mesh is not large: docs/performance.md), since a hit needs
-  // only its triangle's face and patch coordinates.
-  double freed = 0.0;  // dicing's temporaries and the points released here
+  // A frame's own meshes give the scene their points (Embree reads a grid mesh's in place, and
+  // copies a triangle mesh's), and their indices go before the BVH build (the peak of a frame whose
+  // mesh is not large: docs/performance.md): a hit needs only its triangle's face and patch
+  // coordinates. Meshes kept from frame to frame are copied.
+  for (PreparedObject& object : ctx.objects) {
+    if ((object.displaced || object.byView) && !ctx.keepMeshPoints)
+      rays->takeMesh(object.mesh, object.grids);
+    else
+      rays->addMesh(object.mesh, object.grids);
+  }
+  double freed = 0.0;  // dicing's temporaries and the indices released here
   for (PreparedObject& object : ctx.objects)
     if (object.displaced || object.byView) {
       freed += dicingBytesPerFace(object) * object.surface.numFaces();
       if (!ctx.keepMeshPoints) {
-        freed += double(object.mesh.positions.capacity() * sizeof(Vec3) +
-                        object.mesh.indices.capacity() * sizeof(uint32_t));
-        std::vector<Vec3>().swap(object.mesh.positions);
+        freed += double(object.mesh.indices.capacity() * sizeof(uint32_t));
         std::vector<uint32_t>().swap(object.mesh.indices);
       }
       stats.meshBytes += meshBytes(object.mesh);
     }
+  stats.meshBytes += rays->heldBytes();
   // What was freed stays in malloc's arenas (dicing's temporaries in those of the threads that
   // made them), and the BVH build, the frame's peak, would come on top of it. Less is reused by
   // the frame's later steps, which would fault its pages again (docs/performance.md).

@@ -25,12 +25,14 @@ void adviseHugePages(void* p, std::size_t bytes);
 void populatePages(void* p, std::size_t bytes);
 
 // v.resize(n) for a vector (or string) not yet holding its n elements' storage, its new pages
-// mapped by populatePages first (the resize then writes to mapped memory).
+// mapped by populatePages first (the resize then writes to mapped memory). `room`: elements of
+// capacity to reserve beyond n, left unmapped until written.
 template <class Container>
-void resizePopulated(Container& v, std::size_t n) {
-  if (n > v.capacity()) {
-    v.reserve(n);
-    populatePages(v.data() + v.size(), (n - v.size()) * sizeof(typename Container::value_type));
+void resizePopulated(Container& v, std::size_t n, std::size_t room = 0) {
+  if (n + room > v.capacity()) {
+    v.reserve(n + room);
+    if (n > v.size())
+      populatePages(v.data() + v.size(), (n - v.size()) * sizeof(typename Container::value_type));
   }
   v.resize(n);
 }

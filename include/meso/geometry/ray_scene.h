@@ -76,12 +76,18 @@ class RayScene {
   // meso::Error for a mesh with triangles only grids hold.
   int addMesh(const TessellatedMesh& mesh);
   // The same, storing the listed grid blocks (disjoint, laid out as TriangleGrid says, e.g. from
-  // tessellateAdaptive) as Embree grids and the other triangles as triangles. Hits report what
+  // tessellateAdaptive) as Embree grids and the other triangles as 2 x 2 grids, two to a grid
+  // where consecutive ones share an edge (the stitching between rates). Hits report what
   // they would with addMesh(mesh): the mesh index, the mesh triangle of the cell that was hit and
   // barycentrics in it (triangle -1 in grids not stored in the mesh, whose face and st the hit
   // gives). Throws meso::Error on a grid that does not fit the mesh, or when the grids not stored
   // do not hold exactly the mesh's gridOnlyTriangles.
   int addMesh(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& grids);
+  // The same, with the mesh's points taken rather than copied (mesh.positions is left empty): with
+  // grids, Embree reads them where they are, so a frame does not hold them twice. The points of the
+  // triangles outside the grids go after them, in the room the vector's capacity leaves (4 points a
+  // triangle, and one more), else in a larger array.
+  int takeMesh(TessellatedMesh& mesh, const std::vector<TriangleGrid>& grids);
   // Builds the BVH. Must be called after the last addMesh and before intersect.
   void commit();
   // Closest hit along the ray; false on a miss. Thread-safe after commit().
@@ -103,15 +109,26 @@ class RayScene {
   static constexpr size_t kStreamChunk = 256;
 
   size_t numTriangles() const { return numTriangles_; }
+  // Embree primitives: a triangle mesh's triangles, a grid geometry's grids and cells (a cell holds
+  // one or two of the triangles outside the grids).
+  size_t numPrimitives() const { return numPrimitives_; }
   // Bytes Embree holds for this scene (geometry buffers, BVH and build scratch) now, and the most
   // it has held at once so far, from Embree's device memory monitor.
   size_t deviceBytes() const;
   size_t peakDeviceBytes() const;
+  // Bytes of the points the scene holds itself (takeMesh), which Embree reads in place.
+  size_t heldBytes() const { return heldBytes_; }
 
  private:
   struct Impl;
+  // The grid geometry of addMesh and takeMesh: Embree's own copy of the points, or `points` (the
+  // mesh's, moved into the scene) when given.
+  int addGrids(const TessellatedMesh& mesh, const std::vector<TriangleGrid>& grids,
+               std::vector<Vec3>* points);
   std::unique_ptr<Impl> impl_;
   size_t numTriangles_ = 0;
+  size_t numPrimitives_ = 0;
+  size_t heldBytes_ = 0;
 };
 
 }  // namespace meso

@@ -70,7 +70,8 @@ struct FrameGeometryStats {
   // (AdaptiveTessellationStats::coarsenedBeyond; infinity: nowhere).
   float coarsenedBeyond = std::numeric_limits<float>::infinity();
   size_t embreePeakBytes = 0;
-  size_t meshBytes = 0;  // what meso keeps of the displaced meshes (hit -> patch coordinates)
+  size_t meshBytes = 0;  // what meso keeps of the displaced meshes (hit -> patch coordinates, and
+                         // the points Embree reads in place)
   bool rebuilt = false;  // false: the previous frame's geometry was reused
 };
 
