@@ -13,16 +13,34 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
   for (int f = 0; f < faces; ++f) first_[f + 1] = first_[f] + mesh.faceSizes[f];
   const size_t corners = static_cast<size_t>(first_[faces]);
   std::vector<float> own(corners, 0.0f);
-  cornerSt_.assign(corners, Vec2(0.0f));
+  kind_.assign(static_cast<size_t>(faces), kMean);
+  int triangles = 0;
+  for (int f = 0; f < faces; ++f) triangles += mesh.faceSizes[f] == 3;
+  if (triangles > 0) {
+    triangle_.assign(static_cast<size_t>(faces), -1);
+    triangleSt_.assign(3 * static_cast<size_t>(triangles), Vec2(0.0f));
+    for (int f = 0, t = 0; f < faces; ++f)
+      if (mesh.faceSizes[f] == 3) triangle_[f] = t++;
+  }
   // Each face's corners in parallel (evaluate is thread-safe), then the vertex means in order.
   tbb::parallel_for(0, faces, [&](int f) {
-    if (!surface.hasLimitSurface(f) || surface.faceSize(f) != mesh.faceSizes[f]) return;
-    for (int k = 0; k < mesh.faceSizes[f]; ++k) {
+    const int n = mesh.faceSizes[f];
+    if (!surface.hasLimitSurface(f) || surface.faceSize(f) != n) return;
+    Vec2 st[4];
+    for (int k = 0; k < n; ++k) {
       const size_t c = static_cast<size_t>(first_[f] + k);
-      cornerSt_[c] = surface.cornerSt(f, k);
-      const SurfacePoint sp = surface.evaluate(f, cornerSt_[c]);
+      const Vec2 corner = surface.cornerSt(f, k);
+      if (k < 4) st[k] = corner;
+      const SurfacePoint sp = surface.evaluate(f, corner);
       const float length = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
       if (std::isfinite(length)) own[c] = length;
+    }
+    if (n == 4 && st[0] == Vec2(0, 0) && st[1] == Vec2(1, 0) && st[2] == Vec2(1, 1) &&
+        st[3] == Vec2(0, 1)) {
+      kind_[f] = kUnitQuad;
+    } else if (n == 3) {
+      kind_[f] = kTriangle;
+      std::copy(st, st + 3, triangleSt_.begin() + 3 * static_cast<size_t>(triangle_[f]));
     }
   });
   std::vector<double> sum(mesh.positions.size(), 0.0);
@@ -42,15 +60,15 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
 float UvSpeed::at(int face, Vec2 st) const {
   if (empty() || face < 0 || face + 1 >= static_cast<int>(first_.size())) return 0.0f;
   const float* c = &corner_[first_[face]];
-  const Vec2* s = &cornerSt_[first_[face]];
   const int n = first_[face + 1] - first_[face];
-  if (n == 4) {
+  if (kind_[face] == kUnitQuad) {
     // Bilinear over the quad's corners (0,0), (1,0), (1,1), (0,1) in patch coordinates.
     const float x = std::clamp(st.x, 0.0f, 1.0f), y = std::clamp(st.y, 0.0f, 1.0f);
-    if (s[0] == Vec2(0, 0) && s[1] == Vec2(1, 0) && s[2] == Vec2(1, 1) && s[3] == Vec2(0, 1))
-      return (1 - x) * (1 - y) * c[0] + x * (1 - y) * c[1] + x * y * c[2] + (1 - x) * y * c[3];
-  } else if (n == 3) {
+    return (1 - x) * (1 - y) * c[0] + x * (1 - y) * c[1] + x * y * c[2] + (1 - x) * y * c[3];
+  }
+  if (kind_[face] == kTriangle) {
     // Barycentric over the triangle of its corners' patch coordinates.
+    const Vec2* s = &triangleSt_[3 * static_cast<size_t>(triangle_[face])];
     const Vec2 e1 = s[1] - s[0], e2 = s[2] - s[0], p = st - s[0];
     const float det = e1.x * e2.y - e1.y * e2.x;
     if (std::abs(det) > 1e-12f) {
@@ -65,8 +83,8 @@ float UvSpeed::at(int face, Vec2 st) const {
 }
 
 size_t UvSpeed::memoryBytes() const {
-  return first_.capacity() * sizeof(int) + corner_.capacity() * sizeof(float) +
-         cornerSt_.capacity() * sizeof(Vec2);
+  return first_.capacity() * sizeof(int) + corner_.capacity() * sizeof(float) + kind_.capacity() +
+         triangle_.capacity() * sizeof(int) + triangleSt_.capacity() * sizeof(Vec2);
 }
 
 float UvSpeed::faceMax(int face) const {

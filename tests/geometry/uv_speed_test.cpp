@@ -72,5 +72,42 @@ TEST(UvSpeed, IsFiniteAndBoundedByItsCornersOnACurvedSurface) {
       }
 }
 
+// A unit quad (x = 0 .. 1) and a triangle beside it (x = 1 .. 3) whose u runs at half the rate:
+// the triangle's corners on the shared edge take the vertex means, its own corner its own length,
+// and between them at() is barycentric in the triangle's patch coordinates. A grid of quads keeps
+// 21 bytes a face (first corner, four corner values, kind).
+TEST(UvSpeed, IsBarycentricOverTrianglesAndSmallOverQuads) {
+  ControlMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {3, 0.5f, 0}};
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {2, 0.5f}};
+  test::addFace(mesh, {0, 1, 2, 3});
+  test::addFace(mesh, {1, 4, 2});
+  mesh.uvIndices = {0, 1, 2, 3, 1, 4, 2};
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const UvSpeed speed(mesh, surface);
+  const auto own = [&](int face, Vec2 st) {
+    const SurfacePoint sp = surface.evaluate(face, st);
+    return std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+  };
+  float corner[3];
+  for (int k = 0; k < 3; ++k) {
+    corner[k] = speed.at(1, surface.cornerSt(1, k));
+    EXPECT_GT(corner[k], 0.0f);
+  }
+  // Corner 1 is the triangle's alone; corners 0 and 2 the means with the quad's.
+  EXPECT_NEAR(corner[1], own(1, surface.cornerSt(1, 1)), 1e-5f);
+  EXPECT_NEAR(corner[0], 0.5f * (own(0, surface.cornerSt(0, 1)) + own(1, surface.cornerSt(1, 0))),
+              1e-5f);
+  for (const Vec3 b : {Vec3(0.2f, 0.3f, 0.5f), Vec3(1.0f / 3.0f), Vec3(0.5f, 0.5f, 0.0f)}) {
+    const Vec2 st =
+        b.x * surface.cornerSt(1, 0) + b.y * surface.cornerSt(1, 1) + b.z * surface.cornerSt(1, 2);
+    EXPECT_NEAR(speed.at(1, st), b.x * corner[0] + b.y * corner[1] + b.z * corner[2], 1e-5f);
+  }
+  const ControlMesh quads = test::grid(20);
+  const UvSpeed quadSpeed(quads, LimitSurface(quads, SubdivisionScheme::Bilinear));
+  EXPECT_LE(quadSpeed.memoryBytes(), 21u * 400u + 4u);
+  EXPECT_NEAR(quadSpeed.at(7, Vec2(0.3f, 0.6f)), 1.0f, 1e-6f);  // unit quads: 1 everywhere
+}
+
 }  // namespace
 }  // namespace meso

@@ -12,6 +12,7 @@
 #include "meso/geometry/control_mesh.h"
 #include "meso/geometry/limit_surface.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace meso {
@@ -31,9 +32,17 @@ class UvSpeed {
   size_t memoryBytes() const;
 
  private:
-  std::vector<int> first_;      // per face: its first corner in corner_ (faces + 1 entries)
-  std::vector<float> corner_;   // per face corner: the mean over the faces around its vertex
-  std::vector<Vec2> cornerSt_;  // per face corner: its patch coordinates
+  // How at() interpolates a face's corners: bilinearly over a quad whose corners lie at the unit
+  // square's in patch coordinates, barycentrically over a triangle's corner coordinates, else
+  // their mean.
+  enum Kind : uint8_t { kMean, kUnitQuad, kTriangle };
+  std::vector<int> first_;     // per face: its first corner in corner_ (faces + 1 entries)
+  std::vector<float> corner_;  // per face corner: the mean over the faces around its vertex
+  std::vector<uint8_t> kind_;  // per face
+  // The patch coordinates of the triangles' corners, 3 from triangleSt_[3 triangle_[face]]: only
+  // a mesh with triangles has these (a grid of quads keeps 21 bytes a face in all).
+  std::vector<int> triangle_;
+  std::vector<Vec2> triangleSt_;
 };
 
 }  // namespace meso
