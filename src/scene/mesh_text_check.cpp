@@ -302,6 +302,13 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
       r.fail(t[0].column, key,
              "face size " + std::to_string(n) + " but " + std::to_string(t.size() - 1) +
                  " indices on the line");
+    // OpenMesh reads the faces as one stream of numbers: a number after a face's indices (a face
+    // colour, even under COFF) would be taken for the next face's size, and a large one made it
+    // loop over billions of indices.
+    if (static_cast<long long>(t.size()) - 1 > n)
+      r.fail(t[n + 1].column, key,
+             "face size " + std::to_string(n) + " but " + std::to_string(t.size() - 1) +
+                 " numbers after it on the line (face colours are not read: remove them)");
     std::set<long long> seen;
     for (long long i = 1; i <= n; ++i) {
       const long long vi = integer(r, t[i], t[i].text, key);

@@ -79,6 +79,18 @@ TEST_F(MeshIoTest, ObjWithoutUvsPlyAndOff) {
       loadControlMesh(write("c.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"));
   EXPECT_EQ(off.faceSizes, std::vector<int>{4});
   EXPECT_EQ(off.positions[2], Vec3(1, 1, 0));
+  // Colours after a COFF file's vertex coordinates are read past; after a face's indices they
+  // are refused (OpenMesh would take them for the next face).
+  const ControlMesh coff = loadControlMesh(
+      write("c2.off",
+            "COFF\n4 2 0\n0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 9 9 9\n"
+            "3 0 1 2\n3 0 2 3\n"));
+  EXPECT_EQ(coff.faceSizes, (std::vector<int>{3, 3}));
+  EXPECT_EQ(coff.faceVertices, (std::vector<int>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(coff.positions[3], Vec3(0, 1, 0));
+  EXPECT_NE(errorOf(write("c3.off", "COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 1 1 1\n"))
+                .find(":6:9: face 0: face size 3 but 6 numbers after it on the line"),
+            std::string::npos);
   const ControlMesh ply =
       loadControlMesh(write("d.ply",
                             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty "
@@ -160,6 +172,9 @@ TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
        ":4:1: vertex 1: expected a finite single-precision number"},
       {"junk.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2x\n",
        ":6:7: face 0: expected an integer index, got \"2x\""},
+      {"extra.off", off3 + "3 0 1 2 255\n",
+       ":6:9: face 0: face size 3 but 4 numbers after it on the line (face colours are not read: "
+       "remove them)"},
       {"range.ply", ply3 + "3 0 1 3\n",
        ":13: element face 0 vertex_indices: vertex index 3 out of range [0, 3) (PLY counts "
        "from 0)"},
@@ -210,6 +225,10 @@ TEST_F(MeshIoTest, HugeOrNegativeFaceSizesAreRefusedFast) {
   const auto start = std::chrono::steady_clock::now();
   errorOf(write("size.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n-5 0 1 2\n"));
   errorOf(write("huge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n"));
+  // A number after a face's indices is the next face's size to OpenMesh: one too large for an int
+  // made it read 4 billion indices (found by fuzz_mesh_reader).
+  errorOf(write("next.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\r\r" + std::string(90, '7') +
+                                "\r\n3 1 2 0\n"));
   // A PLY face's vertex count is trusted by OpenMesh as well: 10^9 at the end of a file loops for
   // minutes (found by fuzz_mesh_reader).
   errorOf(write("huge.ply",
