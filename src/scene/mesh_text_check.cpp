@@ -275,6 +275,19 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   if (nv < 0 || nf < 0) r.fail(header[0].column, "", "expected counts of 0 or more");
   if (nf == 0) throw Error(file.string() + ": mesh has no faces (the OFF header declares 0)");
   counts.checked = true;
+  // OpenMesh reads the file as one stream of numbers after its first line, which it skips whole: a
+  // count on that line, a comment or a number after a face's indices (a face colour, which it does
+  // not skip even under COFF) would be read as the next count, and a large one made it loop over
+  // billions of indices. It gets the file as checked instead: the magic word, the counts, then each
+  // vertex's line and each face's size and indices, a line each.
+  std::string& out = counts.rewritten;
+  out.reserve(bytes.size() + 16);
+  out.append(t[0].text).append("\n");
+  const auto append = [&](auto first, auto last) {
+    for (auto it = first; it != last; ++it)
+      out.append(it->text).append(it + 1 == last ? "\n" : " ");
+  };
+  out.append(header[0].text).append(" ").append(header[1].text).append(" 0\n");
   const auto truncated = [&](const char* what, int line) {
     throw Error(file.string() + ": truncated OFF: the header declares " + std::to_string(nv) +
                 " vertices and " + std::to_string(nf) + " faces; the file ends after " +
@@ -290,6 +303,7 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
                  std::to_string(t.size()) + " numbers");
     for (size_t i = 0; i < coordinates; ++i)
       number(r, t[i], "vertex " + std::to_string(counts.vertices));
+    append(t.begin(), t.end());
   }
   for (; counts.faces < nf; ++counts.faces) {
     if (!r.next(t)) truncated("a face", r.line() + 1);
@@ -302,13 +316,6 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
       r.fail(t[0].column, key,
              "face size " + std::to_string(n) + " but " + std::to_string(t.size() - 1) +
                  " indices on the line");
-    // OpenMesh reads the faces as one stream of numbers: a number after a face's indices (a face
-    // colour, even under COFF) would be taken for the next face's size, and a large one made it
-    // loop over billions of indices.
-    if (static_cast<long long>(t.size()) - 1 > n)
-      r.fail(t[n + 1].column, key,
-             "face size " + std::to_string(n) + " but " + std::to_string(t.size() - 1) +
-                 " numbers after it on the line (face colours are not read: remove them)");
     std::set<long long> seen;
     for (long long i = 1; i <= n; ++i) {
       const long long vi = integer(r, t[i], t[i].text, key);
@@ -319,6 +326,8 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
       if (!seen.insert(vi).second)
         r.fail(t[i].column, key, "vertex " + std::to_string(vi) + " appears twice in the face");
     }
+    // The face's size and indices alone: what follows them (a colour) is not read.
+    append(t.begin(), t.begin() + n + 1);
   }
   return counts;
 }

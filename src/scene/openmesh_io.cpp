@@ -69,25 +69,6 @@ void readUvs(const PolyMesh& mesh, bool perVertex, size_t distinct, ControlMesh&
   if (!attempt(std::min(distinct, corners))) attempt(corners);
 }
 
-// OpenMesh's readers trust the element counts: check them against the file size before handing
-// it over (PLY files are checked whole by checkPly).
-void checkHeader(std::string_view bytes, const std::filesystem::path& file,
-                 const std::string& ext) {
-  const std::string head(bytes.substr(0, 65536));
-  const uintmax_t size = bytes.size();
-  if (ext == ".off") {
-    std::istringstream words(head);
-    std::string magic;
-    uint64_t nv = 0, nf = 0;
-    if (!(words >> magic) || magic.find("OFF") == std::string::npos)
-      fail(file, "not an OFF file (no \"OFF\" magic)");
-    if (!(words >> nv >> nf))
-      fail(file, "truncated or malformed OFF header (expected vertex and face counts)");
-    if (nv * 6 + nf * 8 > size * 2 + 64)
-      fail(file, "OFF header declares more vertices or faces than the file holds (truncated?)");
-  }
-}
-
 // An OBJ's checked contents into the mesh through OpenMesh's importer, as its OBJ reader hands
 // them over: vertices in file order, each face by add_face (which gives a face that would make the
 // mesh non-manifold vertices of its own), then the face's texture coordinates on its halfedges
@@ -138,7 +119,6 @@ ControlMesh parseControlMesh(std::string_view bytes, const std::filesystem::path
   if (ext != ".obj" && ext != ".ply" && ext != ".off")
     fail(file, "unknown mesh format \"" + ext + "\" (expected .obj, .ply or .off)");
   if (bytes.empty()) fail(file, "empty mesh file");
-  checkHeader(bytes, file, ext);
   MeshTextCounts counts = checkMeshText(bytes, file, ext);
 
   PolyMesh mesh;

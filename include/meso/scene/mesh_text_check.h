@@ -31,7 +31,9 @@ struct MeshTextCounts {
   bool checked = false;  // false: a format (binary OFF) left to OpenMesh and checked after it
   // Not empty: the bytes to hand to OpenMesh instead of the file's. A PLY gets its header rewritten
   // in the one layout in which OpenMesh's reader finds where a binary body starts (no comments,
-  // one space between words, "\n" line ends); the body is the file's.
+  // one space between words, "\n" line ends); the body is the file's. An ASCII OFF is rewritten
+  // whole, as checked: no comments, the counts on a line of their own, a face's size and indices
+  // alone on its line.
   std::string rewritten;
   ObjContents obj;  // an OBJ's contents (empty for the other formats)
 };
