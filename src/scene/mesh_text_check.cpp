@@ -254,8 +254,12 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
   // [ST][C][N][4][n]OFF [BINARY]: texture coordinates, colours, normals, homogeneous,
   // n-dimensional.
   std::string_view magic = t[0].text;
+  bool normals = false;  // N: a normal after each vertex's coordinates
   for (std::string_view prefix : {"ST", "C", "N"})
-    if (magic.substr(0, prefix.size()) == prefix) magic.remove_prefix(prefix.size());
+    if (magic.substr(0, prefix.size()) == prefix) {
+      magic.remove_prefix(prefix.size());
+      normals = normals || prefix == "N";
+    }
   const bool homogeneous = magic.substr(0, 1) == "4";
   if (homogeneous) magic.remove_prefix(1);
   if (magic.substr(0, 1) == "n")
@@ -265,7 +269,8 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
            "not an OFF file (expected [ST][C][N][4]OFF, got " + shown(t[0].text) + ")");
   if (t.size() > 1 && t[1].text == "BINARY")
     r.fail(t[1].column, "", "binary OFF is not supported (convert it to ASCII OFF, OBJ or PLY)");
-  const size_t coordinates = homogeneous ? 4 : 3;
+  // What OpenMesh reads of a vertex line before it takes the rest of the line (colours, uv).
+  const size_t coordinates = (homogeneous ? 4 : 3) + (normals ? 3 : 0);
   std::vector<Token> header(t.begin() + 1, t.end());
   if (header.empty() && !r.next(header))
     r.fail(1, "", "truncated OFF: expected the vertex, face and edge counts");
@@ -299,8 +304,8 @@ MeshTextCounts checkOff(std::string_view bytes, const std::filesystem::path& fil
     if (t.size() < coordinates && r.atEnd()) truncated("a vertex", r.line());
     if (t.size() < coordinates)
       r.fail(t[0].column, "vertex " + std::to_string(counts.vertices),
-             std::string(homogeneous ? "expected x y z w" : "expected x y z") + ", got " +
-                 std::to_string(t.size()) + " numbers");
+             std::string(homogeneous ? "expected x y z w" : "expected x y z") +
+                 (normals ? " nx ny nz" : "") + ", got " + std::to_string(t.size()) + " numbers");
     for (size_t i = 0; i < coordinates; ++i)
       number(r, t[i], "vertex " + std::to_string(counts.vertices));
     append(t.begin(), t.end());

@@ -105,6 +105,9 @@ TEST_F(MeshIoTest, OffFilesAreReadAsChecked) {
       {"colours.off",
        "COFF\n4 2 0\n0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 9 9 9\n"
        "3 0 1 2 255 255 255\n3 0 2 3 0.5 0.5 0.5 1\n"},
+      {"normals.off",
+       "NOFF\n4 2 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n"
+       "3 0 1 2\n3 0 2 3\n"},
       {"stray.off",
        "OFF\n4 2 0\n" + square + "3 0 1 2\r\r" + std::string(90, '7') + "\r\n3 0 2 3 4000000000\n"},
   };
@@ -188,6 +191,8 @@ TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
       {"two.off", off3 + "2 0 1\n", ":6:1: face 0: expected a face size of 3 or more, got 2"},
       {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n",
        ":4:1: vertex 1: expected a finite single-precision number"},
+      {"normal.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n3 0 1 2\n",
+       ":4:1: vertex 1: expected x y z nx ny nz, got 3 numbers"},
       {"junk.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2x\n",
        ":6:7: face 0: expected an integer index, got \"2x\""},
       {"range.ply", ply3 + "3 0 1 3\n",
