@@ -80,7 +80,8 @@ PlyHeader readHeader(std::string_view bytes, const std::filesystem::path& file) 
     if (key == "end_header") {
       if (t.size() != 1) r.fail(t[1].column, "end_header", "expected nothing after end_header");
       if (h.format.empty()) r.fail(1, "", "PLY header without a format line");
-      h.bodyOffset = r.offset();
+      // A header whose end_header line ends the file has an empty body (not one past the end).
+      h.bodyOffset = std::min(r.offset(), bytes.size());
       h.bodyLine = r.line() + 1;
       const PlyElement* vertex = nullptr;
       for (const PlyElement& e : h.elements) {
@@ -223,8 +224,8 @@ class BodyWalker {
   double binaryValue(const std::string& type, const std::string& where) {
     const int size = typeSizes().at(type);
     if (left() < static_cast<size_t>(size))
-      fail(where, "the file ends here, " + std::to_string(left()) +
-                      " bytes short of a value (truncated PLY)");
+      fail(where, "the file ends here, " + std::to_string(static_cast<size_t>(size) - left()) +
+                      " bytes short of its " + type + " (truncated PLY)");
     unsigned char b[8];
     std::memcpy(b, body_.data() + at_, size);
     at_ += size;

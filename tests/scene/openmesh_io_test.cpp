@@ -230,6 +230,11 @@ TEST_F(MeshIoTest, EachMeshProblemSaysWhatAndWhere) {
        "file can hold"},
       {"binrange.ply", plyBin + std::string("\x03\0\0\0\0\0\0\0\x01\0\0\0\x07\0\0\0", 16),
        ": element face 0 vertex_indices: vertex index 7 out of range [0, 3)"},
+      // end_header without its newline, at the end of the file: no body, not a crash.
+      {"eof.ply", ply3.substr(0, ply3.find("end_header") + 10),
+       ":10: element vertex 0 x: the file ends here (truncated PLY)"},
+      {"bineof.ply", plyBin.substr(0, plyBin.find("end_header") + 10),
+       ": element vertex 0 x: the file ends here, 4 bytes short of its float (truncated PLY)"},
   };
   for (const Case& c : cases) {
     const std::string message = errorOf(write(c.file, c.text));
