@@ -70,14 +70,12 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
       solid_(solid),
       speed_(speed && !speed->empty() && !solid.active ? speed : nullptr) {
   if (mode != DisplacementMode::ByTransition) return;
-  if (surface) {
-    shape_.resize(static_cast<size_t>(surface->numFaces()));
-    tbb::parallel_for(0, surface->numFaces(),
-                      [&](int f) { shape_[static_cast<size_t>(f)] = shapeOperator(*surface, f); });
-    // A surface flat on every face (a ground grid) has no curvature to add: none is kept (36 bytes
-    // a face while the frame is diced).
-    if (std::all_of(shape_.begin(), shape_.end(), [](const Mat3& W) { return W == Mat3(0.0f); }))
-      std::vector<Mat3>().swap(shape_);
+  if (surface && surface->numFaces() > 0) {
+    surface_ = surface;
+    const size_t faces = static_cast<size_t>(surface->numFaces());
+    // Left unwritten: only the faces a frame displaces touch their pages.
+    shape_ = std::make_unique_for_overwrite<Mat3[]>(faces);
+    shapeState_ = std::make_unique<std::atomic<uint8_t>[]>(faces);
   }
   if (relief.visibleHeights.size() == relief.levels.size()) {
     visible_ = relief.visibleHeights;
@@ -85,6 +83,27 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
   }
   for (const ReliefLevel& level : relief.levels) ownVisible_.emplace_back(level);
   visible_ = ownVisible_;
+}
+
+std::optional<Mat3> ReliefDisplacement::shapeAt(int face) const {
+  if (!surface_ || face < 0 || face >= surface_->numFaces()) return std::nullopt;
+  std::atomic<uint8_t>& state = shapeState_[static_cast<size_t>(face)];
+  switch (state.load(std::memory_order_acquire)) {
+    case kShapeStored:
+      return shape_[static_cast<size_t>(face)];
+    case kShapeZero:
+      return std::nullopt;
+    default:
+      break;
+  }
+  const Mat3 W = shapeOperator(*surface_, face);
+  const bool zero = W == Mat3(0.0f);
+  uint8_t expected = kShapeUnknown;
+  if (state.compare_exchange_strong(expected, kShapeWriting, std::memory_order_acquire)) {
+    if (!zero) shape_[static_cast<size_t>(face)] = W;
+    state.store(zero ? kShapeZero : kShapeStored, std::memory_order_release);
+  }
+  return zero ? std::nullopt : std::optional<Mat3>(W);
 }
 
 LevelDisplacement ReliefDisplacement::levels(const SurfacePoint& limit) const {
@@ -107,8 +126,12 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
                                          const SurfacePoint& sp, const ReliefCoord& coord, Vec3 V,
                                          int face, CrestSum& sum) const {
   const int below = std::min(level, t.raised);
-  const bool macro = face >= 0 && static_cast<size_t>(face) < shape_.size();
-  if (below == 0 && !macro) return 0.0f;
+  // The limit surface's own curvature (none on a flat face) is looked up once per point.
+  if (!sum.shapeKnown) {
+    sum.shape = shapeAt(face);
+    sum.shapeKnown = true;
+  }
+  if (below == 0 && !sum.shape) return 0.0f;
   if (!sum.started) {
     sum.started = true;
     const Vec3 N = t.frames[0].N;
@@ -118,8 +141,8 @@ float ReliefDisplacement::crestCurvature(const LevelTransitions& t, int level,
     // The uv direction of one world unit along `across`: solve [P_u P_v] w = across / length.
     const Vec3 dir = across / length;
     // The limit surface's own second derivative along dir: minus its normal curvature there.
-    if (macro) {
-      const float kappa = glm::dot(dir, shape_[static_cast<size_t>(face)] * dir);
+    if (sum.shape) {
+      const float kappa = glm::dot(dir, *sum.shape * dir);
       if (std::isfinite(kappa)) sum.second = -kappa;
     }
     const float a = glm::dot(sp.Pu, sp.Pu), b = glm::dot(sp.Pu, sp.Pv), c = glm::dot(sp.Pv, sp.Pv);

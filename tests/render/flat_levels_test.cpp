@@ -7,9 +7,12 @@
 #include "support/plane_scene.h"
 
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -132,6 +135,60 @@ TEST(VisibleHeight, FlatLevelsAtASmoothSilhouetteUseTheSurfacesCurvature) {
   EXPECT_GT(glm::dot(without.offset(5, c, p), p.N), 0.0f);
   EXPECT_NEAR(glm::dot(withSurface.offset(5, c, p), p.N), glm::dot(without.offset(5, c, p), p.N),
               1e-7f);
+}
+
+// The surface's shape operators are made per face on first use, from several threads at once: the
+// offsets of a displacement that has them all stored are those of fresh ones, bit for bit, and on
+// the faces near the silhouette they are not the plane's.
+TEST(VisibleHeight, ShapeOperatorsMadeOnFirstUseGiveTheSameOffsets) {
+  MaterialRelief relief;
+  relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.02f, 2.0f, 3)));
+  buildVisibleHeights(relief, true);  // shared by the displacements below
+  const TransitionSettings ts;
+  const LimitSurface torus(test::torus(24, 12, 1.0f, 0.3f), SubdivisionScheme::CatmullClark);
+  const Vec3 eye(100.0f, 3.0f, 0.5f);  // far: the level is flat; the tube's sides are grazed
+  const int faces = torus.numFaces();
+  constexpr int kSide = 6;  // kSide^2 points a face
+  struct Point {
+    int face;
+    Vec2 st;
+    SurfacePoint sp;
+  };
+  std::vector<Point> points;
+  for (int f = 0; f < faces; ++f)
+    for (int j = 0; j < kSide; ++j)
+      for (int i = 0; i < kSide; ++i) {
+        const Vec2 st((i + 0.5f) / kSide, (j + 0.5f) / kSide);
+        points.push_back({f, st, torus.evaluate(f, st)});
+      }
+  // Fresh: a displacement per face, which makes that face's operator at its first point.
+  std::vector<Vec3> fresh, plane;
+  const ReliefDisplacement flat(relief, DisplacementMode::ByTransition, ts, eye, 300.0f);
+  for (int f = 0; f < faces; ++f) {
+    const ReliefDisplacement first(relief, DisplacementMode::ByTransition, ts, eye, 300.0f, {},
+                                   &torus);
+    for (size_t k = f * kSide * kSide; k < (f + 1) * size_t(kSide * kSide); ++k) {
+      fresh.push_back(first.offset(f, points[k].st, points[k].sp));
+      plane.push_back(flat.offset(f, points[k].st, points[k].sp));
+    }
+  }
+  const ReliefDisplacement shared(relief, DisplacementMode::ByTransition, ts, eye, 300.0f, {},
+                                  &torus);
+  const size_t n = points.size();
+  for (int round = 0; round < 3; ++round) {
+    std::vector<Vec3> got(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      const size_t k = round % 2 ? n - 1 - i : i;
+      got[k] = shared.offset(points[k].face, points[k].st, points[k].sp);
+    });
+    int differ = 0;
+    for (size_t k = 0; k < n; ++k) differ += std::memcmp(&got[k], &fresh[k], sizeof(Vec3)) != 0;
+    EXPECT_EQ(differ, 0) << "round " << round;
+  }
+  int curved = 0;
+  for (size_t k = 0; k < n; ++k) curved += glm::length(fresh[k] - plane[k]) > 1e-6f;
+  std::printf("  %d of %zu points' offsets take the tube's curvature\n", curved, n);
+  EXPECT_GT(curved, 50);
 }
 
 }  // namespace

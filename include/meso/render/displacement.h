@@ -13,6 +13,10 @@
 #include "meso/scene/scene.h"
 
 #include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -70,8 +74,15 @@ class ReliefDisplacement : public VertexDisplacement {
   // Per base face (ByTransition mode with a surface): the limit surface's shape operator at the
   // face's centre, world to world (dN = W dP on the tangent plane, W N = 0), so that the normal
   // curvature along a tangent direction d is d . W d (positive where the surface is convex).
-  // Empty where every face's is zero.
-  std::vector<Mat3> shape_;
+  // Made when a vertex of the face is first displaced (shapeAt): a frame displaces few of a large
+  // ground's faces (62 434 of 409 600 on the 640-unit ground of docs/performance.md).
+  const LimitSurface* surface_ = nullptr;
+  std::unique_ptr<Mat3[]> shape_;                       // written once per face, before its state
+  std::unique_ptr<std::atomic<uint8_t>[]> shapeState_;  // ShapeState per face
+  enum ShapeState : uint8_t { kShapeUnknown, kShapeWriting, kShapeStored, kShapeZero };
+  // The face's shape operator, or nothing where it is zero (a flat face), made and kept on first
+  // use; a thread that finds another storing it makes its own (the same bits).
+  std::optional<Mat3> shapeAt(int face) const;
 
   // sp and coord: the point as reliefChart gives it.
   Vec3 flatLevelsOffset(const LevelTransitions& t, const SurfacePoint& sp, const ReliefCoord& coord,
@@ -83,6 +94,8 @@ class ReliefDisplacement : public VertexDisplacement {
     Vec2 w{0.0f};  // the uv direction of one world unit across the view
     float second = 0.0f;
     int done = 0;  // levels summed
+    bool shapeKnown = false;
+    std::optional<Mat3> shape;  // shapeAt(face)
   };
   float crestCurvature(const LevelTransitions& t, int level, const SurfacePoint& sp,
                        const ReliefCoord& coord, Vec3 V, int face, CrestSum& sum) const;
