@@ -73,8 +73,8 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
   if (surface && surface->numFaces() > 0) {
     surface_ = surface;
     const size_t faces = static_cast<size_t>(surface->numFaces());
-    // Left unwritten: only the faces a frame displaces touch their pages.
-    shape_ = std::make_unique_for_overwrite<Mat3[]>(faces);
+    shape_.count = (faces + kShapeChunk - 1) / kShapeChunk;
+    shape_.chunks = std::make_unique<std::atomic<Mat3*>[]>(shape_.count);
     shapeState_ = std::make_unique<std::atomic<uint8_t>[]>(faces);
   }
   if (relief.visibleHeights.size() == relief.levels.size()) {
@@ -85,12 +85,30 @@ ReliefDisplacement::ReliefDisplacement(const MaterialRelief& relief, Displacemen
   visible_ = ownVisible_;
 }
 
+ReliefDisplacement::ShapeChunks::~ShapeChunks() {
+  for (size_t c = 0; c < count; ++c) delete[] chunks[c].load(std::memory_order_relaxed);
+}
+
+Mat3& ReliefDisplacement::ShapeChunks::slot(size_t f) {
+  std::atomic<Mat3*>& chunk = chunks[f / kShapeChunk];
+  Mat3* mine = chunk.load(std::memory_order_acquire);
+  if (!mine) {
+    Mat3* made = new Mat3[kShapeChunk];
+    if (chunk.compare_exchange_strong(mine, made, std::memory_order_acq_rel))
+      mine = made;
+    else
+      delete[] made;  // another thread's came first: `mine` is now that one
+  }
+  return mine[f % kShapeChunk];
+}
+
 std::optional<Mat3> ReliefDisplacement::shapeAt(int face) const {
   if (!surface_ || face < 0 || face >= surface_->numFaces()) return std::nullopt;
   std::atomic<uint8_t>& state = shapeState_[static_cast<size_t>(face)];
   switch (state.load(std::memory_order_acquire)) {
     case kShapeStored:
-      return shape_[static_cast<size_t>(face)];
+      return shape_.chunks[static_cast<size_t>(face) / kShapeChunk].load(
+          std::memory_order_relaxed)[static_cast<size_t>(face) % kShapeChunk];
     case kShapeZero:
       return std::nullopt;
     default:
@@ -100,7 +118,7 @@ std::optional<Mat3> ReliefDisplacement::shapeAt(int face) const {
   const bool zero = W == Mat3(0.0f);
   uint8_t expected = kShapeUnknown;
   if (state.compare_exchange_strong(expected, kShapeWriting, std::memory_order_acquire)) {
-    if (!zero) shape_[static_cast<size_t>(face)] = W;
+    if (!zero) shape_.slot(static_cast<size_t>(face)) = W;
     state.store(zero ? kShapeZero : kShapeStored, std::memory_order_release);
   }
   return zero ? std::nullopt : std::optional<Mat3>(W);

@@ -76,8 +76,22 @@ class ReliefDisplacement : public VertexDisplacement {
   // curvature along a tangent direction d is d . W d (positive where the surface is convex).
   // Made when a vertex of the face is first displaced (shapeAt): a frame displaces few of a large
   // ground's faces (62 434 of 409 600 on the 640-unit ground of docs/performance.md).
+  // Kept in chunks of kShapeChunk faces, each allocated when a face of it first stores a non-zero
+  // operator: a flat ground holds none (an array for every face, even untouched, took heap that
+  // dicing would have reused: the 640-unit ground's frame peaked 8 MiB higher).
+  static constexpr size_t kShapeChunk = 1024;
+  struct ShapeChunks {
+    std::unique_ptr<std::atomic<Mat3*>[]> chunks;
+    size_t count = 0;
+    ShapeChunks() = default;
+    ShapeChunks(const ShapeChunks&) = delete;
+    ShapeChunks& operator=(const ShapeChunks&) = delete;
+    ~ShapeChunks();
+    // Face f's slot, its chunk allocated if need be (by one thread: the others take that one).
+    Mat3& slot(size_t f);
+  };
   const LimitSurface* surface_ = nullptr;
-  std::unique_ptr<Mat3[]> shape_;                       // written once per face, before its state
+  mutable ShapeChunks shape_;  // each face's written once, before its state says so
   std::unique_ptr<std::atomic<uint8_t>[]> shapeState_;  // ShapeState per face
   enum ShapeState : uint8_t { kShapeUnknown, kShapeWriting, kShapeStored, kShapeZero };
   // The face's shape operator, or nothing where it is zero (a flat face), made and kept on first
