@@ -145,9 +145,11 @@ TEST(VisibleHeight, ShapeOperatorsMadeOnFirstUseGiveTheSameOffsets) {
   relief.levels.push_back(makeReliefLevel(testing::noiseLevel(0.02f, 2.0f, 3)));
   buildVisibleHeights(relief, true);  // shared by the displacements below
   const TransitionSettings ts;
-  const LimitSurface torus(test::torus(24, 12, 1.0f, 0.3f), SubdivisionScheme::CatmullClark);
+  // 1152 faces: two chunks of stored operators (ReliefDisplacement::kShapeChunk).
+  const LimitSurface torus(test::torus(48, 24, 1.0f, 0.3f), SubdivisionScheme::CatmullClark);
   const Vec3 eye(100.0f, 3.0f, 0.5f);  // far: the level is flat; the tube's sides are grazed
   const int faces = torus.numFaces();
+  ASSERT_GT(faces, 1024);
   constexpr int kSide = 6;  // kSide^2 points a face
   struct Point {
     int face;
