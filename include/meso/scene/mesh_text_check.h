@@ -28,7 +28,7 @@ struct ObjContents {
 
 struct MeshTextCounts {
   long long vertices = 0, faces = 0, texcoords = 0;
-  bool checked = false;  // false: a format (binary OFF) left to OpenMesh and checked after it
+  bool checked = false;  // false: not an .obj, .off or .ply file (checkMeshText reads none)
   // Not empty: the bytes to hand to OpenMesh instead of the file's. A PLY gets its header rewritten
   // in the one layout in which OpenMesh's reader finds where a binary body starts (no comments,
   // one space between words, "\n" line ends); the body is the file's. An ASCII OFF is rewritten
