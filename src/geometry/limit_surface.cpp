@@ -245,10 +245,46 @@ int storeSurface(const OpenSubdiv::Bfr::Surface<float>& surface, LimitSurface::I
   return shared.back().index;
 }
 
+// Whether face f is a quad of the bilinear scheme away from any hole or non-manifold component:
+// its limit surface is then the bilinear quad of its corners, and its (u, v) under linear
+// face-varying interpolation the bilinear quad of theirs. Bfr finds the same (a regular patch
+// whose patch points are the face's control points in the face's order, the same arrays bit for
+// bit on every shipped scene's bilinear meshes); prepared without it, such a face skips Bfr's
+// set-up and the evaluations that checked its patch.
+bool isPlainBilinearQuad(SubdivisionScheme scheme, const OpenSubdiv::Far::TopologyLevel& base,
+                         int f) {
+  if (scheme != SubdivisionScheme::Bilinear || base.IsFaceHole(f)) return false;
+  const OpenSubdiv::Far::ConstIndexArray v = base.GetFaceVertices(f), e = base.GetFaceEdges(f);
+  if (v.size() != 4) return false;
+  for (int k = 0; k < 4; ++k)
+    if (base.IsVertexNonManifold(v[k]) || base.IsEdgeNonManifold(e[k])) return false;
+  return true;
+}
+
+// The arrays of such a face: its 4 control points gathered by index, its 4 corners' (u, v).
+void setBilinearQuad(const ControlMesh& mesh, size_t first, LimitSurface::Impl::Face& face,
+                     LimitSurface::Impl::Chunk& out) {
+  face.numPatchPoints = 4;
+  face.bilinear = true;
+  face.gathered = true;
+  face.patchOffset = static_cast<int>(out.controlIndices.size());
+  for (int k = 0; k < 4; ++k) out.controlIndices.push_back(mesh.faceVertices[first + k]);
+  if (!mesh.hasUvs()) return;
+  face.hasUv = true;
+  face.uvBilinear = true;
+  face.uvPatchOffset = static_cast<int>(out.uvPatchPoints.size());
+  for (int k = 0; k < 4; ++k) {
+    const Vec2& uv = mesh.uvs[mesh.uvIndices[first + k]];
+    out.uvPatchPoints.push_back(uv.x);
+    out.uvPatchPoints.push_back(uv.y);
+  }
+}
+
 // The faces of one chunk (Impl::Chunk), whose arrays they fill. The chunks are fixed ranges of
 // faces, so the arrays are the same whatever the number of threads.
 void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Factory& factory,
-                  int begin, int end, const std::vector<size_t>& firstCorner,
+                  const OpenSubdiv::Far::TopologyLevel& base, int begin, int end,
+                  const std::vector<size_t>& firstCorner,
                   std::vector<LimitSurface::Impl::Face>& faces, LimitSurface::Impl::Chunk& out) {
   using Face = LimitSurface::Impl::Face;
   // Room for the 4 control points of a quad a face: a grid's arrays do not grow.
@@ -271,6 +307,10 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
       appendFaceChart(n, corners, out.chartPoints);
     }
     setPolygonFrame(mesh, first, n, face);
+    if (isPlainBilinearQuad(scheme, base, f)) {
+      setBilinearQuad(mesh, first, face, out);
+      continue;
+    }
     if (!factory.InitVertexSurface(f, &surface)) continue;  // a hole or non-manifold face
     face.numPatchPoints = surface.GetNumPatchPoints();
     points.resize(3 * static_cast<size_t>(face.numPatchPoints));
@@ -326,8 +366,8 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, SubdivisionScheme scheme)
   impl.chunks.resize(static_cast<size_t>(chunks));
   tbb::parallel_for(0, chunks, [&](int c) {
     Impl::Chunk& chunk = impl.chunks[static_cast<size_t>(c)];
-    prepareFaces(mesh, scheme, factory, c * kPerChunk, std::min(numFaces, (c + 1) * kPerChunk),
-                 firstCorner, impl.faces, chunk);
+    prepareFaces(mesh, scheme, factory, refiner->GetLevel(0), c * kPerChunk,
+                 std::min(numFaces, (c + 1) * kPerChunk), firstCorner, impl.faces, chunk);
     // Kept for the surface's life: without the room the arrays grew into.
     chunk.surfaces.shrink_to_fit();
     chunk.patchPoints.shrink_to_fit();

@@ -291,6 +291,55 @@ TEST(LimitSurface, BilinearQuadIsTheBilinearInterpolationOfItsCorners) {
   }
 }
 
+// Every quad of a bilinear mesh that also has triangles, a pentagon, uv seams and three quads on
+// one edge (a non-manifold fan, left to Bfr) is the bilinear quad of its corners and of their uv,
+// whether prepared directly or by Bfr.
+TEST(LimitSurface, BilinearQuadsOfAnyMeshAreTheBilinearPatchesOfTheirCorners) {
+  ControlMesh mesh = test::grid(3);
+  Rng rng(7);
+  for (Vec3& p : mesh.positions) p += 0.2f * test::randomDirection(rng);
+  const int n = static_cast<int>(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), {Vec3(1.2f, 0.4f, 2.0f), Vec3(0.3f, 1.1f, -1.5f),
+                                               Vec3(2.2f, 2.5f, 1.0f), Vec3(-0.8f, 0.4f, 0.7f)});
+  test::addFace(mesh, {0, 1, n});                // a triangle on the grid's boundary edge
+  test::addFace(mesh, {1, 0, n + 1, n + 2});     // a quad on the same edge: three faces there
+  test::addFace(mesh, {0, 4, n + 3});            // another triangle
+  test::addFace(mesh, {3, n + 2, n + 1, 2, 7});  // a pentagon
+  // Seams: each corner its own uv, from a map that folds nowhere.
+  for (int f = 0, corner = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < mesh.faceSizes[f]; ++k, ++corner) {
+      const Vec3& p = mesh.positions[mesh.faceVertices[corner]];
+      mesh.uvs.emplace_back(0.5f * p.x + 0.1f * p.z + 0.3f * f, 0.7f * p.y - 0.2f * p.z);
+      mesh.uvIndices.push_back(corner);
+    }
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  int quads = 0;
+  for (int f = 0, first = 0; f < mesh.numFaces(); first += mesh.faceSizes[f++]) {
+    ASSERT_TRUE(surface.hasLimitSurface(f)) << f;
+    if (mesh.faceSizes[f] != 4) continue;
+    ++quads;
+    std::array<Vec3, 4> p;
+    std::array<Vec2, 4> q;
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_EQ(surface.cornerSt(f, k), quadCorner(k));
+      p[k] = mesh.positions[mesh.faceVertices[first + k]];
+      q[k] = mesh.uvs[mesh.uvIndices[first + k]];
+    }
+    for (Vec2 st : domainSamples(4, false)) {
+      const float s = st.x, t = st.y;
+      const SurfacePoint sp = surface.evaluate(f, st);
+      const Vec3 P = (1 - t) * ((1 - s) * p[0] + s * p[1]) + t * ((1 - s) * p[3] + s * p[2]);
+      const Vec2 uv = (1 - t) * ((1 - s) * q[0] + s * q[1]) + t * ((1 - s) * q[3] + s * q[2]);
+      EXPECT_LT(glm::length(sp.P - P), 1e-5f) << f;
+      EXPECT_LT(glm::length(sp.uv - uv), 1e-5f) << f;
+      const Vec3 dPds = (1 - t) * (p[1] - p[0]) + t * (p[2] - p[3]);
+      const Vec2 duvds = (1 - t) * (q[1] - q[0]) + t * (q[2] - q[3]);
+      EXPECT_LT(glm::length(dPds - (sp.Pu * duvds.x + sp.Pv * duvds.y)), 1e-4f) << f;
+    }
+  }
+  EXPECT_EQ(quads, 10);
+}
+
 TEST(LimitSurface, UvScaledByTwoHalvesTheDerivatives) {
   ControlMesh mesh = test::grid(4);
   const LimitSurface plain(mesh, SubdivisionScheme::CatmullClark);
