@@ -33,26 +33,39 @@ std::vector<MetricClass> binnedClasses(std::span<const MetricClass> samples, flo
   };
   std::vector<Range> ranges;
   const float step = std::max(stepOctaves, 1e-3f);
+  // The last shape binned and what it adds: a grid's faces repeat one shape, whose logarithms and
+  // bin are then found once (the same sums, added in the same order).
+  MetricShape last{-1.0f, 0.0f};
+  size_t lastRange = 0;
+  double lastLogA = 0.0, lastB = 0.0;
   for (MetricClass m : samples) {
     if (!(m.lengthPerU > 0.0f) || !std::isfinite(m.lengthPerU) || !std::isfinite(m.shape.a) ||
         !std::isfinite(m.shape.b) || !(m.shape.a > 0.0f))
       continue;
-    m.shape.a = std::clamp(m.shape.a, 1.0f / kMaxMetricStretch, kMaxMetricStretch);
-    m.shape.b = std::clamp(m.shape.b, -kMaxMetricShear, kMaxMetricShear);
-    // The bin is the quantized shape; samples within 1e-3 of the identity count as exactly it, so
-    // an isotropic, orthogonal uv keeps exactly the identity.
-    MetricShape q;
-    q.a = std::exp2(step * std::round(std::log2(m.shape.a) / step));
-    q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
-    const bool unitA = std::abs(std::log2(m.shape.a)) < 1e-3f, unitB = std::abs(m.shape.b) < 1e-3f;
-    auto it =
-        std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.bin == q; });
-    if (it == ranges.end()) it = ranges.insert(ranges.end(), Range{q});
-    it->logA += unitA ? 0.0 : std::log2(static_cast<double>(m.shape.a));
-    it->b += unitB ? 0.0 : static_cast<double>(m.shape.b);
-    ++it->count;
-    it->lo = std::min(it->lo, m.lengthPerU);
-    it->hi = std::max(it->hi, m.lengthPerU);
+    if (!(m.shape == last)) {
+      last = m.shape;
+      m.shape.a = std::clamp(m.shape.a, 1.0f / kMaxMetricStretch, kMaxMetricStretch);
+      m.shape.b = std::clamp(m.shape.b, -kMaxMetricShear, kMaxMetricShear);
+      // The bin is the quantized shape; samples within 1e-3 of the identity count as exactly it,
+      // so an isotropic, orthogonal uv keeps exactly the identity.
+      MetricShape q;
+      q.a = std::exp2(step * std::round(std::log2(m.shape.a) / step));
+      q.b = 0.5f * step * std::round(m.shape.b / (0.5f * step));
+      const bool unitA = std::abs(std::log2(m.shape.a)) < 1e-3f;
+      const bool unitB = std::abs(m.shape.b) < 1e-3f;
+      auto it =
+          std::find_if(ranges.begin(), ranges.end(), [&](const Range& r) { return r.bin == q; });
+      if (it == ranges.end()) it = ranges.insert(ranges.end(), Range{q});
+      lastRange = static_cast<size_t>(it - ranges.begin());
+      lastLogA = unitA ? 0.0 : std::log2(static_cast<double>(m.shape.a));
+      lastB = unitB ? 0.0 : static_cast<double>(m.shape.b);
+    }
+    Range& r = ranges[lastRange];
+    r.logA += lastLogA;
+    r.b += lastB;
+    ++r.count;
+    r.lo = std::min(r.lo, m.lengthPerU);
+    r.hi = std::max(r.hi, m.lengthPerU);
   }
   std::vector<MetricClass> out;
   for (const Range& r : ranges) {
