@@ -49,9 +49,10 @@ struct LimitSurface::Impl {
     int uvPatchOffset = 0;
     int chartOffset =
         -1;  // first chart point (N vertices, then the centre); -1: st is Bfr's (quads)
-    // The patch is the bilinear quad of its 4 patch points (regular faces of the bilinear scheme,
-    // checked against Bfr when the surface is made): evaluated directly, without Bfr's generic
-    // basis and point combination (the hybrid's shading evaluates the limit surface at every hit).
+    // The patch is the bilinear quad of its 4 patch points (quads of the bilinear scheme: set up
+    // from their corners, or, next to a non-manifold component, checked against Bfr when the
+    // surface is made): evaluated directly, without Bfr's generic basis and point combination
+    // (the hybrid's shading evaluates the limit surface at every hit).
     bool bilinear = false, uvBilinear = false;
     bool hasUv = false;  // the face has face-varying (u, v)
     // The patch points are control points (a regular or linear patch): patchOffset is the first of
