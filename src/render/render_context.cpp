@@ -116,9 +116,12 @@ double dicingBytesPerFace(const PreparedObject& o) {
   return o.byView ? kViewTessellationBytesPerFace : 0.0;
 }
 
-// Memory freed by a frame's tessellation (dicing's temporaries, estimated, and the meshes' points
-// once Embree has copied them) beyond which it is given back to the system before the BVH build
-// (docs/performance.md).
+// A frame gives the memory its tessellation freed back to the system before the BVH build
+// (docs/performance.md) when it made this many displaced micropolygons (a second or more of
+// tessellation and BVH build on 2 cores; the release costs a flight of small frames about 10 ms
+// a frame), or freed this much by the estimate of dicing's temporaries and the meshes' indices
+// (objects tessellated by view with nothing displaced).
+constexpr size_t kReleaseMicropolygons = 4'000'000;
 constexpr double kReleasedBytes = 128.0 * 1024 * 1024;
 
 }  // namespace
@@ -530,7 +533,7 @@ FrameGeometryStats prepareFrame(RenderContext& ctx, const CameraSettings& settin
   // What was freed stays in malloc's arenas (dicing's temporaries in those of the threads that
   // made them), and the BVH build, the frame's peak, would come on top of it. Less is reused by
   // the frame's later steps, which would fault its pages again (docs/performance.md).
-  if (freed > kReleasedBytes) releaseFreedHeap();
+  if (stats.micropolygons >= kReleaseMicropolygons || freed > kReleasedBytes) releaseFreedHeap();
   rays->commit();
   stats.bvhSeconds = bvh.seconds();
   stats.triangles = rays->numTriangles();
