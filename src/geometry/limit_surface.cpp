@@ -404,6 +404,37 @@ bool LimitSurface::faceBox(int face, Vec3& lo, Vec3& hi) const {
   return true;
 }
 
+bool LimitSurface::derivativeKey(int face, DerivativeKey& key) const {
+  const Impl::Face& f = impl_->faces[face];
+  // evaluate() then reads: the chart (the identity for chartOffset < 0), bilinearQuad's
+  // differences of the patch points and of the (u, v) points, and the fallback normal of
+  // limitNormal (its insets also stay in Bfr's coordinates).
+  if (!f.valid() || !f.bilinear || f.chartOffset >= 0 || (f.hasUv && !f.uvBilinear)) return false;
+  float gathered[3 * Impl::kMaxGathered];
+  const float* p = impl_->patchPoints(face, gathered);
+  float* out = key.values.data();
+  const auto differences = [&out](const float* q, int d) {
+    for (int k = 0; k < d; ++k) {
+      out[k] = q[d + k] - q[k];                  // P1 - P0
+      out[d + k] = q[2 * d + k] - q[3 * d + k];  // P2 - P3
+      out[2 * d + k] = q[3 * d + k] - q[k];      // P3 - P0
+      out[3 * d + k] = q[2 * d + k] - q[d + k];  // P2 - P1
+    }
+    out += 4 * d;
+  };
+  key.values.fill(0.0f);
+  differences(p, 3);
+  if (f.hasUv)
+    differences(impl_->uvPatchPoints(face), 2);
+  else
+    out += 8;
+  *out++ = f.averageNormal.x;
+  *out++ = f.averageNormal.y;
+  *out++ = f.averageNormal.z;
+  *out = f.hasUv ? 1.0f : 0.0f;
+  return true;
+}
+
 size_t LimitSurface::Impl::Topology::memoryBytes() const {
   return sizeof(int) * (faceFirst.capacity() + faceVertex.capacity() + faceEdge.capacity() +
                         edgeFirst.capacity() + edgeFace.capacity());

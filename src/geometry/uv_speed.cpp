@@ -1,5 +1,6 @@
 #include "meso/geometry/uv_speed.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -23,24 +24,39 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
       if (mesh.faceSizes[f] == 3) triangle_[f] = t++;
   }
   // Each face's corners in parallel (evaluate is thread-safe), then the vertex means in order.
-  tbb::parallel_for(0, faces, [&](int f) {
-    const int n = mesh.faceSizes[f];
-    if (!surface.hasLimitSurface(f) || surface.faceSize(f) != n) return;
-    Vec2 st[4];
-    for (int k = 0; k < n; ++k) {
-      const size_t c = static_cast<size_t>(first_[f] + k);
-      const Vec2 corner = surface.cornerSt(f, k);
-      if (k < 4) st[k] = corner;
-      const SurfacePoint sp = surface.evaluate(f, corner);
-      const float length = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
-      if (std::isfinite(length)) own[c] = length;
-    }
-    if (n == 4 && st[0] == Vec2(0, 0) && st[1] == Vec2(1, 0) && st[2] == Vec2(1, 1) &&
-        st[3] == Vec2(0, 1)) {
-      kind_[f] = kUnitQuad;
-    } else if (n == 3) {
-      kind_[f] = kTriangle;
-      std::copy(st, st + 3, triangleSt_.begin() + 3 * static_cast<size_t>(triangle_[f]));
+  tbb::parallel_for(tbb::blocked_range<int>(0, faces), [&](const tbb::blocked_range<int>& range) {
+    // A face of the previous one's derivative key has its corner lengths (derivativeKey).
+    DerivativeKey key, last;
+    int lastFace = -1;
+    for (int f = range.begin(); f != range.end(); ++f) {
+      const int n = mesh.faceSizes[f];
+      if (!surface.hasLimitSurface(f) || surface.faceSize(f) != n) continue;
+      const bool keyed = surface.derivativeKey(f, key);
+      const bool same = keyed && lastFace >= 0 && key == last;
+      Vec2 st[4];
+      for (int k = 0; k < n; ++k) {
+        const size_t c = static_cast<size_t>(first_[f] + k);
+        const Vec2 corner = surface.cornerSt(f, k);
+        if (k < 4) st[k] = corner;
+        if (same) {
+          own[c] = own[static_cast<size_t>(first_[lastFace] + k)];
+          continue;
+        }
+        const SurfacePoint sp = surface.evaluate(f, corner);
+        const float length = std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+        if (std::isfinite(length)) own[c] = length;
+      }
+      if (n == 4 && st[0] == Vec2(0, 0) && st[1] == Vec2(1, 0) && st[2] == Vec2(1, 1) &&
+          st[3] == Vec2(0, 1)) {
+        kind_[f] = kUnitQuad;
+      } else if (n == 3) {
+        kind_[f] = kTriangle;
+        std::copy(st, st + 3, triangleSt_.begin() + 3 * static_cast<size_t>(triangle_[f]));
+      }
+      if (!same) {
+        last = key;
+        lastFace = keyed ? f : -1;
+      }
     }
   });
   std::vector<double> sum(mesh.positions.size(), 0.0);

@@ -10,6 +10,7 @@
 #include "meso/render/view_rows.h"
 #include "meso/scene/mesh_io.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <fmt/format.h>
@@ -43,20 +44,35 @@ bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
   std::vector<uint8_t> differs(static_cast<size_t>(faces), 0);
   std::optional<Vec3> N0;  // the normal at the first sample, which every other is compared with
   if (faces > 0) N0 = surface.evaluate(0, surface.cornerSt(0, 0)).N;
-  tbb::parallel_for(0, faces, [&](int face) {
-    size_t at = first + offset[face];
-    const auto sample = [&](const SurfacePoint& sp) {
-      out[at++] = metricOf(sp.Pu, sp.Pv);
-      differs[face] |= !(glm::dot(*N0, sp.N) > 1.0f - 1e-6f);
-    };
-    const int n = surface.faceSize(face);
-    Vec2 centre(0.0f);
-    for (int k = 0; k < n; ++k) {
-      const Vec2 a = surface.cornerSt(face, k), b = surface.cornerSt(face, (k + 1) % n);
-      centre += a / static_cast<float>(n);
-      for (const Vec2 st : {a, 0.5f * (a + b)}) sample(surface.evaluate(face, st));
+  tbb::parallel_for(tbb::blocked_range<int>(0, faces), [&](const tbb::blocked_range<int>& range) {
+    // A face of the previous one's derivative key has its samples (derivativeKey): a ground of
+    // equal quads evaluates one face per range.
+    DerivativeKey key, last;
+    int lastFace = -1;
+    for (int face = range.begin(); face != range.end(); ++face) {
+      size_t at = first + offset[face];
+      const bool keyed = surface.derivativeKey(face, key);
+      if (keyed && lastFace >= 0 && key == last) {
+        std::copy_n(out.begin() + static_cast<std::ptrdiff_t>(first + offset[lastFace]),
+                    offset[face + 1] - offset[face], out.begin() + static_cast<std::ptrdiff_t>(at));
+        differs[face] = differs[lastFace];
+        continue;
+      }
+      const auto sample = [&](const SurfacePoint& sp) {
+        out[at++] = metricOf(sp.Pu, sp.Pv);
+        differs[face] |= !(glm::dot(*N0, sp.N) > 1.0f - 1e-6f);
+      };
+      const int n = surface.faceSize(face);
+      Vec2 centre(0.0f);
+      for (int k = 0; k < n; ++k) {
+        const Vec2 a = surface.cornerSt(face, k), b = surface.cornerSt(face, (k + 1) % n);
+        centre += a / static_cast<float>(n);
+        for (const Vec2 st : {a, 0.5f * (a + b)}) sample(surface.evaluate(face, st));
+      }
+      sample(surface.evaluate(face, centre));
+      last = key;
+      lastFace = keyed ? face : -1;
     }
-    sample(surface.evaluate(face, centre));
   });
   return std::any_of(differs.begin(), differs.end(), [](uint8_t d) { return d != 0; });
 }

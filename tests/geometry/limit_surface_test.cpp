@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <set>
 #include <vector>
@@ -338,6 +339,71 @@ TEST(LimitSurface, BilinearQuadsOfAnyMeshAreTheBilinearPatchesOfTheirCorners) {
     }
   }
   EXPECT_EQ(quads, 10);
+}
+
+// Faces of one derivative key evaluate to the same Pu, Pv and N, bit for bit: on a ground of
+// unit quads whose uv is stretched in some rows and whose points are moved in others (a ground's
+// faces repeat, a sculpted one's do not), with a triangle and a Catmull-Clark copy, which have no
+// key.
+TEST(LimitSurface, FacesOfOneDerivativeKeyEvaluateToTheSameDerivatives) {
+  constexpr int kN = 8;
+  ControlMesh mesh = test::grid(kN);
+  Rng rng(11);
+  // Rows 6 and up moved (no two faces alike), x scaled by 0.1 in rows 3 to 5 (the differences of
+  // 0.1 i are not all the same float), unit squares below.
+  for (Vec3& p : mesh.positions) {
+    if (p.y >= 6.0f)
+      p += 0.1f * test::randomDirection(rng);
+    else if (p.y >= 3.0f)
+      p.x *= 0.1f;
+  }
+  const int n = static_cast<int>(mesh.positions.size());
+  mesh.positions.emplace_back(-1.0f, 0.5f, 0.2f);
+  test::addFace(mesh, {0, n, kN + 1});
+  // uv over the flat rows, stretched by 1.5 in u in rows 1 and 2: unit quads of two keys there.
+  for (int f = 0, corner = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < mesh.faceSizes[f]; ++k, ++corner) {
+      const Vec3& p = mesh.positions[mesh.faceVertices[corner]];
+      const float stretch = f / kN == 1 || f / kN == 2 ? 1.5f : 1.0f;
+      mesh.uvs.emplace_back(stretch * p.x + 0.25f * p.z, p.y);
+      mesh.uvIndices.push_back(corner);
+    }
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  std::vector<DerivativeKey> keys(mesh.numFaces());
+  std::vector<char> keyed(mesh.numFaces());
+  for (int f = 0; f < mesh.numFaces(); ++f) keyed[f] = surface.derivativeKey(f, keys[f]);
+  EXPECT_FALSE(keyed[mesh.numFaces() - 1]) << "a triangle";
+  std::vector<Vec2> st = domainSamples(4, false);
+  st.insert(st.end(), {Vec2(0.3f, 0.7f), Vec2(0.91f, 0.13f), Vec2(-0.2f, 1.4f)});
+  const auto same = [](const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int pairs = 0, unequal = 0;
+  for (int f = 0; f < kN * kN; ++f) {
+    ASSERT_TRUE(keyed[f]) << f;
+    for (int g = f + 1; g < kN * kN; ++g) {
+      if (!(keys[f] == keys[g])) {
+        ++unequal;
+        continue;
+      }
+      ++pairs;
+      for (const Vec2 c : st) {
+        const SurfacePoint a = surface.evaluate(f, c), b = surface.evaluate(g, c);
+        ASSERT_TRUE(same(a.Pu, b.Pu) && same(a.Pv, b.Pv) && same(a.N, b.N))
+            << "faces " << f << " and " << g << " at " << c.x << "," << c.y;
+      }
+    }
+  }
+  // Rows 0 and 1 are 8 unit squares each, of two uv keys: C(8,2) pairs each. Rows 3 and 4 add the
+  // faces whose differences of 0.1 i round alike; rows 2 and 5 reach moved or scaled points.
+  EXPECT_GE(pairs, 2 * 28);
+  EXPECT_GT(unequal, pairs);
+  // Without uv the key is the patch's alone; Catmull-Clark patches have none.
+  ControlMesh plain = test::grid(3);
+  const LimitSurface bilinear(plain, SubdivisionScheme::Bilinear);
+  const LimitSurface smooth(plain, SubdivisionScheme::CatmullClark);
+  DerivativeKey a, b;
+  ASSERT_TRUE(bilinear.derivativeKey(0, a) && bilinear.derivativeKey(8, b));
+  EXPECT_TRUE(a == b);
+  for (int f = 0; f < smooth.numFaces(); ++f) EXPECT_FALSE(smooth.derivativeKey(f, a)) << f;
 }
 
 TEST(LimitSurface, UvScaledByTwoHalvesTheDerivatives) {

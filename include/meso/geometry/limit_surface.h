@@ -4,6 +4,8 @@
 #include "meso/core/math.h"
 #include "meso/geometry/control_mesh.h"
 
+#include <array>
+#include <cstring>
 #include <memory>
 
 namespace meso {
@@ -12,6 +14,18 @@ namespace meso {
 // to the texture coordinates (u, v) when the mesh has them, otherwise with respect to the face's
 // own patch coordinates (s, t). N is the unit limit normal, facing the mesh's outward side (so N =
 // -normalize(Pu x Pv) for a mirrored uv map), never a facet normal (Chan 2002).
+// What a face's derivatives (SurfacePoint::Pu, Pv, N) depend on, where LimitSurface::derivativeKey
+// finds it: two faces with equal keys (bit for bit) have the same Pu, Pv and N at every st.
+struct DerivativeKey {
+  // The patch's edge differences P1 - P0, P2 - P3, P3 - P0, P2 - P1 (bilinearQuad's derivatives
+  // are made of these alone), the same of the (u, v) patch when the face has (u, v), the face's
+  // fallback normal, and whether it has (u, v).
+  std::array<float, 24> values{};
+  bool operator==(const DerivativeKey& o) const {
+    return std::memcmp(values.data(), o.values.data(), sizeof(values)) == 0;
+  }
+};
+
 struct SurfacePoint {
   Vec3 P{0.0f};
   Vec3 Pu{0.0f};
@@ -42,6 +56,12 @@ class LimitSurface {
   // The box of the face's patch points, which contains its limit patch (convex hull property).
   // False for a face without a limit surface.
   bool faceBox(int face, Vec3& lo, Vec3& hi) const;
+  // For a quad whose limit patch and (u, v) patch are the bilinear quads of their points, in Bfr's
+  // own patch coordinates (a plain quad of the bilinear scheme, as a flat ground's faces are):
+  // fills `key` and returns true. Faces with equal keys then evaluate to the same Pu, Pv and N at
+  // every st (only P and uv differ), so a sweep over many faces of one shape evaluates one of
+  // them. False for every other face.
+  bool derivativeKey(int face, DerivativeKey& key) const;
   // The bytes it holds: its own arrays (their capacity), the Bfr surfaces of faces that are not
   // bilinear quads, and OpenSubdiv's base-level topology estimated from its counts of faces,
   // corners, edges and vertices (within 10% of the heap it takes on grids and tori, tested).
