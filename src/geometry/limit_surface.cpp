@@ -177,21 +177,6 @@ LimitSurface::Impl::Topology copyTopology(const OpenSubdiv::Far::TopologyLevel& 
   return t;
 }
 
-// Centroid and Newell normal of the control polygon: the last-resort normal of a degenerate point.
-void setPolygonFrame(const ControlMesh& mesh, size_t first, int size,
-                     LimitSurface::Impl::Face& face) {
-  Vec3 sum(0.0f), newell(0.0f);
-  for (int i = 0; i < size; ++i) {
-    const Vec3& a = mesh.positions[mesh.faceVertices[first + i]];
-    const Vec3& b = mesh.positions[mesh.faceVertices[first + (i + 1) % size]];
-    sum += a;
-    newell += Vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  face.centroid = sum / static_cast<float>(size);
-  const float len = glm::length(newell);
-  face.averageNormal = (len > 0.0f && std::isfinite(len)) ? newell / len : Vec3(0.0f, 0.0f, 1.0f);
-}
-
 // A tangent frame for points without derivatives, so callers never normalize a zero vector.
 void setTangentFrame(SurfacePoint& sp) {
   const Vec3 a = std::abs(sp.N.x) < 0.9f ? Vec3(1.0f, 0.0f, 0.0f) : Vec3(0.0f, 1.0f, 0.0f);
@@ -261,14 +246,13 @@ bool isPlainBilinearQuad(SubdivisionScheme scheme, const OpenSubdiv::Far::Topolo
   return true;
 }
 
-// The arrays of such a face: its 4 control points gathered by index, its 4 corners' (u, v).
+// The arrays of such a face: its 4 corners' (u, v); its control points are its vertices.
 void setBilinearQuad(const ControlMesh& mesh, size_t first, LimitSurface::Impl::Face& face,
                      LimitSurface::Impl::Chunk& out) {
   face.numPatchPoints = 4;
   face.bilinear = true;
   face.gathered = true;
-  face.patchOffset = static_cast<int>(out.controlIndices.size());
-  for (int k = 0; k < 4; ++k) out.controlIndices.push_back(mesh.faceVertices[first + k]);
+  face.patchOffset = -1;  // its corners: the face's vertices in the base level (Impl::patchPoints)
   if (!mesh.hasUvs()) return;
   face.hasUv = true;
   face.uvBilinear = true;
@@ -287,8 +271,10 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
                   const std::vector<size_t>& firstCorner,
                   std::vector<LimitSurface::Impl::Face>& faces, LimitSurface::Impl::Chunk& out) {
   using Face = LimitSurface::Impl::Face;
-  // Room for the 4 control points of a quad a face: a grid's arrays do not grow.
-  out.controlIndices.reserve(4 * static_cast<size_t>(end - begin));
+  // Room for the 4 control points of a quad a face (a plain bilinear quad has none of its own) and
+  // its 4 (u, v): a grid's arrays do not grow.
+  if (scheme != SubdivisionScheme::Bilinear)
+    out.controlIndices.reserve(4 * static_cast<size_t>(end - begin));
   if (mesh.hasUvs()) out.uvPatchPoints.reserve(8 * static_cast<size_t>(end - begin));
   OpenSubdiv::Bfr::Surface<float> surface;
   std::vector<SharedSurface> shared;
@@ -306,7 +292,6 @@ void prepareFaces(const ControlMesh& mesh, SubdivisionScheme scheme, const Facto
         for (int k = 0; k < 3; ++k) corners[k] = mesh.positions[mesh.faceVertices[first + k]];
       appendFaceChart(n, corners, out.chartPoints);
     }
-    setPolygonFrame(mesh, first, n, face);
     if (isPlainBilinearQuad(scheme, base, f)) {
       setBilinearQuad(mesh, first, face, out);
       continue;
@@ -428,11 +413,28 @@ bool LimitSurface::derivativeKey(int face, DerivativeKey& key) const {
     differences(impl_->uvPatchPoints(face), 2);
   else
     out += 8;
-  *out++ = f.averageNormal.x;
-  *out++ = f.averageNormal.y;
-  *out++ = f.averageNormal.z;
+  Vec3 centroid, normal;
+  impl_->polygonFrame(face, centroid, normal);
+  *out++ = normal.x;
+  *out++ = normal.y;
+  *out++ = normal.z;
   *out = f.hasUv ? 1.0f : 0.0f;
   return true;
+}
+
+void LimitSurface::Impl::polygonFrame(int face, Vec3& centroid, Vec3& normal) const {
+  const Topology::Indices v = topology.faceVertices(face);
+  const int size = v.size();
+  Vec3 sum(0.0f), newell(0.0f);
+  for (int i = 0; i < size; ++i) {
+    const Vec3& a = controlPoints[v[i]];
+    const Vec3& b = controlPoints[v[(i + 1) % size]];
+    sum += a;
+    newell += Vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+  }
+  centroid = sum / static_cast<float>(size);
+  const float len = glm::length(newell);
+  normal = (len > 0.0f && std::isfinite(len)) ? newell / len : Vec3(0.0f, 0.0f, 1.0f);
 }
 
 size_t LimitSurface::Impl::Topology::memoryBytes() const {
@@ -504,7 +506,9 @@ Vec3 limitNormal(const LimitSurface::Impl& impl, int face, Vec2 st, const Vec3& 
     evaluateDerivatives(impl, face, c, P, d0, d1);
     if (usableCross(d0, d1, n)) return n;
   }
-  return f.averageNormal;
+  Vec3 centroid, normal;
+  impl.polygonFrame(face, centroid, normal);
+  return normal;
 }
 
 // Pu, Pv with respect to texture coordinates: [Pu Pv] = [dP/dc] (d uv / dc)^-1.
@@ -536,8 +540,7 @@ SurfacePoint LimitSurface::evaluate(int face, Vec2 st) const {
   const Impl::Face& f = impl_->faces[face];
   SurfacePoint sp;
   if (!f.valid()) {
-    sp.P = f.centroid;
-    sp.N = f.averageNormal;
+    impl_->polygonFrame(face, sp.P, sp.N);
     sp.uv = st;
     setTangentFrame(sp);
     return sp;

@@ -56,10 +56,9 @@ struct LimitSurface::Impl {
     bool bilinear = false, uvBilinear = false;
     bool hasUv = false;  // the face has face-varying (u, v)
     // The patch points are control points (a regular or linear patch): patchOffset is the first of
-    // their indices in the chunk's controlIndices, not a float of its patchPoints.
+    // their indices in the chunk's controlIndices, not a float of its patchPoints; -1 for a quad
+    // whose patch points are its 4 vertices (a plain bilinear quad), read from the topology.
     bool gathered = false;
-    Vec3 centroid{0.0f};
-    Vec3 averageNormal{0.0f, 0.0f, 1.0f};  // fallback where the limit normal is undefined
     bool valid() const { return numPatchPoints > 0; }
   };
 
@@ -116,7 +115,8 @@ struct LimitSurface::Impl {
     const Face& f = faces[face];
     const Chunk& chunk = chunkOf(face);
     if (!f.gathered) return &chunk.patchPoints[f.patchOffset];
-    const int* index = &chunk.controlIndices[f.patchOffset];
+    const int* index = f.patchOffset < 0 ? &topology.faceVertex[topology.faceFirst[face]]
+                                         : &chunk.controlIndices[f.patchOffset];
     for (int k = 0; k < f.numPatchPoints; ++k) {
       const Vec3& p = controlPoints[index[k]];
       buffer[3 * k] = p.x, buffer[3 * k + 1] = p.y, buffer[3 * k + 2] = p.z;
@@ -129,6 +129,11 @@ struct LimitSurface::Impl {
   const Vec2* chartPoints(int face) const {
     return &chunkOf(face).chartPoints[faces[face].chartOffset];
   }
+
+  // Centroid and Newell normal of the face's control polygon, from its vertices when asked (rarely:
+  // the point and normal of a face without a limit surface, the normal where the limit normal is
+  // undefined).
+  void polygonFrame(int face, Vec3& centroid, Vec3& normal) const;
 
   // Bfr coordinates of meso's st (clamped into the face) and their Jacobian d(Bfr uv)/d(st).
   Vec2 chartToBfr(int face, Vec2 st, glm::mat2& jacobian) const;
