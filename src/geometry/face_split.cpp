@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -164,7 +165,9 @@ void askRates(const Cell* cells, const SplitPlan::Face& face, const DicingSettin
       float lengthU = 0.0f, lengthV = 0.0f, coarseU = 0.0f, coarseV = 0.0f;
       float scaleU = 0.0f, scaleV = 0.0f;  // the largest of its cells' (acrossViewCapScale)
       float nearest = std::numeric_limits<float>::infinity();
-      std::vector<float> rowU(fv, 0.0f), rowCoarseU(fv, 0.0f), colV(fu, 0.0f), colCoarseV(fu, 0.0f);
+      // Sums of the sub-quad's cell rows and columns (at most kMaxSplit of each): on the stack, as
+      // every face in view is planned several ways.
+      std::array<float, kMaxSplit> rowU{}, rowCoarseU{}, colV{}, colCoarseV{};
       for (int b = 0; b < fv; ++b)
         for (int a = 0; a < fu; ++a) {
           const Cell& c = cells[(j * fv + b) * kMaxSplit + i * fu + a];
