@@ -14,6 +14,14 @@ namespace meso {
 // to the texture coordinates (u, v) when the mesh has them, otherwise with respect to the face's
 // own patch coordinates (s, t). N is the unit limit normal, facing the mesh's outward side (so N =
 // -normalize(Pu x Pv) for a mirrored uv map), never a facet normal (Chan 2002).
+struct SurfacePoint {
+  Vec3 P{0.0f};
+  Vec3 Pu{0.0f};
+  Vec3 Pv{0.0f};
+  Vec3 N{0.0f, 0.0f, 1.0f};
+  Vec2 uv{0.0f};  // texture coordinates (face-varying if present, else the patch coordinates)
+};
+
 // What a face's derivatives (SurfacePoint::Pu, Pv, N) depend on, where LimitSurface::derivativeKey
 // finds it: two faces with equal keys (bit for bit) have the same Pu, Pv and N at every st.
 struct DerivativeKey {
@@ -24,14 +32,6 @@ struct DerivativeKey {
   bool operator==(const DerivativeKey& o) const {
     return std::memcmp(values.data(), o.values.data(), sizeof(values)) == 0;
   }
-};
-
-struct SurfacePoint {
-  Vec3 P{0.0f};
-  Vec3 Pu{0.0f};
-  Vec3 Pv{0.0f};
-  Vec3 N{0.0f, 0.0f, 1.0f};
-  Vec2 uv{0.0f};  // texture coordinates (face-varying if present, else the patch coordinates)
 };
 
 class LimitSurface {
