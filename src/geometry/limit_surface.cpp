@@ -422,6 +422,14 @@ bool LimitSurface::derivativeKey(int face, DerivativeKey& key) const {
   return true;
 }
 
+int DerivativeSweep::sameAs(int face) {
+  const bool keyed = surface_.derivativeKey(face, key_);
+  if (keyed && lastFace_ >= 0 && key_ == last_) return lastFace_;
+  last_ = key_;
+  lastFace_ = keyed ? face : -1;
+  return -1;
+}
+
 void LimitSurface::Impl::polygonFrame(int face, Vec3& centroid, Vec3& normal) const {
   const Topology::Indices v = topology.faceVertices(face);
   const int size = v.size();

@@ -25,21 +25,19 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
   }
   // Each face's corners in parallel (evaluate is thread-safe), then the vertex means in order.
   tbb::parallel_for(tbb::blocked_range<int>(0, faces), [&](const tbb::blocked_range<int>& range) {
-    // A face of the previous one's derivative key has its corner lengths (derivativeKey).
-    DerivativeKey key, last;
-    int lastFace = -1;
+    // A face with the derivatives of one evaluated before has its corner lengths.
+    DerivativeSweep sweep(surface);
     for (int f = range.begin(); f != range.end(); ++f) {
       const int n = mesh.faceSizes[f];
       if (!surface.hasLimitSurface(f) || surface.faceSize(f) != n) continue;
-      const bool keyed = surface.derivativeKey(f, key);
-      const bool same = keyed && lastFace >= 0 && key == last;
+      const int same = sweep.sameAs(f);
       Vec2 st[4];
       for (int k = 0; k < n; ++k) {
         const size_t c = static_cast<size_t>(first_[f] + k);
         const Vec2 corner = surface.cornerSt(f, k);
         if (k < 4) st[k] = corner;
-        if (same) {
-          own[c] = own[static_cast<size_t>(first_[lastFace] + k)];
+        if (same >= 0) {
+          own[c] = own[static_cast<size_t>(first_[same] + k)];
           continue;
         }
         const SurfacePoint sp = surface.evaluate(f, corner);
@@ -52,10 +50,6 @@ UvSpeed::UvSpeed(const ControlMesh& mesh, const LimitSurface& surface) {
       } else if (n == 3) {
         kind_[f] = kTriangle;
         std::copy(st, st + 3, triangleSt_.begin() + 3 * static_cast<size_t>(triangle_[f]));
-      }
-      if (!same) {
-        last = key;
-        lastFace = keyed ? f : -1;
       }
     }
   });

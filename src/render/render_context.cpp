@@ -45,17 +45,14 @@ bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
   std::optional<Vec3> N0;  // the normal at the first sample, which every other is compared with
   if (faces > 0) N0 = surface.evaluate(0, surface.cornerSt(0, 0)).N;
   tbb::parallel_for(tbb::blocked_range<int>(0, faces), [&](const tbb::blocked_range<int>& range) {
-    // A face of the previous one's derivative key has its samples (derivativeKey): a ground of
-    // equal quads evaluates one face per range.
-    DerivativeKey key, last;
-    int lastFace = -1;
+    // A face with the derivatives of one evaluated before has its samples (DerivativeSweep).
+    DerivativeSweep sweep(surface);
     for (int face = range.begin(); face != range.end(); ++face) {
       size_t at = first + offset[face];
-      const bool keyed = surface.derivativeKey(face, key);
-      if (keyed && lastFace >= 0 && key == last) {
-        std::copy_n(out.begin() + static_cast<std::ptrdiff_t>(first + offset[lastFace]),
+      if (const int same = sweep.sameAs(face); same >= 0) {
+        std::copy_n(out.begin() + static_cast<std::ptrdiff_t>(first + offset[same]),
                     offset[face + 1] - offset[face], out.begin() + static_cast<std::ptrdiff_t>(at));
-        differs[face] = differs[lastFace];
+        differs[face] = differs[same];
         continue;
       }
       const auto sample = [&](const SurfacePoint& sp) {
@@ -70,8 +67,6 @@ bool sampleMetrics(const LimitSurface& surface, std::vector<MetricClass>& out) {
         for (const Vec2 st : {a, 0.5f * (a + b)}) sample(surface.evaluate(face, st));
       }
       sample(surface.evaluate(face, centre));
-      last = key;
-      lastFace = keyed ? face : -1;
     }
   });
   return std::any_of(differs.begin(), differs.end(), [](uint8_t d) { return d != 0; });

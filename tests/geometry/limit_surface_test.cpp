@@ -396,6 +396,21 @@ TEST(LimitSurface, FacesOfOneDerivativeKeyEvaluateToTheSameDerivatives) {
   // faces whose differences of 0.1 i round alike; rows 2 and 5 reach moved or scaled points.
   EXPECT_GE(pairs, 2 * 28);
   EXPECT_GT(unequal, pairs);
+  // A sweep in face order takes over the last face it evaluated exactly where their keys agree.
+  DerivativeSweep sweep(surface);
+  int evaluated = -1, takenOver = 0;
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    const int same = sweep.sameAs(f);
+    const bool expected = keyed[f] && evaluated >= 0 && keys[f] == keys[evaluated];
+    ASSERT_EQ(same, expected ? evaluated : -1) << f;
+    if (same >= 0) {
+      ++takenOver;
+    } else {
+      evaluated = keyed[f] ? f : -1;
+    }
+  }
+  // Rows 0 and 1: 7 faces each; rows 3 and 4 some.
+  EXPECT_GE(takenOver, 14);
   // Without uv the key is the patch's alone; Catmull-Clark patches have none.
   ControlMesh plain = test::grid(3);
   const LimitSurface bilinear(plain, SubdivisionScheme::Bilinear);

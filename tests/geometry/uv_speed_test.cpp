@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace meso {
 namespace {
@@ -54,6 +55,47 @@ TEST(UvSpeed, IsContinuousAcrossFacesWhoseUvScalesDiffer) {
   EXPECT_EQ(speed.at(-1, Vec2(0.5f)), 0.0f);
   EXPECT_EQ(speed.at(3, Vec2(0.5f)), 0.0f);
   EXPECT_EQ(UvSpeed().at(0, Vec2(0.5f)), 0.0f);
+}
+
+// A strip of 300 unit quads whose u runs at 1 per unit of x and at 0.5 in alternate runs of 10
+// faces: runs of equal faces, whose corner lengths UvSpeed takes over from the face before
+// (DerivativeSweep), and many changes of key within the ranges the faces are swept in. Every
+// vertex still gets the mean of its faces' own lengths at it.
+TEST(UvSpeed, RunsOfEqualFacesGiveTheMeansOfTheirOwnLengths) {
+  constexpr int kFaces = 300;
+  ControlMesh mesh;
+  std::vector<float> u(kFaces + 1, 0.0f);
+  for (int i = 0; i < kFaces; ++i) u[i + 1] = u[i] + ((i / 10) % 2 == 1 ? 0.5f : 1.0f);
+  for (int row = 0; row < 2; ++row)
+    for (int i = 0; i <= kFaces; ++i) {
+      mesh.positions.emplace_back(static_cast<float>(i), static_cast<float>(row), 0.0f);
+      mesh.uvs.emplace_back(u[i], static_cast<float>(row));
+    }
+  const int n = kFaces + 1;
+  for (int f = 0; f < kFaces; ++f) {
+    test::addFace(mesh, {f, f + 1, f + n + 1, f + n});
+    mesh.uvIndices.insert(mesh.uvIndices.end(), {f, f + 1, f + n + 1, f + n});
+  }
+  const LimitSurface surface(mesh, SubdivisionScheme::Bilinear);
+  const UvSpeed speed(mesh, surface);
+  ASSERT_FALSE(speed.empty());
+  const auto own = [&](int face, int corner) {
+    const SurfacePoint sp = surface.evaluate(face, surface.cornerSt(face, corner));
+    return std::max(glm::length(sp.Pu), glm::length(sp.Pv));
+  };
+  for (int f = 0; f < kFaces; ++f) {
+    // Corners 0 and 3 lie on the edge shared with face f - 1, corners 1 and 2 with face f + 1.
+    for (int k = 0; k < 4; ++k) {
+      const int neighbour = k == 0 || k == 3 ? f - 1 : f + 1;
+      const int corner = k == 0 ? 1 : k == 3 ? 2 : k == 1 ? 0 : 3;  // the same vertex there
+      float expected = own(f, k);
+      if (neighbour >= 0 && neighbour < kFaces)
+        expected = 0.5f * (expected + own(neighbour, corner));
+      EXPECT_NEAR(speed.at(f, surface.cornerSt(f, k)), expected, 1e-6f) << f << " " << k;
+    }
+  }
+  EXPECT_NEAR(own(17, 0), 2.0f, 1e-5f);  // u at 0.5 per unit of x: 2 units per unit of u
+  EXPECT_NEAR(speed.at(10, surface.cornerSt(10, 0)), 1.5f, 1e-5f);
 }
 
 // On a Catmull-Clark cube (no uv: each face's own (s, t) chart) every value is finite and positive,

@@ -74,4 +74,20 @@ class LimitSurface {
   std::unique_ptr<Impl> impl_;
 };
 
+// A sweep over a surface's faces that evaluates a face only where its derivative key differs from
+// that of the last face it evaluated: sameAs(face) gives that earlier face when their keys are
+// equal (then the face's Pu, Pv and N at any st are that face's, bit for bit), otherwise -1, and
+// the face becomes the one the next is compared with. On a ground of equal quads nearly every
+// face is the same as the one before.
+class DerivativeSweep {
+ public:
+  explicit DerivativeSweep(const LimitSurface& surface) : surface_(surface) {}
+  int sameAs(int face);
+
+ private:
+  const LimitSurface& surface_;
+  DerivativeKey key_, last_;
+  int lastFace_ = -1;
+};
+
 }  // namespace meso
